@@ -1,0 +1,97 @@
+//! Low-level clap arguments, mirroring SPEC.md; no logic here.
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Diffuse view factors and gray-body radiative exchange.
+#[derive(Debug, Parser)]
+#[command(name = "lambert", version, about, propagate_version = true)]
+pub struct Cli {
+    /// The subcommand.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands of SPEC.md.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Compute the view-factor matrix of a scene and write it as CSV.
+    Viewfactors(ViewfactorsArgs),
+    /// Compute view factors, then solve the radiation exchange.
+    Solve(SolveArgs),
+    /// Run the textbook validation suite in cases/.
+    Validate(ValidateArgs),
+}
+
+/// Options shared by `viewfactors` and `solve`.
+#[derive(Debug, Args)]
+pub struct CommonArgs {
+    /// Scene file: .toml, .gltf or .glb.
+    pub scene: PathBuf,
+    /// View-factor method: auto, analytic, hemicube, single-plane, mc-area, mc-uniform,
+    /// mc-cosine.
+    #[arg(short, long, default_value = "auto")]
+    pub method: String,
+    /// Rays or points per patch for the Monte Carlo methods.
+    #[arg(long)]
+    pub samples: Option<usize>,
+    /// Pixels along a hemicube face or the single plane.
+    #[arg(long)]
+    pub resolution: Option<usize>,
+    /// Absolute accuracy goal on each F for `auto`.
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// Random seed; the same seed gives the same result on any thread count.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// none, reciprocity or closure.
+    #[arg(long)]
+    pub enforce: Option<String>,
+    /// Report per patch (`surface#k`) instead of per surface.
+    #[arg(long)]
+    pub patches: bool,
+    /// CSV output file; stdout when absent or `-`.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+/// `lambert viewfactors`.
+#[derive(Debug, Args)]
+pub struct ViewfactorsArgs {
+    /// Shared options.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// `lambert solve`.
+#[derive(Debug, Args)]
+pub struct SolveArgs {
+    /// Shared options.
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Reuse a `viewfactors` CSV instead of recomputing.
+    #[arg(long)]
+    pub viewfactors: Option<PathBuf>,
+    /// Write radiative conductances RADK_ij = A_i ε_i B_ij as CSV `from,to,radk`.
+    #[arg(long)]
+    pub conductances: Option<PathBuf>,
+    /// direct, jacobi or gauss-seidel.
+    #[arg(long, default_value = "direct")]
+    pub solver: String,
+}
+
+/// `lambert validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// Folder of cases.
+    #[arg(long, default_value = "cases")]
+    pub cases: PathBuf,
+    /// Folder for the report and charts.
+    #[arg(long, default_value = "validation")]
+    pub out: PathBuf,
+    /// A fast subset for CI.
+    #[arg(long)]
+    pub quick: bool,
+}

@@ -1,0 +1,2 @@
+//! Exchange matrix: symmetric exchange areas S_ij = A_i F_ij, ambient node, enforcement and
+//! diagnostics.

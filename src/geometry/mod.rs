@@ -1,0 +1,19 @@
+//! Geometry level 0: planar polygons in f64.
+//!
+//! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
+//! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
+//!
+//! Everything here is pure math; nothing depends on scenes or methods.
+pub mod polygon;
+pub mod quadrature;
+
+pub use glam::DVec3;
+pub use polygon::{Polygon, PolygonError};
+
+/// Relative planarity tolerance: a vertex may sit this fraction of the polygon's diameter off
+/// its best-fit plane (CAD exports carry f32 round-off, about 1e-7).
+pub const PLANARITY_TOL: f64 = 1e-6;
+
+/// Relative collinearity tolerance: a polygon whose area is below this fraction of its
+/// diameter squared is degenerate (zero area or collinear vertices).
+pub const DEGENERACY_TOL: f64 = 1e-12;

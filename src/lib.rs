@@ -1,0 +1,30 @@
+//! lambert: diffuse view factors and gray-body radiative exchange.
+//!
+//! Pipeline (one-way dependencies, left to right):
+//!
+//! ```text
+//! geometry ← scene ← {visibility, viewfactor} ← exchange ← solve ← report ← cli
+//! ```
+//!
+//! - [`geometry`]: planar polygons, clipping, triangulation, quadrature rules.
+//! - [`scene`]: TOML / glTF loading, validation, surfaces, patches, boundary conditions.
+//! - [`visibility`]: one BVH (obvhs) over every triangle; occlusion and closest-hit queries.
+//! - [`viewfactor`]: the view-factor methods behind one `Method` enum and one engine.
+//! - [`exchange`]: symmetric exchange areas S = A·F, ambient node, enforcement, diagnostics.
+//! - [`solve`]: the net-radiation system K = D − S and its solvers.
+//! - [`report`]: CSV writers; the one place that turns results into bytes.
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod exchange;
+pub mod geometry;
+pub mod report;
+pub mod scene;
+pub mod solve;
+pub mod viewfactor;
+pub mod visibility;
+
+pub use error::{Error, Result};
+
+/// Stefan–Boltzmann constant σ, W m⁻² K⁻⁴ (CODATA 2018).
+pub const SIGMA: f64 = 5.670374419e-8;

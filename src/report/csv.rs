@@ -1,0 +1,48 @@
+//! CSV writers for SPEC.md outputs. Numbers use Rust's shortest round-trip f64 formatting.
+use crate::viewfactor::ViewFactors;
+use crate::{Error, Result};
+use std::io::Write;
+use std::path::Path;
+
+/// Name of the ambient node in outputs.
+pub const AMBIENT: &str = "ambient";
+
+fn csv_err(path: &Path, e: csv::Error) -> Error {
+    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) }
+}
+
+/// Writes `from,to,factor,std_error,method`; open scenes get a `to = ambient` row per source.
+pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &Path) -> Result<()> {
+    let mut w = csv::Writer::from_writer(out);
+    let err = |e| csv_err(path, e);
+    w.write_record(["from", "to", "factor", "std_error", "method"]).map_err(err)?;
+    for (i, row) in vf.rows.iter().enumerate() {
+        for e in row {
+            w.write_record([
+                vf.names[i].as_str(),
+                vf.names[e.to as usize].as_str(),
+                &e.factor.to_string(),
+                &e.std_error.to_string(),
+                &e.method.to_string(),
+            ])
+            .map_err(err)?;
+        }
+        if open {
+            let rest = (1.0 - row.iter().map(|e| e.factor).sum::<f64>()).max(0.0);
+            let var: f64 = row.iter().map(|e| e.std_error * e.std_error).sum();
+            let method =
+                row.iter().fold(Default::default(), |m: crate::viewfactor::MethodSet, e| m.union(e.method));
+            if rest > 0.0 {
+                w.write_record([
+                    vf.names[i].as_str(),
+                    AMBIENT,
+                    &rest.to_string(),
+                    &var.sqrt().to_string(),
+                    &method.to_string(),
+                ])
+                .map_err(err)?;
+            }
+        }
+    }
+    w.flush().map_err(|e| Error::Io { path: path.to_path_buf(), source: e })
+}

@@ -1,0 +1,2 @@
+//! Reports: the one place that turns results into bytes (CSV).
+pub mod csv;

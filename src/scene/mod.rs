@@ -1,0 +1,236 @@
+//! Scene level: named surfaces (what the engineer sees), their patches (the unknowns) and
+//! obstructions (blockers only), with emissivities and boundary conditions.
+//!
+//! - this file: the in-memory model and [`SceneBuilder`] for programmatic scenes;
+//! - loading from TOML and glTF lives in the sibling modules.
+use crate::geometry::Polygon;
+use glam::DVec3;
+use std::ops::Range;
+use std::path::PathBuf;
+
+/// Boundary condition of an exchanging surface (used by `solve`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BoundaryCondition {
+    /// Prescribed temperature, K.
+    Temperature(f64),
+    /// Prescribed net outgoing radiative flux, W/m² (0 = adiabatic).
+    HeatFlux(f64),
+}
+
+/// How a surface was described; exact shapes are kept for closed-form checks.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    /// A planar polygon.
+    Polygon,
+    /// A parallelogram o, o+u, o+u+v, o+v.
+    Rectangle {
+        /// Corner.
+        origin: DVec3,
+        /// First edge.
+        u: DVec3,
+        /// Second edge.
+        v: DVec3,
+    },
+    /// A disk, tessellated into a regular polygon for every method but the closed forms.
+    Disk(Disk),
+    /// A triangle mesh from glTF; may be non-planar.
+    Mesh,
+}
+
+/// An exact disk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Disk {
+    /// Centre.
+    pub center: DVec3,
+    /// Unit normal of the emitting side.
+    pub normal: DVec3,
+    /// Radius, m.
+    pub radius: f64,
+    /// Number of polygon segments used to tessellate it.
+    pub segments: usize,
+}
+
+/// A named exchanging surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Surface {
+    /// Unique name, used in every output.
+    pub name: String,
+    /// Gray hemispherical emissivity, 0 < ε ≤ 1.
+    pub emissivity: f64,
+    /// Temperature or flux; `None` is allowed for `viewfactors`, refused by `solve`.
+    pub condition: Option<BoundaryCondition>,
+    /// How it was described.
+    pub shape: Shape,
+    /// Its patches, as a range into [`Scene::patches`].
+    pub patches: Range<usize>,
+    /// Total area, m².
+    pub area: f64,
+    /// True when every patch lies in one plane with one normal (then F_II = 0).
+    pub planar: bool,
+}
+
+/// A patch: one planar polygon, the unit of the radiosity unknowns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patch {
+    /// The polygon.
+    pub polygon: Polygon,
+    /// Index of the owning surface in [`Scene::surfaces`].
+    pub surface: usize,
+}
+
+/// A blocker: it casts shadows but takes no part in the exchange.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Obstruction {
+    /// Name from the scene file.
+    pub name: String,
+    /// Its one-sided polygons.
+    pub polygons: Vec<Polygon>,
+}
+
+/// Open scenes see a black environment at this temperature.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ambient {
+    /// Temperature, K.
+    pub temperature: f64,
+}
+
+/// A loaded, validated scene.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Scene {
+    /// Optional title.
+    pub title: Option<String>,
+    /// The file it came from (for messages); empty for programmatic scenes.
+    pub source: PathBuf,
+    /// Present for open scenes.
+    pub ambient: Option<Ambient>,
+    /// Exchanging surfaces in file order.
+    pub surfaces: Vec<Surface>,
+    /// All patches, grouped by surface in surface order.
+    pub patches: Vec<Patch>,
+    /// Obstruction-only geometry.
+    pub obstructions: Vec<Obstruction>,
+}
+
+impl Scene {
+    /// Starts a programmatic scene.
+    pub fn builder() -> SceneBuilder {
+        SceneBuilder::default()
+    }
+    /// True when there is no `[ambient]`: a closed enclosure.
+    pub fn is_closed(&self) -> bool {
+        self.ambient.is_none()
+    }
+    /// Output name of patch `p`: `surface#k`, k counting from 0 within the surface.
+    pub fn patch_name(&self, p: usize) -> String {
+        let s = &self.surfaces[self.patches[p].surface];
+        format!("{}#{}", s.name, p - s.patches.start)
+    }
+    /// Patch areas in patch order.
+    pub fn patch_areas(&self) -> Vec<f64> {
+        self.patches.iter().map(|p| p.polygon.area()).collect()
+    }
+    /// Index of the surface called `name`.
+    pub fn surface_index(&self, name: &str) -> Option<usize> {
+        self.surfaces.iter().position(|s| s.name == name)
+    }
+}
+
+/// Builds scenes in code (tests, benchmarks, generators).
+#[derive(Debug, Default)]
+pub struct SceneBuilder {
+    scene: Scene,
+}
+
+impl SceneBuilder {
+    /// Adds an exchanging surface made of the given patches.
+    pub fn surface(
+        mut self,
+        name: &str,
+        patches: Vec<Polygon>,
+        emissivity: f64,
+        condition: Option<BoundaryCondition>,
+    ) -> Self {
+        self.push_surface(name, Shape::Polygon, patches, emissivity, condition);
+        self
+    }
+    /// Adds an exchanging surface with a known exact shape.
+    pub fn shaped_surface(
+        mut self,
+        name: &str,
+        shape: Shape,
+        patches: Vec<Polygon>,
+        emissivity: f64,
+        condition: Option<BoundaryCondition>,
+    ) -> Self {
+        self.push_surface(name, shape, patches, emissivity, condition);
+        self
+    }
+    /// Adds an obstruction.
+    pub fn obstruction(mut self, name: &str, polygons: Vec<Polygon>) -> Self {
+        self.scene.obstructions.push(Obstruction { name: name.to_string(), polygons });
+        self
+    }
+    /// Makes the scene open to a black ambient at `temperature`.
+    pub fn ambient(mut self, temperature: f64) -> Self {
+        self.scene.ambient = Some(Ambient { temperature });
+        self
+    }
+    /// Sets the title.
+    pub fn title(mut self, title: &str) -> Self {
+        self.scene.title = Some(title.to_string());
+        self
+    }
+    /// Sets the source path used in messages.
+    pub fn source(mut self, path: impl Into<PathBuf>) -> Self {
+        self.scene.source = path.into();
+        self
+    }
+    /// Finishes the scene.
+    pub fn build(self) -> Scene {
+        self.scene
+    }
+
+    /// Appends a surface and its patches; shared by the loaders.
+    pub fn push_surface(
+        &mut self,
+        name: &str,
+        shape: Shape,
+        patches: Vec<Polygon>,
+        emissivity: f64,
+        condition: Option<BoundaryCondition>,
+    ) -> usize {
+        let index = self.scene.surfaces.len();
+        let start = self.scene.patches.len();
+        let area = patches.iter().map(Polygon::area).sum();
+        let planar = is_planar_set(&patches);
+        self.scene.patches.extend(patches.into_iter().map(|polygon| Patch { polygon, surface: index }));
+        self.scene.surfaces.push(Surface {
+            name: name.to_string(),
+            emissivity,
+            condition,
+            shape,
+            patches: start..self.scene.patches.len(),
+            area,
+            planar,
+        });
+        index
+    }
+}
+
+/// Relative tolerance for "these patches share one plane and one normal".
+const COPLANAR_TOL: f64 = 1e-9;
+
+/// True when all polygons share one plane and one facing.
+fn is_planar_set(polys: &[Polygon]) -> bool {
+    let Some(first) = polys.first() else { return true };
+    let scale = polys.iter().map(|p| p.bounding_radius()).fold(0.0, f64::max).max(1e-300);
+    polys.iter().all(|p| {
+        p.normal().dot(first.normal()) > 1.0 - COPLANAR_TOL
+            && p.vertices().iter().all(|v| first.plane_distance(*v).abs() <= COPLANAR_TOL * scale * 1e3)
+    })
+}
+
+/// Loads a scene file (.toml, .gltf, .glb) with strict validation.
+pub fn load(path: &std::path::Path) -> crate::Result<Scene> {
+    Err(crate::error::InputError::file(path, "scene loading is not available in this build yet").into())
+}

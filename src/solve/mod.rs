@@ -1,0 +1,1 @@
+//! Net-radiation solve: K = D − S (SPD), direct and iterative solvers.

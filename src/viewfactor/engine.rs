@@ -1,0 +1,87 @@
+//! The row engine: every method is a [`RowKernel`] that fills one patch row of exchange areas
+//! s_ij = A_i F_ij; the engine runs rows in parallel waves and feeds them, in patch order, to a
+//! sink. Order-fixed reduction makes results identical on any thread count.
+use super::sink::{Level, Sink, ViewFactors};
+use super::{MethodSet, Params};
+use crate::scene::Scene;
+use crate::Result;
+use rayon::prelude::*;
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// One estimated exchange area s_ij = A_i F_ij in row i.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RawEntry {
+    /// Column (receiving patch).
+    pub j: u32,
+    /// Which method produced it.
+    pub method: MethodSet,
+    /// A_i F_ij, m².
+    pub s: f64,
+    /// Variance of `s` (0 for deterministic methods), m⁴.
+    pub var: f64,
+}
+
+/// One patch row as a kernel returns it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Row {
+    /// Entries with s > 0, any order.
+    pub entries: Vec<RawEntry>,
+    /// When > 0, the entries come from this many shared samples, each landing on at most one
+    /// receiver (hit counting): the variance of a union of entries then follows the
+    /// multinomial rule. 0 means the entries are independent estimates.
+    pub shared_samples: u32,
+    /// Pairs this row evaluated (for throughput statistics).
+    pub pairs: u64,
+}
+
+/// A view-factor method, one patch row at a time.
+pub trait RowKernel: Sync {
+    /// True when the kernel computes only j > i and reciprocity supplies the rest.
+    fn symmetric(&self) -> bool;
+    /// Fills row `i`.
+    fn row(&self, i: usize, out: &mut Row) -> Result<()>;
+}
+
+/// Entries buffered per wave, bounding memory while keeping every core busy.
+const WAVE_ENTRY_BUDGET: usize = 2_000_000;
+/// A progress bar appears only for runs longer than this.
+const PROGRESS_DELAY: Duration = Duration::from_secs(1);
+
+/// Runs `kernel` over every patch row and aggregates at `level`.
+pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level) -> Result<ViewFactors> {
+    let start = Instant::now();
+    let n = scene.patches.len();
+    let mut sink = Sink::new(scene, level, kernel.symmetric());
+    let threads = rayon::current_num_threads().max(1);
+    let wave = (WAVE_ENTRY_BUDGET / n.max(1)).clamp(4 * threads, 4096).max(1);
+    let bar = indicatif::ProgressBar::hidden();
+    bar.set_length(n as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} rows, eta {eta}")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    let show = params.progress && std::io::stderr().is_terminal();
+    let mut lo = 0;
+    while lo < n {
+        let hi = (lo + wave).min(n);
+        let rows: Vec<Result<Row>> = (lo..hi)
+            .into_par_iter()
+            .map(|i| {
+                let mut row = Row::default();
+                kernel.row(i, &mut row).map(|_| row)
+            })
+            .collect();
+        for (k, row) in rows.into_iter().enumerate() {
+            sink.accept(lo + k, &row?);
+        }
+        lo = hi;
+        if show && bar.is_hidden() && start.elapsed() > PROGRESS_DELAY {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
+        bar.set_position(lo as u64);
+    }
+    bar.finish_and_clear();
+    Ok(sink.finish(start.elapsed()))
+}

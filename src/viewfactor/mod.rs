@@ -1,0 +1,176 @@
+//! View factors: one closed [`Method`] enum, one dispatch point ([`compute`]), one engine.
+//!
+//! - [`engine`]: runs a [`engine::RowKernel`] over every patch row in parallel, in waves, and
+//!   hands the rows in patch order to a sink (deterministic on any thread count);
+//! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
+//!   diagnostics; never an N×N dense temporary;
+//! - the method modules each provide a kernel.
+use crate::scene::Scene;
+use crate::{Error, Result};
+use std::fmt;
+use std::str::FromStr;
+
+pub mod engine;
+pub mod sink;
+
+pub use sink::{Entry, Level, ViewFactors};
+
+/// The view-factor methods of SPEC.md.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Cheapest method per pair that meets the tolerance.
+    #[default]
+    Auto,
+    /// Exact contour integration for planar polygons.
+    Analytic,
+    /// Cohen–Greenberg hemicube.
+    Hemicube,
+    /// Sillion–Puech single projection plane.
+    SinglePlane,
+    /// Monte Carlo, random point pairs on both patches.
+    McArea,
+    /// Monte Carlo, uniform hemisphere directions.
+    McUniform,
+    /// Monte Carlo, cosine-weighted directions.
+    McCosine,
+}
+
+impl Method {
+    /// Every method, in SPEC.md order.
+    pub const ALL: [Method; 7] = [
+        Method::Auto,
+        Method::Analytic,
+        Method::Hemicube,
+        Method::SinglePlane,
+        Method::McArea,
+        Method::McUniform,
+        Method::McCosine,
+    ];
+    /// The SPEC.md name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Auto => "auto",
+            Method::Analytic => "analytic",
+            Method::Hemicube => "hemicube",
+            Method::SinglePlane => "single-plane",
+            Method::McArea => "mc-area",
+            Method::McUniform => "mc-uniform",
+            Method::McCosine => "mc-cosine",
+        }
+    }
+    /// True for the Monte Carlo estimators (they report a standard error).
+    pub fn is_monte_carlo(self) -> bool {
+        matches!(self, Method::McArea | Method::McUniform | Method::McCosine)
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Method::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
+            Error::Usage(format!("unknown method '{s}'; expected one of {}", names.join(", ")))
+        })
+    }
+}
+
+/// Which method(s) produced an entry; a surface aggregate may mix several.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct MethodSet(u8);
+
+impl MethodSet {
+    /// Exact contour / closed form, unobstructed.
+    pub const ANALYTIC: MethodSet = MethodSet(1);
+    /// Analytic with exact shadow clipping.
+    pub const SHADOWED: MethodSet = MethodSet(2);
+    /// Hemicube.
+    pub const HEMICUBE: MethodSet = MethodSet(4);
+    /// Single plane.
+    pub const SINGLE_PLANE: MethodSet = MethodSet(8);
+    /// Monte Carlo area sampling.
+    pub const MC_AREA: MethodSet = MethodSet(16);
+    /// Monte Carlo uniform hemisphere.
+    pub const MC_UNIFORM: MethodSet = MethodSet(32);
+    /// Monte Carlo cosine hemisphere.
+    pub const MC_COSINE: MethodSet = MethodSet(64);
+    const NAMES: [&'static str; 7] =
+        ["analytic", "analytic-shadowed", "hemicube", "single-plane", "mc-area", "mc-uniform", "mc-cosine"];
+
+    /// Union of two sets.
+    pub fn union(self, other: MethodSet) -> MethodSet {
+        MethodSet(self.0 | other.0)
+    }
+    /// True when no method is recorded.
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+}
+
+impl fmt::Display for MethodSet {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut first = true;
+        for (bit, name) in Self::NAMES.iter().enumerate() {
+            if self.0 & (1 << bit) != 0 {
+                if !first {
+                    f.write_str("+")?;
+                }
+                f.write_str(name)?;
+                first = false;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Options shared by every method; unused knobs are ignored by methods that lack them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    /// The method.
+    pub method: Method,
+    /// Rays or points per patch for Monte Carlo.
+    pub samples: usize,
+    /// Pixels along a hemicube face or the single plane.
+    pub resolution: usize,
+    /// Absolute accuracy goal on each F for `auto` and adaptive integration.
+    pub tolerance: f64,
+    /// Random seed; results do not depend on the thread count.
+    pub seed: u64,
+    /// Show a progress bar on a terminal for long runs.
+    pub progress: bool,
+}
+
+/// Default Monte Carlo samples per patch.
+pub const DEFAULT_SAMPLES: usize = 100_000;
+/// Default hemicube / single-plane resolution.
+pub const DEFAULT_RESOLUTION: usize = 256;
+/// Default `auto` tolerance: 1e-4 absolute on each F (issue brief, View3D's default eps).
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            method: Method::Auto,
+            samples: DEFAULT_SAMPLES,
+            resolution: DEFAULT_RESOLUTION,
+            tolerance: DEFAULT_TOLERANCE,
+            seed: 0,
+            progress: false,
+        }
+    }
+}
+
+/// Computes the view factors of `scene` at the requested level with the chosen method.
+#[allow(unused_variables, unreachable_code)]
+pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
+    let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
+    };
+    #[allow(unreachable_code)]
+    engine::run(scene, kernel.as_ref(), params, level)
+}
