@@ -1,4 +1,6 @@
 //! The `analytic` method: exact kernels, and shadow clipping for obstructed pairs.
 //!
 //! - [`polygon_ops`]: 2-D convex clipping and subtraction for shadows;
+//! - [`penumbra`]: exact clear / blocked / partial classification of a pair against a blocker;
+pub mod penumbra;
 pub mod polygon_ops;

@@ -295,7 +295,14 @@ mod tests {
     fn disjoint_shadow_is_a_cheap_copy() {
         let mut set = PieceSet::default();
         let mut s = Scratch::default();
-        assert!(!subtract_convex(&sq(0.0, 0.0, 1.0), &edges(&sq(1.0, 0.0, 1.0)), 1e-14, 0.0, &mut set, &mut s));
+        assert!(!subtract_convex(
+            &sq(0.0, 0.0, 1.0),
+            &edges(&sq(1.0, 0.0, 1.0)),
+            1e-14,
+            0.0,
+            &mut set,
+            &mut s
+        ));
         assert_eq!(set.len(), 1);
         assert_eq!(set.piece(0), &sq(0.0, 0.0, 1.0)[..]);
     }

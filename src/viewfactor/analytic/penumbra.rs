@@ -1,0 +1,312 @@
+//! Penumbra and umbra of a convex blocker lit by a convex emitter: exact, conservative
+//! classification of a receiver into clear / fully blocked / partly shadowed.
+//!
+//! With E the emitter and B the blocker, a point y is *shadowed from somewhere* when a segment
+//! from E to y crosses B (the penumbra V), and *shadowed from everywhere* when every segment
+//! does (the umbra U).
+//! - Every plane that separates E and B, touching both, bounds V: y = x + t(z − x), t ≥ 1,
+//!   with π(x) ≤ 0 ≤ π(z), gives π(y) ≥ 0. So V lies in the intersection of the half-spaces
+//!   of the separating planes through an edge of one polygon and a vertex of the other, and
+//!   beyond B's plane. Using any subset of them stays conservative.
+//! - U is the intersection of the cones from each point of E through B, beyond B. For each
+//!   edge of B the wedge of planes through it is extremal at vertices of E, so U is bounded by
+//!   the planes through an edge of B and a vertex of E (B inside), and by B's plane.
+//!
+//! A convex receiver outside one penumbra plane is clear; one inside every umbra plane is
+//! blocked. Anything else is partial and goes to the shadow integrator.
+use glam::DVec3;
+
+/// An oriented plane n·x + d = 0 with a unit normal; the region of interest is n·x + d ≥ 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane {
+    /// Unit normal, pointing into the region.
+    pub n: DVec3,
+    /// Offset.
+    pub d: f64,
+}
+
+impl Plane {
+    /// The plane through a, b, c oriented by (b − a) × (c − a); `None` when they are collinear
+    /// within `min_len` (the normal's length before normalising).
+    pub fn through(a: DVec3, b: DVec3, c: DVec3, min_len: f64) -> Option<Self> {
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        if !(len > min_len) {
+            return None;
+        }
+        let n = n / len;
+        Some(Self { n, d: -n.dot(a) })
+    }
+    /// Signed distance of `x`, positive inside the region.
+    #[inline]
+    pub fn eval(&self, x: DVec3) -> f64 {
+        self.n.dot(x) + self.d
+    }
+    /// The opposite orientation.
+    pub fn flipped(&self) -> Self {
+        Self { n: -self.n, d: -self.d }
+    }
+    /// Largest signed distance over an axis-aligned box.
+    pub fn box_max(&self, lo: DVec3, hi: DVec3) -> f64 {
+        let c = 0.5 * (lo + hi);
+        let h = 0.5 * (hi - lo);
+        self.eval(c) + self.n.abs().dot(h)
+    }
+}
+
+/// How a receiver relates to one blocker's shadow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Class {
+    /// No segment from the emitter to the receiver meets the blocker.
+    Clear,
+    /// Every segment meets it.
+    Full,
+    /// Some do, or the test cannot tell.
+    Partial,
+}
+
+/// Bounding planes of the penumbra and umbra of one blocker for one emitter.
+#[derive(Debug, Clone, Default)]
+pub struct ShadowVolume {
+    penumbra: Vec<Plane>,
+    umbra: Vec<Plane>,
+    umbra_valid: bool,
+    /// True when E straddles B's plane: no bound is derived and everything is partial.
+    unbounded: bool,
+    snap: f64,
+}
+
+/// Outcome of [`ShadowVolume::build`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Build {
+    /// The blocker can shadow something.
+    Casts,
+    /// The emitter lies in the blocker's plane: nothing is ever shadowed.
+    Never,
+}
+
+fn extremes(pts: &[DVec3], p: &Plane) -> (f64, f64) {
+    pts.iter()
+        .map(|&x| p.eval(x))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+}
+
+impl ShadowVolume {
+    /// Builds the volume of blocker `b` (convex ring) lit by emitter `e` (convex ring).
+    /// `snap` is the length below which points count as on a plane.
+    pub fn build(&mut self, e: &[DVec3], b: &[DVec3], snap: f64) -> Build {
+        self.penumbra.clear();
+        self.umbra.clear();
+        self.snap = snap;
+        self.unbounded = false;
+        self.umbra_valid = false;
+        let min_len = 1e-300;
+        let Some(mut pb) = plane_of(b) else {
+            self.unbounded = true;
+            return Build::Casts;
+        };
+        // Orient B's plane so that E is behind it (the region is beyond B).
+        let (lo, hi) = extremes(e, &pb);
+        if lo >= -snap && hi <= snap {
+            return Build::Never;
+        }
+        if lo < -snap && hi > snap {
+            self.unbounded = true;
+            return Build::Casts;
+        }
+        if hi > snap {
+            pb = pb.flipped();
+        }
+        self.penumbra.push(pb);
+        self.umbra.push(pb);
+        self.umbra_valid = e.iter().all(|&x| pb.eval(x) < -snap);
+        // Separating planes: edge of one polygon, vertex of the other.
+        for (edges, verts) in [(b, e), (e, b)] {
+            let m = edges.len();
+            for k in 0..m {
+                let (a, c) = (edges[k], edges[(k + 1) % m]);
+                for &v in verts {
+                    let Some(p) = Plane::through(a, c, v, min_len * (c - a).length()) else { continue };
+                    let (elo, ehi) = extremes(e, &p);
+                    let (blo, bhi) = extremes(b, &p);
+                    if ehi <= snap && blo >= -snap {
+                        self.penumbra.push(p);
+                    } else if elo >= -snap && bhi <= snap {
+                        self.penumbra.push(p.flipped());
+                    }
+                }
+            }
+        }
+        // Umbra: planes through an edge of B and a vertex of E, B's interior inside.
+        if self.umbra_valid {
+            let cb = b.iter().copied().sum::<DVec3>() / b.len() as f64;
+            let m = b.len();
+            for k in 0..m {
+                let (a, c) = (b[k], b[(k + 1) % m]);
+                for &v in e {
+                    match Plane::through(a, c, v, min_len) {
+                        Some(p) if p.eval(cb) >= 0.0 => self.umbra.push(p),
+                        Some(p) => self.umbra.push(p.flipped()),
+                        None => self.umbra_valid = false,
+                    }
+                }
+            }
+        }
+        Build::Casts
+    }
+
+    /// Classifies a convex receiver ring.
+    pub fn classify(&self, r: &[DVec3]) -> Class {
+        if self.unbounded {
+            return Class::Partial;
+        }
+        let snap = self.snap;
+        if self.penumbra.iter().any(|p| r.iter().all(|&x| p.eval(x) <= snap)) {
+            return Class::Clear;
+        }
+        if self.umbra_valid && self.umbra.iter().all(|p| r.iter().all(|&x| p.eval(x) >= snap)) {
+            return Class::Full;
+        }
+        Class::Partial
+    }
+
+    /// True when the box [lo, hi] lies wholly outside the penumbra.
+    pub fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
+        !self.unbounded && self.penumbra.iter().any(|p| p.box_max(lo, hi) <= self.snap)
+    }
+}
+
+/// Plane of a planar ring by Newell's vector, oriented by the ring.
+pub fn plane_of(ring: &[DVec3]) -> Option<Plane> {
+    let m = ring.len();
+    if m < 3 {
+        return None;
+    }
+    let mut n = DVec3::ZERO;
+    let mut c = DVec3::ZERO;
+    for k in 0..m {
+        let (a, b) = (ring[k], ring[(k + 1) % m]);
+        n += a.cross(b);
+        c += a;
+    }
+    let len = n.length();
+    if !(len > 0.0) {
+        return None;
+    }
+    let n = n / len;
+    Some(Plane { n, d: -n.dot(c / m as f64) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Vec<DVec3> {
+        let mut v = vec![
+            DVec3::new(x0, y0, z),
+            DVec3::new(x0 + s, y0, z),
+            DVec3::new(x0 + s, y0 + s, z),
+            DVec3::new(x0, y0 + s, z),
+        ];
+        if !up {
+            v.reverse();
+        }
+        v
+    }
+
+    #[test]
+    fn centred_blocker_is_partial_small_receiver_behind_it_is_full() {
+        // Emitter z = 0, blocker 0.5² centred at z = 0.5.
+        let e = square(0.0, 0.0, 0.0, 1.0, true);
+        let b = square(0.5, 0.25, 0.25, 0.5, true);
+        let mut v = ShadowVolume::default();
+        assert_eq!(v.build(&e, &b, 1e-12), Build::Casts);
+        assert_eq!(v.classify(&square(1.0, 0.0, 0.0, 1.0, false)), Class::Partial);
+        // Just behind the blocker, its centre is in the umbra.
+        assert_eq!(v.classify(&square(0.51, 0.45, 0.45, 0.1, false)), Class::Full);
+        // Far to the side: clear. Between emitter and blocker: clear.
+        assert_eq!(v.classify(&square(1.0, 3.0, 0.0, 1.0, false)), Class::Clear);
+        assert_eq!(v.classify(&square(0.25, 0.4, 0.4, 0.2, false)), Class::Clear);
+        assert!(v.box_clear(DVec3::new(3.0, 0.0, 0.9), DVec3::new(4.0, 1.0, 1.1)));
+        assert!(!v.box_clear(DVec3::new(0.0, 0.0, 0.9), DVec3::new(1.0, 1.0, 1.1)));
+    }
+
+    #[test]
+    fn a_large_blocker_covers_a_whole_receiver() {
+        let e = square(0.0, 0.0, 0.0, 1.0, true);
+        let b = square(0.5, -2.0, -2.0, 5.0, false);
+        let mut v = ShadowVolume::default();
+        v.build(&e, &b, 1e-12);
+        assert_eq!(v.classify(&square(1.0, 0.0, 0.0, 1.0, false)), Class::Full);
+    }
+
+    #[test]
+    fn coplanar_blocker_never_casts_and_straddling_emitter_is_conservative() {
+        let e = square(0.0, 0.0, 0.0, 1.0, true);
+        let mut v = ShadowVolume::default();
+        assert_eq!(v.build(&e, &square(0.0, 2.0, 0.0, 1.0, true), 1e-12), Build::Never);
+        // A vertical blocker through the emitter's middle.
+        let b = vec![
+            DVec3::new(0.5, -1.0, -1.0),
+            DVec3::new(0.5, 2.0, -1.0),
+            DVec3::new(0.5, 2.0, 1.0),
+            DVec3::new(0.5, -1.0, 1.0),
+        ];
+        assert_eq!(v.build(&e, &b, 1e-12), Build::Casts);
+        assert_eq!(v.classify(&square(1.0, 5.0, 5.0, 1.0, false)), Class::Partial);
+    }
+
+    /// Does the segment x → y cross the convex ring b (interior)?
+    fn hits(x: DVec3, y: DVec3, b: &[DVec3]) -> bool {
+        let p = plane_of(b).unwrap();
+        let (dx, dy) = (p.eval(x), p.eval(y));
+        if dx * dy >= 0.0 {
+            return false;
+        }
+        let z = x + (y - x) * (dx / (dx - dy));
+        let m = b.len();
+        (0..m).all(|k| (b[(k + 1) % m] - b[k]).cross(z - b[k]).dot(p.n) > 0.0)
+    }
+
+    #[test]
+    fn classification_agrees_with_sampled_segments() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+        let mut v = ShadowVolume::default();
+        let mut counts = [0usize; 3];
+        for case in 0..300 {
+            let mut rnd =
+                |s: f64| DVec3::new(rng.random::<f64>(), rng.random::<f64>(), rng.random::<f64>()) * s;
+            let tri = |c: DVec3, s: f64, r: &mut dyn FnMut(f64) -> DVec3| {
+                let (a, b, d) = (c + r(s) - s / 2.0, c + r(s) - s / 2.0, c + r(s) - s / 2.0);
+                vec![a, b, d]
+            };
+            let e = tri(DVec3::ZERO, 1.0, &mut rnd);
+            let b = tri(DVec3::new(0.0, 0.0, 1.0), if case % 2 == 0 { 1.0 } else { 6.0 }, &mut rnd);
+            let r = tri(DVec3::new(0.0, 0.0, 2.0), 1.5, &mut rnd);
+            if v.build(&e, &b, 1e-12) == Build::Never {
+                continue;
+            }
+            let class = v.classify(&r);
+            counts[class as usize] += 1;
+            // Sample segments between random points of e and r.
+            let mut bary = |t: &[DVec3]| {
+                let (mut u, mut w) = (rng.random::<f64>(), rng.random::<f64>());
+                if u + w > 1.0 {
+                    (u, w) = (1.0 - u, 1.0 - w);
+                }
+                t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * w
+            };
+            for _ in 0..400 {
+                let (x, y) = (bary(&e), bary(&r));
+                let h = hits(x, y, &b);
+                match class {
+                    Class::Clear => assert!(!h, "case {case}: clear but blocked: e {e:?} b {b:?} r {r:?}"),
+                    Class::Full => assert!(h, "case {case}: full but visible: e {e:?} b {b:?} r {r:?}"),
+                    Class::Partial => {}
+                }
+            }
+        }
+        assert!(counts.iter().all(|&c| c >= 5), "every class exercised: {counts:?}");
+    }
+}
