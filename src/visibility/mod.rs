@@ -20,12 +20,15 @@
 //! front sides exchange. This is what the analytic methods compute for front-to-front pairs
 //! with two-sided blockers, and it is View3D's rule (research/view3d.md §2: obstructions are
 //! opaque; keeping only those facing the receiver is exact for closed solids and plates).
-//! Near a ray's origin (|t| < [`NEAR_REL`] of the scene size, the f32 rounding scale) only
-//! front-side crossings count: the origin truly lies on the front of every surface that meets
-//! its patch at an edge, so a crossing there is either a real contact (a box standing on the
-//! floor, a wall at a concave corner) seen from the front, or rounding noise from behind (the
-//! far face of a two-sided thin plate, a wall the rounded origin slipped past). The same rule,
-//! mirrored, applies next to the target point of an occlusion query.
+//! A ray leaving a patch never meets that patch's plane again, so triangles lying in it
+//! (coplanar neighbours, the far face of a two-sided thin plate) are skipped, whatever f32
+//! rounding of the origin says; occlusion queries do the same for both end planes.
+//! Near the origin (|t| < [`NEAR_REL`] of the scene size, the f32 rounding scale) only
+//! front-side crossings of other surfaces count: the true origin lies in front of every
+//! surface that meets its patch at an edge, so such a crossing is a real contact seen from the
+//! front (a wall at a concave corner, a box standing on the floor) or rounding noise from
+//! behind. The same rule, mirrored, applies next to the target point of an occlusion query.
+//! Coincident surfaces facing the *same* way are ambiguous; model a covering as a solid.
 use crate::geometry::DVec3;
 use crate::scene::Scene;
 use glam::Vec3A;

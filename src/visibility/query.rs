@@ -12,7 +12,9 @@ use obvhs::ray::{Ray, RayHit};
 
 impl Visibility {
     /// Closest hit along the unit direction `dir` from `origin`, up to `tmax` (world units),
-    /// ignoring the triangles of `skip_patch` (the ray's own patch).
+    /// ignoring the triangles of `skip_patch` (the ray's own patch, whose front the ray leaves)
+    /// and every triangle lying in that patch's plane (coplanar neighbours, the far face of a
+    /// two-sided thin plate).
     pub fn first_hit(&self, origin: DVec3, dir: DVec3, tmax: f64, skip_patch: Option<usize>) -> Option<Hit> {
         if self.tris.is_empty() {
             return None;
@@ -39,6 +41,7 @@ impl Visibility {
         skip: u32,
     ) -> Option<(usize, TriHit)> {
         let near = self.near;
+        let plane = self.patch_plane.get(skip as usize).copied();
         let sheared = ShearedRay::new(o, d);
         let mut best: Option<(usize, TriHit)> = None;
         let mut hit = RayHit::none();
@@ -47,7 +50,12 @@ impl Visibility {
                 return f32::INFINITY;
             }
             match sheared.intersect(&self.tris[id]) {
-                Some(h) if h.t > -near && h.t < r.tmax && (h.front || h.t >= near) => {
+                Some(h)
+                    if h.t > -near
+                        && h.t < r.tmax
+                        && (h.front || h.t >= near)
+                        && !plane.is_some_and(|pl| self.in_plane(id, pl)) =>
+                {
                     best = Some((id, h));
                     h.t
                 }
@@ -57,7 +65,15 @@ impl Visibility {
         best
     }
 
-    /// True when something other than patches `skip_i` and `skip_j` blocks the segment p–q.
+    /// True when triangle `id` lies in `plane` (unit normal, offset) to within the near band:
+    /// a ray leaving a plane never meets that plane again, whatever rounding says.
+    #[inline]
+    fn in_plane(&self, id: usize, (n, off): (Vec3A, f32)) -> bool {
+        self.tris[id].iter().all(|v| (n.dot(*v) - off).abs() <= self.near)
+    }
+
+    /// True when something other than patches `skip_i` and `skip_j` (and anything lying in
+    /// their planes) blocks the segment p–q; p and q are points of those patches.
     pub fn occluded(&self, p: DVec3, q: DVec3, skip_i: usize, skip_j: usize) -> bool {
         if self.tris.is_empty() {
             return false;
@@ -75,6 +91,7 @@ impl Visibility {
     #[inline]
     pub(crate) fn occluded_frame(&self, o: Vec3A, d: Vec3A, len: f32, skip_i: u32, skip_j: u32) -> bool {
         let near = self.near;
+        let planes = [self.patch_plane[skip_i as usize], self.patch_plane[skip_j as usize]];
         let sheared = ShearedRay::new(o, d);
         let ray = Ray::new(o, d, -near, len + near);
         !self.bvh.ray_traverse_miss(ray, |_, id| {
@@ -88,7 +105,8 @@ impl Visibility {
                     if h.t > -near
                         && h.t < len + near
                         && (h.front || h.t >= near)
-                        && (!h.front || h.t <= len - near) =>
+                        && (!h.front || h.t <= len - near)
+                        && !planes.iter().any(|&pl| self.in_plane(id, pl)) =>
                 {
                     0.0
                 }
