@@ -2,10 +2,12 @@
 //!
 //! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
+//! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
 pub mod polygon;
 pub mod quadrature;
+pub mod sampling;
 
 pub use glam::DVec3;
 pub use polygon::{Polygon, PolygonError};
