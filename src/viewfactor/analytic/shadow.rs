@@ -1,0 +1,460 @@
+//! Exact shadow clipping from one viewpoint (View3D's obstructed path, research/view3d.md §2):
+//! the factor from an emitter element to the *shaded* part of a receiver.
+//!
+//! Setup, once per pair ([`ShadowGeometry::new`]):
+//! - a frame with the receiver in z = 0 facing +z; the receiver, clipped to the emitter's front
+//!   half-space, becomes a 2-D ring (convex pieces plus the half-planes of its convex hull);
+//! - every candidate blocker is clipped to the slab that matters, in front of both the receiver
+//!   (z ≥ 0) and the emitter's plane. Parts elsewhere meet no segment between the two.
+//!
+//! Per viewpoint p = (p_x, p_y, h), h > 0 ([`ShadowGeometry::shaded`]):
+//! - central projection onto z = 0 is linear in homogeneous coordinates,
+//!   (X, Y, W) = (h·x − z·p_x, h·y − z·p_y, h − z), so each blocker is clipped *before* the
+//!   division by the planes through p and the receiver hull's edges (n·q + c ≥ 0 becomes
+//!   n·(X, Y) + c·W ≥ 0). That keeps exactly the part between p and the receiver: no 0.9999·h
+//!   cut as in View3D, no point at infinity (for a bounded convex hull the constraints force
+//!   W > 0), and every shadow lands inside the hull;
+//! - the shadows' union is built as disjoint convex pieces (each new shadow minus the pieces
+//!   so far, [`super::polygon_ops::subtract_convex`]);
+//! - Lambert's formula over those pieces gives g(p) = F(dA_p → shaded part).
+//!
+//! The pair's exchange area is then A·F = (A·F)_unobstructed − ∫_E g dA, which never exceeds
+//! the unobstructed value since g ≥ 0.
+use super::polygon_ops::{
+    clip_convex, subtract_convex, twice_area, HalfPlane, PieceSet, Scratch as OpsScratch,
+};
+use glam::{DVec2, DVec3};
+use std::f64::consts::TAU;
+
+/// Relative size (of the receiver) below which a vertex sits on a line and a piece is a
+/// sliver: far below any accuracy goal, far above f64 round-off of the clipped coordinates.
+pub const SNAP_REL: f64 = 1e-12;
+
+/// An orthonormal frame: the receiver's plane is z = 0, its front is +z.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame {
+    origin: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    e3: DVec3,
+}
+
+impl Frame {
+    /// Frame with origin `o` and third axis `normal`.
+    pub fn new(o: DVec3, normal: DVec3) -> Self {
+        let (e1, _) = normal.any_orthonormal_pair();
+        Self { origin: o, e1, e2: normal.cross(e1), e3: normal }
+    }
+    /// World point → local coordinates.
+    #[inline]
+    pub fn point(&self, x: DVec3) -> DVec3 {
+        let d = x - self.origin;
+        DVec3::new(d.dot(self.e1), d.dot(self.e2), d.dot(self.e3))
+    }
+    /// World direction → local coordinates.
+    #[inline]
+    pub fn vector(&self, v: DVec3) -> DVec3 {
+        DVec3::new(v.dot(self.e1), v.dot(self.e2), v.dot(self.e3))
+    }
+}
+
+/// How much of the receiver one viewpoint found shaded.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Coverage {
+    /// Shaded area, m².
+    pub area: f64,
+    /// Bit k set when active blocker k cast a non-empty shadow on the receiver hull.
+    pub seen: u64,
+}
+
+/// An obstructed pair in the receiver's frame.
+#[derive(Debug, Clone)]
+pub struct ShadowGeometry {
+    frame: Frame,
+    /// Emitter normal in the frame.
+    n_e: DVec3,
+    /// Emitter ring in the frame, clipped to the receiver's front half-space.
+    emitter: Vec<DVec3>,
+    /// Receiver, clipped to the emitter's front: convex pieces in z = 0.
+    receiver: PieceSet,
+    /// Vertices of the receiver pieces in the frame (z = 0), for classification.
+    receiver_ring: Vec<DVec3>,
+    /// Half-planes of the receiver's convex hull.
+    hull: Vec<HalfPlane>,
+    /// True when the receiver is one convex piece (shadows need no further clipping).
+    convex: bool,
+    receiver_area: f64,
+    /// Blockers in the frame, clipped to the slab in front of both planes.
+    blockers: Vec<Vec<DVec3>>,
+    /// Original index of each kept blocker.
+    blocker_ids: Vec<u32>,
+    snap: f64,
+}
+
+/// Buffers reused across viewpoints.
+#[derive(Debug, Clone, Default)]
+pub struct Scratch {
+    hom: Vec<DVec3>,
+    hom2: Vec<DVec3>,
+    shadow: Vec<DVec2>,
+    piece: Vec<DVec2>,
+    shadow_tmp: Vec<DVec2>,
+    covered: PieceSet,
+    frags: PieceSet,
+    frags2: PieceSet,
+    edges: Vec<HalfPlane>,
+    ops: OpsScratch,
+}
+
+impl ShadowGeometry {
+    /// Prepares emitter ring `e` (normal `n_e`), receiver ring `r` (normal `n_r`) and the
+    /// candidate blocker rings (convex, world coordinates). `None` when the two patches do not
+    /// face each other.
+    pub fn new(e: &[DVec3], n_e: DVec3, r: &[DVec3], n_r: DVec3, blockers: &[&[DVec3]]) -> Option<Self> {
+        let centroid = r.iter().copied().sum::<DVec3>() / r.len() as f64;
+        let frame = Frame::new(centroid, n_r);
+        let scale = r.iter().map(|v| v.distance(centroid)).fold(0.0, f64::max);
+        let snap = SNAP_REL * scale;
+        let n_el = frame.vector(n_e);
+        // Emitter in the frame, kept in front of the receiver (z ≥ 0).
+        let e_loc: Vec<DVec3> = e.iter().map(|&x| frame.point(x)).collect();
+        let e_point = e_loc.iter().copied().sum::<DVec3>() / e_loc.len() as f64;
+        let emitter = clip3(&e_loc, DVec3::Z, 0.0, snap);
+        // Receiver in 2-D as convex pieces, kept in front of the emitter:
+        // n_e·(q − e_point) ≥ 0 at z = 0.
+        let r2: Vec<DVec2> = r.iter().map(|&x| frame.point(x).truncate()).collect();
+        let front = HalfPlane::from_normal(n_el.truncate(), -n_el.dot(e_point));
+        if front.is_none() && -n_el.dot(e_point) <= snap {
+            return None;
+        }
+        let mut receiver = PieceSet::default();
+        let mut piece = Vec::new();
+        let convex = is_convex(&r2);
+        let parts: Vec<Vec<DVec2>> = if convex {
+            vec![r2]
+        } else {
+            ear_indices(&r2).iter().map(|t| t.map(|k| r2[k]).to_vec()).collect()
+        };
+        for part in &parts {
+            match front {
+                Some(h) => clip_convex(part, h, snap, &mut piece),
+                None => piece.clone_from(part),
+            }
+            if twice_area(&piece) > snap * snap {
+                receiver.push(&piece);
+            }
+        }
+        if emitter.len() < 3 || receiver.is_empty() {
+            return None;
+        }
+        let mut hull_pts: Vec<DVec2> = receiver.iter().flatten().copied().collect();
+        let receiver_ring = hull_pts.iter().map(|q| q.extend(0.0)).collect();
+        let mut hull_ring = Vec::new();
+        super::polygon_ops::convex_hull(&mut hull_pts, &mut hull_ring);
+        let hull = edges_of(&hull_ring);
+        let convex = convex && receiver.len() == 1;
+        // Blockers: in front of the receiver (z ≥ 0) and of the emitter's plane.
+        let mut kept = Vec::new();
+        let mut ids = Vec::new();
+        for (k, b) in blockers.iter().enumerate() {
+            let loc: Vec<DVec3> = b.iter().map(|&x| frame.point(x)).collect();
+            let a = clip3(&loc, DVec3::Z, 0.0, snap);
+            let a = clip3(&a, n_el, -n_el.dot(e_point), snap);
+            if a.len() >= 3 {
+                kept.push(a);
+                ids.push(k as u32);
+            }
+        }
+        let receiver_area = receiver.area();
+        Some(Self {
+            frame,
+            n_e: n_el,
+            emitter,
+            receiver,
+            receiver_ring,
+            hull,
+            convex,
+            receiver_area,
+            blockers: kept,
+            blocker_ids: ids,
+            snap,
+        })
+    }
+
+    /// The frame.
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+    /// Emitter ring in the frame (clipped to the receiver's front).
+    pub fn emitter(&self) -> &[DVec3] {
+        &self.emitter
+    }
+    /// Emitter normal in the frame.
+    pub fn emitter_normal(&self) -> DVec3 {
+        self.n_e
+    }
+    /// Receiver vertices in the frame (z = 0); their convex hull bounds the receiver.
+    pub fn receiver_ring(&self) -> &[DVec3] {
+        &self.receiver_ring
+    }
+    /// Kept blockers in the frame.
+    pub fn blockers(&self) -> &[Vec<DVec3>] {
+        &self.blockers
+    }
+    /// Index, in the list given to [`Self::new`], of kept blocker `k`.
+    pub fn blocker_id(&self, k: usize) -> u32 {
+        self.blocker_ids[k]
+    }
+    /// Receiver area after clipping, m².
+    pub fn receiver_area(&self) -> f64 {
+        self.receiver_area
+    }
+    /// Length below which points coincide.
+    pub fn snap(&self) -> f64 {
+        self.snap
+    }
+
+    /// F(dA_p → receiver) for a viewpoint p in the frame: the unobstructed integrand.
+    pub fn unshaded(&self, p: DVec3) -> f64 {
+        self.receiver.iter().map(|ring| lambert(p, self.n_e, ring)).sum()
+    }
+
+    /// g(p) = F(dA_p → shaded part of the receiver) with the blockers `active` (indices into
+    /// [`Self::blockers`]); p in the frame with p.z > 0.
+    pub fn shaded(&self, p: DVec3, active: &[u32], s: &mut Scratch) -> (f64, Coverage) {
+        let mut cov = Coverage::default();
+        s.covered.clear();
+        let h = p.z;
+        if !(h > self.snap) {
+            return (0.0, cov);
+        }
+        let snap = self.snap;
+        for (bit, &k) in active.iter().enumerate() {
+            if !self.project(&self.blockers[k as usize], p, s) {
+                continue;
+            }
+            if bit < 64 {
+                cov.seen |= 1 << bit;
+            }
+            // Shadow ∩ receiver pieces (already inside the hull when the receiver is convex).
+            s.frags.clear();
+            if self.convex {
+                s.frags.push(&s.shadow);
+            } else {
+                edges_into(&s.shadow, &mut s.edges);
+                for piece in self.receiver.iter() {
+                    intersect(piece, &s.edges, snap, &mut s.piece, &mut s.shadow_tmp);
+                    if twice_area(&s.piece) > snap * snap {
+                        s.frags.push(&s.piece);
+                    }
+                }
+            }
+            // Minus what earlier shadows already cover.
+            for c in 0..s.covered.len() {
+                if s.frags.is_empty() {
+                    break;
+                }
+                let cover = s.covered.piece(c);
+                edges_into(cover, &mut s.edges);
+                s.frags2.clear();
+                for f in 0..s.frags.len() {
+                    subtract_convex(s.frags.piece(f), &s.edges, snap, snap * snap, &mut s.frags2, &mut s.ops);
+                }
+                std::mem::swap(&mut s.frags, &mut s.frags2);
+            }
+            for f in 0..s.frags.len() {
+                s.covered.push(s.frags.piece(f));
+            }
+        }
+        cov.area = s.covered.area();
+        let g = s.covered.iter().map(|ring| lambert(p, self.n_e, ring)).sum::<f64>();
+        (g.max(0.0), cov)
+    }
+
+    /// Projects blocker `b` from p onto z = 0 inside the receiver hull, into `s.shadow`
+    /// (counter-clockwise). False when nothing remains.
+    fn project(&self, b: &[DVec3], p: DVec3, s: &mut Scratch) -> bool {
+        let h = p.z;
+        s.hom.clear();
+        s.hom.extend(b.iter().map(|x| DVec3::new(h * x.x - x.z * p.x, h * x.y - x.z * p.y, h - x.z)));
+        for e in &self.hull {
+            clip_hom(&s.hom, DVec3::new(e.n.x, e.n.y, e.c), &mut s.hom2);
+            std::mem::swap(&mut s.hom, &mut s.hom2);
+            if s.hom.len() < 3 {
+                return false;
+            }
+        }
+        let w_min = 1e-12 * h;
+        s.shadow.clear();
+        for v in &s.hom {
+            let w = v.z.max(w_min);
+            let q = DVec2::new(v.x / w, v.y / w);
+            if s.shadow.last().is_none_or(|l: &DVec2| l.distance_squared(q) > self.snap * self.snap) {
+                s.shadow.push(q);
+            }
+        }
+        while s.shadow.len() > 1
+            && s.shadow[0].distance_squared(*s.shadow.last().unwrap()) <= self.snap * self.snap
+        {
+            s.shadow.pop();
+        }
+        let a2 = twice_area(&s.shadow);
+        if a2 < 0.0 {
+            s.shadow.reverse();
+        }
+        s.shadow.len() >= 3 && a2.abs() > self.snap * self.snap
+    }
+}
+
+impl HalfPlane {
+    /// n·q + c ≥ 0 with `n` normalised; `None` for a zero normal.
+    pub fn from_normal(n: DVec2, c: f64) -> Option<Self> {
+        let len = n.length();
+        (len > 1e-14).then(|| Self { n: n / len, c: c / len })
+    }
+}
+
+/// Lambert (literature V12) for the ring `q` in z = 0 seen from p with unit normal n:
+/// (1/2π) Σ_k β_k n·(R_{k+1} × R_k)/‖R_{k+1} × R_k‖, R_k = (q_k, 0) − p.
+fn lambert(p: DVec3, n: DVec3, ring: &[DVec2]) -> f64 {
+    let m = ring.len();
+    let mut sum = 0.0;
+    let mut a = ring[m - 1].extend(0.0) - p;
+    for q in ring {
+        let b = q.extend(0.0) - p;
+        sum += edge_term(n, a, b);
+        a = b;
+    }
+    sum / TAU
+}
+
+/// β·n·(b × a)/‖b × a‖: one edge's Lambert term.
+#[inline]
+fn edge_term(n: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let c = b.cross(a);
+    let len = c.length();
+    if len == 0.0 {
+        return 0.0;
+    }
+    len.atan2(a.dot(b)) * n.dot(c) / len
+}
+
+/// Sutherland–Hodgman in homogeneous coordinates against l·(X, Y, W) ≥ 0.
+fn clip_hom(src: &[DVec3], l: DVec3, out: &mut Vec<DVec3>) {
+    out.clear();
+    let m = src.len();
+    let mut a = src[m - 1];
+    let mut da = l.dot(a);
+    for &b in src {
+        let db = l.dot(b);
+        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+        if db >= 0.0 {
+            out.push(b);
+        }
+        a = b;
+        da = db;
+    }
+}
+
+/// Clips a planar 3-D ring to n·x + c ≥ 0 (snapping within `snap` of the plane).
+fn clip3(src: &[DVec3], n: DVec3, c: f64, snap: f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(src.len() + 2);
+    let m = src.len();
+    if m == 0 {
+        return out;
+    }
+    let side = |x: DVec3| {
+        let d = n.dot(x) + c;
+        if d.abs() <= snap {
+            0.0
+        } else {
+            d
+        }
+    };
+    let mut a = src[m - 1];
+    let mut da = side(a);
+    for &b in src {
+        let db = side(b);
+        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+        if db >= 0.0 {
+            out.push(b);
+        }
+        a = b;
+        da = db;
+    }
+    if out.len() < 3 {
+        out.clear();
+    }
+    out
+}
+
+fn edges_of(ring: &[DVec2]) -> Vec<HalfPlane> {
+    let mut v = Vec::new();
+    edges_into(ring, &mut v);
+    v
+}
+
+fn edges_into(ring: &[DVec2], out: &mut Vec<HalfPlane>) {
+    out.clear();
+    let m = ring.len();
+    out.extend((0..m).filter_map(|k| HalfPlane::left_of(ring[k], ring[(k + 1) % m])));
+}
+
+/// `piece` ∩ (inside of every edge), into `out`.
+fn intersect(piece: &[DVec2], edges: &[HalfPlane], snap: f64, out: &mut Vec<DVec2>, buf: &mut Vec<DVec2>) {
+    out.clear();
+    out.extend_from_slice(piece);
+    for e in edges {
+        clip_convex(out, *e, snap, buf);
+        std::mem::swap(out, buf);
+        if out.is_empty() {
+            return;
+        }
+    }
+}
+
+fn is_convex(ring: &[DVec2]) -> bool {
+    let m = ring.len();
+    let scale = ring.iter().map(|q| q.length_squared()).fold(0.0, f64::max);
+    (0..m).all(|k| {
+        let (a, b, c) = (ring[k], ring[(k + 1) % m], ring[(k + 2) % m]);
+        (b - a).perp_dot(c - b) >= -1e-14 * scale
+    })
+}
+
+/// Ear clipping of a simple counter-clockwise 2-D ring: triangles as vertex indices.
+pub(crate) fn ear_indices(ring: &[DVec2]) -> Vec<[usize; 3]> {
+    let mut idx: Vec<usize> = (0..ring.len()).collect();
+    let mut tris = Vec::new();
+    let orient = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
+    let mut guard = 0;
+    while idx.len() > 3 && guard < ring.len() * ring.len() {
+        guard += 1;
+        let m = idx.len();
+        let ear = (0..m).find(|&k| {
+            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
+            let (a, b, c) = (ring[ia], ring[ib], ring[ic]);
+            orient(a, b, c) > 0.0
+                && !idx.iter().any(|&q| {
+                    let p = ring[q];
+                    q != ia
+                        && q != ib
+                        && q != ic
+                        && orient(a, b, p) >= 0.0
+                        && orient(b, c, p) >= 0.0
+                        && orient(c, a, p) >= 0.0
+                })
+        });
+        let Some(k) = ear else { break };
+        tris.push([idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]]);
+        idx.remove(k);
+    }
+    if idx.len() == 3 {
+        tris.push([idx[0], idx[1], idx[2]]);
+    }
+    tris
+}
