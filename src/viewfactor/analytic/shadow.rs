@@ -20,6 +20,7 @@
 //!
 //! The pair's exchange area is then A·F = (A·F)_unobstructed − ∫_E g dA, which never exceeds
 //! the unobstructed value since g ≥ 0.
+use super::lambert::edge_term;
 use super::polygon_ops::{
     clip_convex, subtract_convex, twice_area, HalfPlane, PieceSet, Scratch as OpsScratch,
 };
@@ -326,17 +327,6 @@ fn lambert(p: DVec3, n: DVec3, ring: &[DVec2]) -> f64 {
         a = b;
     }
     sum / TAU
-}
-
-/// β·n·(b × a)/‖b × a‖: one edge's Lambert term.
-#[inline]
-fn edge_term(n: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let c = b.cross(a);
-    let len = c.length();
-    if len == 0.0 {
-        return 0.0;
-    }
-    len.atan2(a.dot(b)) * n.dot(c) / len
 }
 
 /// Sutherland–Hodgman in homogeneous coordinates against l·(X, Y, W) ≥ 0.
