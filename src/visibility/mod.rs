@@ -1,6 +1,7 @@
 //! Visibility: one BVH (obvhs CWBVH) over every triangle of every patch and obstruction.
 //!
 //! - this file: [`Visibility`] (build, coordinate frame, occluder table) and the result types;
+//! - [`boxes`]: a box hierarchy for region queries with a caller's predicate;
 //! - [`query`]: closest hit, occlusion between two points, blocker candidates of a patch pair;
 //! - [`triangle`]: the watertight ray–triangle test.
 //!
@@ -35,6 +36,7 @@ use glam::Vec3A;
 use obvhs::{aabb::Aabb, cwbvh::CwBvh, Boundable, BvhBuildParams};
 use std::time::{Duration, Instant};
 
+pub mod boxes;
 pub mod query;
 pub mod triangle;
 

@@ -10,8 +10,10 @@
 //! - [`polygon_ops`]: 2-D convex clipping and subtraction for shadows;
 //! - [`penumbra`]: exact clear / blocked / partial classification of a pair against a blocker;
 //! - [`shadow`]: shadow clipping from one viewpoint (the shaded integrand g);
-//! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification.
+//! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification;
+//! - [`blockers`]: the scene's convex blockers (surface outlines) and their box hierarchies.
 pub mod adaptive;
+pub mod blockers;
 pub mod contour;
 pub mod disk;
 pub mod edge;

@@ -1,0 +1,258 @@
+//! The scene's blockers for the shadowed `analytic` path: convex polygons in a box hierarchy
+//! ([`crate::visibility::boxes::BoxTree`]), plus a hierarchy over the patches, so candidate
+//! blockers and affected receivers are found by region queries, never by a linear scan.
+//!
+//! - **Blockers** are the polygons that can cut a sight line, as convex rings:
+//!   - a planar surface whose patches tile their convex hull (a subdivided rectangle, disk or
+//!     convex polygon) is one blocker, its outline: one shadow instead of a shadow per patch,
+//!     and no seams between patch shadows;
+//!   - any other patch, and every obstruction polygon, is its own blocker, split into
+//!     triangles when non-convex.
+//! - A blocker is kept only when patches lie strictly on both sides of its plane; otherwise no
+//!   segment between two patches can cross it (the walls of a convex room never block).
+//! - Both hierarchies are walked with a box predicate; boxes are padded, so a conservative
+//!   predicate gives a conservative query.
+use super::polygon_ops::{convex_hull, twice_area};
+use crate::geometry::Polygon;
+use crate::scene::Scene;
+use crate::visibility::boxes::BoxTree;
+use glam::{DVec2, DVec3};
+
+/// Box padding as a fraction of the scene size: boxes already hold their vertices exactly
+/// (rounded outwards); this margin covers the round-off of the predicates evaluated on them.
+const BOX_PAD_REL: f64 = 1e-9;
+/// Relative tolerance for "the patches tile their convex hull" (areas agree to round-off).
+const TILE_AREA_REL: f64 = 1e-9;
+/// A point this fraction of the scene size off a plane is on it (round-off of the vertices).
+pub const SNAP_REL: f64 = 1e-10;
+
+/// Where a blocker comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlockerSource {
+    /// The outline of a whole planar surface.
+    Surface(usize),
+    /// One patch (or a triangle of it).
+    Patch(usize),
+    /// Polygon `polygon` of obstruction `obstruction` (or a triangle of it).
+    Obstruction {
+        /// Obstruction index.
+        obstruction: usize,
+        /// Polygon index within it.
+        polygon: usize,
+    },
+}
+
+/// One convex blocker polygon.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Blocker {
+    /// Counter-clockwise vertices about `normal`.
+    pub ring: Vec<DVec3>,
+    /// Unit normal.
+    pub normal: DVec3,
+    /// What it belongs to.
+    pub source: BlockerSource,
+}
+
+/// The scene's blockers with their box hierarchies.
+#[derive(Debug, Clone)]
+pub struct Blockers {
+    blockers: Vec<Blocker>,
+    blocker_tree: BoxTree,
+    patch_tree: BoxTree,
+    snap: f64,
+}
+
+impl Blockers {
+    /// Collects, filters and indexes the blockers of `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        let (lo, hi) = scene
+            .patches
+            .iter()
+            .map(|p| &p.polygon)
+            .chain(scene.obstructions.iter().flat_map(|o| o.polygons.iter()))
+            .flat_map(|p| p.vertices().iter().copied())
+            .fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(l, h), v| {
+                (l.min(v), h.max(v))
+            });
+        let size = if lo.x <= hi.x { (hi - lo).length() + lo.abs().max(hi.abs()).max_element() } else { 1.0 };
+        let pad = BOX_PAD_REL * size;
+        let snap = SNAP_REL * size;
+        let patch_tree = BoxTree::new(scene.patches.iter().map(|p| bounds(p.polygon.vertices())), pad);
+        let mut all = Vec::new();
+        collect(scene, &mut all);
+        let mut me = Self { blockers: Vec::new(), blocker_tree: BoxTree::default(), patch_tree, snap };
+        // Keep blockers with patch material strictly on both sides of their plane.
+        let kept: Vec<Blocker> = all
+            .into_iter()
+            .filter(|b| {
+                let off = b.normal.dot(b.ring[0]);
+                me.any_patch_vertex(scene, b.normal, -off) && me.any_patch_vertex(scene, -b.normal, off)
+            })
+            .collect();
+        me.blocker_tree = BoxTree::new(kept.iter().map(|b| bounds(&b.ring)), pad);
+        me.blockers = kept;
+        me
+    }
+
+    /// Number of blockers.
+    pub fn len(&self) -> usize {
+        self.blockers.len()
+    }
+    /// True when nothing in the scene can block a sight line.
+    pub fn is_empty(&self) -> bool {
+        self.blockers.is_empty()
+    }
+    /// Blocker `k`.
+    pub fn get(&self, k: usize) -> &Blocker {
+        &self.blockers[k]
+    }
+    /// Length below which points count as coincident or on a plane.
+    pub fn snap(&self) -> f64 {
+        self.snap
+    }
+
+    /// Blockers whose padded box passes `keep(lo, hi)` at every level, appended to `out`.
+    pub fn blockers_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
+        self.blocker_tree.collect(keep, out);
+    }
+    /// Patches whose padded box passes `keep(lo, hi)` at every level, appended to `out`.
+    pub fn patches_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
+        self.patch_tree.collect(keep, out);
+    }
+
+    /// True when some patch vertex x has n·x + d > snap.
+    fn any_patch_vertex(&self, scene: &Scene, n: DVec3, d: f64) -> bool {
+        let snap = self.snap;
+        let mut found = false;
+        let box_max = |lo: DVec3, hi: DVec3| n.dot(0.5 * (lo + hi)) + n.abs().dot(0.5 * (hi - lo)) + d;
+        self.patch_tree.walk(
+            |lo, hi| box_max(lo, hi) > snap,
+            |p| {
+                found = scene.patches[p as usize].polygon.vertices().iter().any(|&x| n.dot(x) + d > snap);
+                !found
+            },
+        );
+        found
+    }
+}
+
+/// Every candidate blocker of the scene, before the two-sides filter.
+fn collect(scene: &Scene, out: &mut Vec<Blocker>) {
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        let patches = &scene.patches[surface.patches.clone()];
+        if patches.len() > 1 && surface.planar {
+            if let Some(ring) = tiled_outline(patches.iter().map(|p| &p.polygon), surface.area) {
+                let normal = patches[0].polygon.normal();
+                out.push(Blocker { ring, normal, source: BlockerSource::Surface(s) });
+                continue;
+            }
+        }
+        for (k, p) in patches.iter().enumerate() {
+            push_convex(&p.polygon, BlockerSource::Patch(surface.patches.start + k), out);
+        }
+    }
+    for (o, obs) in scene.obstructions.iter().enumerate() {
+        for (k, p) in obs.polygons.iter().enumerate() {
+            push_convex(p, BlockerSource::Obstruction { obstruction: o, polygon: k }, out);
+        }
+    }
+}
+
+/// The polygon itself when convex, else its triangles.
+fn push_convex(p: &Polygon, source: BlockerSource, out: &mut Vec<Blocker>) {
+    if p.is_convex() {
+        out.push(Blocker { ring: p.vertices().to_vec(), normal: p.normal(), source });
+    } else {
+        for t in p.triangulate() {
+            out.push(Blocker { ring: t.to_vec(), normal: p.normal(), source });
+        }
+    }
+}
+
+/// The convex hull of coplanar polygons when their areas add up to the hull's: they tile it.
+fn tiled_outline<'a>(polys: impl Iterator<Item = &'a Polygon> + Clone, area: f64) -> Option<Vec<DVec3>> {
+    let first = polys.clone().next()?;
+    let (n, o) = (first.normal(), first.centroid());
+    let (e1, _) = n.any_orthonormal_pair();
+    let e2 = n.cross(e1);
+    let mut pts: Vec<DVec2> = polys
+        .flat_map(|p| p.vertices().iter())
+        .map(|&v| DVec2::new((v - o).dot(e1), (v - o).dot(e2)))
+        .collect();
+    let mut hull = Vec::new();
+    convex_hull(&mut pts, &mut hull);
+    let hull_area = 0.5 * twice_area(&hull);
+    ((hull_area - area).abs() <= TILE_AREA_REL * area)
+        .then(|| hull.iter().map(|q| o + q.x * e1 + q.y * e2).collect())
+}
+
+/// Axis-aligned bounds of a vertex list.
+fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
+    v.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(l, h), p| {
+        (l.min(*p), h.max(*p))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::subdivide::parallelogram_grid;
+
+    /// The six faces of the box [lo, lo + size]³, split n×n, facing out (or in).
+    fn cube_faces(lo: DVec3, size: f64, n: usize, inward: bool) -> Vec<Vec<Polygon>> {
+        let (x, y, z) = (DVec3::X * size, DVec3::Y * size, DVec3::Z * size);
+        let faces = [(lo, y, x), (lo + z, x, y), (lo, x, z), (lo + y, z, x), (lo, z, y), (lo + x, y, z)];
+        faces
+            .iter()
+            .map(|&(o, u, v)| {
+                let (u, v) = if inward { (v, u) } else { (u, v) };
+                parallelogram_grid(o, u, v, n, n).unwrap()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn room_walls_never_block_and_a_tiled_block_face_is_one_outline() {
+        let mut b = Scene::builder();
+        for (k, f) in cube_faces(DVec3::ZERO, 3.0, 6, true).into_iter().enumerate() {
+            b = b.surface(&format!("wall{k}"), f, 0.9, None);
+        }
+        let room = b.build();
+        assert!(Blockers::new(&room).is_empty(), "a convex room has no blockers");
+        let mut b = Scene::builder();
+        for (k, f) in cube_faces(DVec3::ZERO, 3.0, 6, true).into_iter().enumerate() {
+            b = b.surface(&format!("wall{k}"), f, 0.9, None);
+        }
+        for (k, f) in cube_faces(DVec3::ONE, 1.0, 4, false).into_iter().enumerate() {
+            b = b.surface(&format!("block{k}"), f, 0.9, None);
+        }
+        let scene = b.build();
+        let blockers = Blockers::new(&scene);
+        assert_eq!(blockers.len(), 6, "one outline per block face");
+        for k in 0..6 {
+            let bl = blockers.get(k);
+            assert!(matches!(bl.source, BlockerSource::Surface(s) if s >= 6));
+            assert_eq!(bl.ring.len(), 4);
+            let area = 0.5 * newell(&bl.ring).length();
+            assert!((area - 1.0).abs() < 1e-12, "outline area {area}");
+            assert!(newell(&bl.ring).normalize().dot(bl.normal) > 0.999_999);
+        }
+        // Blockers in front of the floor's plane: all six block faces.
+        let mut found = Vec::new();
+        let floor = DVec3::Z;
+        blockers.blockers_where(
+            |lo, hi| floor.dot(0.5 * (lo + hi)) + floor.abs().dot(0.5 * (hi - lo)) > 0.0,
+            &mut found,
+        );
+        assert_eq!(found.len(), 6);
+        // Patches touching the box x ≥ 2.9: the wall x = 3 (36) plus the y/z wall columns (4·6).
+        let mut near = Vec::new();
+        blockers.patches_where(|_, hi| hi.x >= 2.9, &mut near);
+        near.retain(|&p| scene.patches[p as usize].polygon.vertices().iter().any(|v| v.x >= 2.9));
+        assert_eq!(near.len(), 36 + 4 * 6);
+    }
+
+    fn newell(v: &[DVec3]) -> DVec3 {
+        (0..v.len()).map(|k| v[k].cross(v[(k + 1) % v.len()])).sum()
+    }
+}

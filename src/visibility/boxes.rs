@@ -1,0 +1,165 @@
+//! A box hierarchy for region queries: an obvhs `Bvh2` over padded boxes, walked with the
+//! caller's box predicate ("may this box hold what I want?"). Nodes failing the predicate are
+//! pruned, so a query costs the boxes it touches, never a linear scan. Boxes are grown by the
+//! caller's margin and rounded outwards to f32, so a conservative predicate gives a
+//! conservative query.
+use glam::{DVec3, Vec3A};
+use obvhs::{aabb::Aabb, bvh2::Bvh2, Boundable, BvhBuildParams};
+use std::time::Duration;
+
+struct PaddedBox(Aabb);
+impl Boundable for PaddedBox {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+/// A `Bvh2` over boxes, indexed 0..len in input order.
+#[derive(Clone, Default)]
+pub struct BoxTree {
+    bvh: Bvh2,
+    /// Each box as stored (padded, rounded to f32), so node boxes contain it exactly.
+    boxes: Vec<(DVec3, DVec3)>,
+}
+
+impl std::fmt::Debug for BoxTree {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BoxTree")
+            .field("len", &self.boxes.len())
+            .field("nodes", &self.bvh.nodes.len())
+            .finish()
+    }
+}
+
+impl BoxTree {
+    /// Builds over the boxes (lo, hi), each grown by `pad` on every side.
+    pub fn new(boxes: impl IntoIterator<Item = (DVec3, DVec3)>, pad: f64) -> Self {
+        let prims: Vec<PaddedBox> =
+            boxes.into_iter().map(|(lo, hi)| PaddedBox(Aabb::new(down(lo - pad), up(hi + pad)))).collect();
+        let boxes = prims.iter().map(|b| (to64(b.0.min), to64(b.0.max))).collect();
+        if prims.is_empty() {
+            return Self::default();
+        }
+        let bvh =
+            obvhs::bvh2::builder::build_bvh2(&prims, BvhBuildParams::fast_build(), &mut Duration::default());
+        Self { bvh, boxes }
+    }
+    /// Number of boxes.
+    pub fn len(&self) -> usize {
+        self.boxes.len()
+    }
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.boxes.is_empty()
+    }
+    /// Box `k` as stored: padded and rounded outwards to f32.
+    pub fn get(&self, k: usize) -> (DVec3, DVec3) {
+        self.boxes[k]
+    }
+
+    /// Depth-first walk: subtrees whose box fails `keep(lo, hi)` are pruned, and `visit(index)`
+    /// is called for each box that passes `keep` itself; `visit` returns false to stop.
+    pub fn walk(&self, mut keep: impl FnMut(DVec3, DVec3) -> bool, mut visit: impl FnMut(u32) -> bool) {
+        if self.bvh.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0u32];
+        while let Some(k) = stack.pop() {
+            let node = &self.bvh.nodes[k as usize];
+            if !keep(to64(node.aabb.min), to64(node.aabb.max)) {
+                continue;
+            }
+            if node.is_leaf() {
+                for slot in node.first_index..node.first_index + node.prim_count {
+                    let k = self.bvh.primitive_indices[slot as usize];
+                    let (lo, hi) = self.boxes[k as usize];
+                    if keep(lo, hi) && !visit(k) {
+                        return;
+                    }
+                }
+            } else {
+                stack.push(node.first_index + 1);
+                stack.push(node.first_index);
+            }
+        }
+    }
+
+    /// Indices of the boxes that pass `keep`, appended to `out` (tree order).
+    pub fn collect(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
+        self.walk(keep, |k| {
+            out.push(k);
+            true
+        });
+    }
+}
+
+/// f32 vector not above `v`, component-wise.
+fn down(v: DVec3) -> Vec3A {
+    let f = |x: f64| {
+        let y = x as f32;
+        if (y as f64) > x {
+            y.next_down()
+        } else {
+            y
+        }
+    };
+    Vec3A::new(f(v.x), f(v.y), f(v.z))
+}
+
+/// f32 vector not below `v`, component-wise.
+fn up(v: DVec3) -> Vec3A {
+    let f = |x: f64| {
+        let y = x as f32;
+        if (y as f64) < x {
+            y.next_up()
+        } else {
+            y
+        }
+    };
+    Vec3A::new(f(v.x), f(v.y), f(v.z))
+}
+
+fn to64(v: Vec3A) -> DVec3 {
+    DVec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn region_queries_match_a_brute_force_scan() {
+        // A 20×20×20 lattice of unit boxes; query a slab and a plane-bounded region.
+        let boxes: Vec<(DVec3, DVec3)> = (0..8000)
+            .map(|k| {
+                let c = DVec3::new((k % 20) as f64, ((k / 20) % 20) as f64, (k / 400) as f64) * 1.5;
+                (c, c + 1.0)
+            })
+            .collect();
+        let tree = BoxTree::new(boxes.iter().copied(), 1e-6);
+        assert_eq!(tree.len(), 8000);
+        let n = DVec3::new(1.0, 2.0, -0.5).normalize();
+        let beyond = |lo: DVec3, hi: DVec3| n.dot(0.5 * (lo + hi)) + n.abs().dot(0.5 * (hi - lo)) > 20.0;
+        let mut got = Vec::new();
+        tree.collect(beyond, &mut got);
+        got.sort_unstable();
+        let want: Vec<u32> = (0..8000u32)
+            .filter(|&k| {
+                let (lo, hi) = tree.get(k as usize);
+                beyond(lo, hi)
+            })
+            .collect();
+        assert!(want.len() > 100 && want.len() < 7900, "{}", want.len());
+        assert_eq!(got, want);
+        // Early stop.
+        let mut visits = 0;
+        tree.walk(
+            |_, _| true,
+            |_| {
+                visits += 1;
+                visits < 5
+            },
+        );
+        assert_eq!(visits, 5);
+    }
+}
