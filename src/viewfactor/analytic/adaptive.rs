@@ -6,7 +6,7 @@
 //! - each cell (parallelogram, or triangle) is integrated with two Gauss rules, orders
 //!   [`AdaptParams::low`] and [`AdaptParams::high`] per direction; the cell is accepted when
 //!   they agree to its share of the tolerance (proportional to its area), else it splits into
-//!   four and each child gets a quarter;
+//!   four;
 //! - every cell is split down to [`AdaptParams::min_depth`] first;
 //! - **blockers are re-classified per cell** with the exact penumbra/umbra planes
 //!   ([`super::penumbra`]): a blocker clear of the cell's penumbra is dropped, one whose umbra
@@ -119,8 +119,6 @@ impl Rule {
 /// Controls of the adaptive integration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptParams {
-    /// Absolute tolerance on the shaded exchange area ∫_E g dA, m².
-    pub tol: f64,
     /// Gauss order per direction of the lower rule.
     pub low: usize,
     /// Gauss order per direction of the higher rule (the value kept).
@@ -188,8 +186,9 @@ impl Integrator {
         &self.params
     }
 
-    /// ∫_E g dA over the emitter of `geo` with every kept blocker active.
-    pub fn shaded(&self, geo: &ShadowGeometry, s: &mut AdaptScratch) -> AdaptInfo {
+    /// ∫_E g dA over the emitter of `geo` with every kept blocker active, to the absolute
+    /// tolerance `tol` (m²).
+    pub fn shaded(&self, geo: &ShadowGeometry, tol: f64, s: &mut AdaptScratch) -> AdaptInfo {
         let mut info = AdaptInfo::default();
         let roots = emitter_cells(geo.emitter(), geo.emitter_normal());
         let total_area: f64 = roots.iter().map(Cell::area).sum();
@@ -216,7 +215,7 @@ impl Integrator {
             let (lo, hi, seen, evals) = self.evaluate(geo, &item, s);
             info.evals += evals;
             let all_seen = item.full || item.len >= 64 || seen == (1u64 << item.len) - 1;
-            let tol = self.params.tol * area / total_area;
+            let tol = tol * area / total_area;
             let converged = (hi - lo).abs() <= tol && all_seen && item.depth >= self.params.min_depth;
             if converged || item.depth >= self.params.max_depth {
                 info.shaded += hi;
@@ -334,8 +333,8 @@ mod tests {
         let e = sq(0.0, 0.0, 0.0, 1.0, true);
         let r = sq(1.0, 0.0, 0.0, 1.0, false);
         let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[blocker]).unwrap();
-        let it = Integrator::new(AdaptParams { tol, low: 3, high: 4, min_depth, max_depth: 10 });
-        it.shaded(&geo, &mut AdaptScratch::default())
+        let it = Integrator::new(AdaptParams { low: 3, high: 4, min_depth, max_depth: 10 });
+        it.shaded(&geo, tol, &mut AdaptScratch::default())
     }
 
     #[test]

@@ -11,7 +11,10 @@
 //! - [`penumbra`]: exact clear / blocked / partial classification of a pair against a blocker;
 //! - [`shadow`]: shadow clipping from one viewpoint (the shaded integrand g);
 //! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification;
-//! - [`blockers`]: the scene's convex blockers (surface outlines) and their box hierarchies.
+//! - [`blockers`]: the scene's convex blockers (surface outlines) and their box hierarchies;
+//! - [`obstruction`]: per row, the obstructed receivers and their blockers;
+//! - [`obstructed`]: the obstructed branch of the kernels (`analytic` and `auto` policies);
+//! - [`pair`]: one obstructed pair: emitter choice, shadow integration, A·F.
 pub mod adaptive;
 pub mod blockers;
 pub mod contour;
@@ -19,6 +22,9 @@ pub mod disk;
 pub mod edge;
 pub mod gauss;
 pub mod lambert;
+pub mod obstructed;
+pub mod obstruction;
+pub mod pair;
 pub mod penumbra;
 pub mod polygon_ops;
 pub mod ring;

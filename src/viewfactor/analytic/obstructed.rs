@@ -1,0 +1,141 @@
+//! The obstructed branch of the analytic kernels: everything a row needs beyond the
+//! unobstructed ladder.
+//!
+//! [`Shadows`] holds the scene's blockers and the integration rules; per row it classifies the
+//! receivers ([`super::obstruction::classify_row`]) and per partly obstructed pair it returns
+//! the obstructed exchange area under a [`Policy`]:
+//! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
+//!   unobstructed value, rules 3×3 vs 4×4 per cell, minimum depth [`EXACT_MIN_DEPTH`];
+//! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 1 vs 2×2) and the
+//!   Monte Carlo ratio estimator, to an absolute goal per F (see [`crate::viewfactor::auto`]).
+use super::adaptive::{AdaptParams, Integrator};
+use super::blockers::Blockers;
+use super::obstruction::{classify_row, RowShadows};
+use super::pair::{shadowed, PairScratch};
+use crate::scene::Scene;
+use crate::viewfactor::auto::mc_pair::{estimate, PatchSampler, SegmentBlocker};
+use crate::viewfactor::auto::{choose, Choice};
+use crate::viewfactor::MethodSet;
+
+/// Default relative target of `analytic` on obstructed pairs: far below any use, far above
+/// the integrator's round-off (the contour values themselves are good to ~1e-12).
+pub const EXACT_REL_TOL: f64 = 1e-9;
+/// `analytic` splits every emitter at least once: four cells, 100 viewpoints, before trusting
+/// the rules (the per-cell blocker checks then catch what coarse rules would miss).
+pub const EXACT_MIN_DEPTH: u32 = 1;
+/// Deepest split (4⁸ = 65 536 cells per pair at most), as View3D's maxO.
+pub const MAX_DEPTH: u32 = 8;
+
+/// How partly obstructed pairs are computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Policy {
+    /// Shadow integration to `rel_tol` × the unobstructed value.
+    Exact {
+        /// Relative target.
+        rel_tol: f64,
+    },
+    /// Cheapest estimator meeting `tol` on each F.
+    Auto {
+        /// Absolute goal on each F.
+        tol: f64,
+        /// Monte Carlo seed.
+        seed: u64,
+    },
+}
+
+/// One obstructed entry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Obstructed {
+    /// A_i F_ij, m².
+    pub s: f64,
+    /// Variance (Monte Carlo) or 0, m⁴.
+    pub var: f64,
+    /// Which method produced it.
+    pub method: MethodSet,
+}
+
+/// Per-thread buffers of the obstructed branch.
+#[derive(Debug, Clone, Default)]
+pub struct ShadowScratch {
+    /// The row's classification.
+    pub row: RowShadows,
+    pair: PairScratch,
+    segments: Vec<SegmentBlocker>,
+}
+
+/// The scene's blockers, rules and policy.
+#[derive(Debug)]
+pub struct Shadows<'s> {
+    scene: &'s Scene,
+    blockers: Blockers,
+    integrator: Integrator,
+    policy: Policy,
+    samplers: Vec<PatchSampler>,
+}
+
+impl<'s> Shadows<'s> {
+    /// Collects the blockers of `scene`; `None` when nothing can block (convex enclosures).
+    pub fn new(scene: &'s Scene, policy: Policy) -> Option<Self> {
+        let blockers = Blockers::new(scene);
+        if blockers.is_empty() {
+            return None;
+        }
+        let (low, high, min_depth) = match policy {
+            Policy::Exact { .. } => (3, 4, EXACT_MIN_DEPTH),
+            Policy::Auto { .. } => (1, 2, 0),
+        };
+        let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
+        let samplers = match policy {
+            Policy::Auto { .. } => scene.patches.iter().map(|p| PatchSampler::new(&p.polygon)).collect(),
+            Policy::Exact { .. } => Vec::new(),
+        };
+        Some(Self { scene, blockers, integrator, policy, samplers })
+    }
+
+    /// The blockers.
+    pub fn blockers(&self) -> &Blockers {
+        &self.blockers
+    }
+
+    /// Classifies the receivers j > i of row `i` into `s.row`.
+    pub fn classify_row(&self, i: usize, s: &mut ShadowScratch) {
+        classify_row(self.scene, &self.blockers, i, i + 1, &mut s.row);
+    }
+
+    /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
+    /// partial blockers `partial` (from the row classification).
+    pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut ShadowScratch) -> Obstructed {
+        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
+        let integrate = |goal: f64, s: &mut ShadowScratch| {
+            let r = shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, &mut s.pair);
+            Obstructed { s: r.s, var: 0.0, method: MethodSet::SHADOWED }
+        };
+        match self.policy {
+            Policy::Exact { rel_tol } => integrate(rel_tol * u, s),
+            Policy::Auto { tol, seed } => {
+                let goal = tol * pi.area();
+                match choose(u, goal, partial.len()) {
+                    Choice::Shadowed => integrate(goal, s),
+                    Choice::MonteCarlo(n) => {
+                        s.segments.clear();
+                        s.segments.extend(
+                            partial.iter().map(|&b| SegmentBlocker::new(&self.blockers.get(b as usize).ring)),
+                        );
+                        let m = estimate(
+                            &self.samplers[i],
+                            pi.normal(),
+                            &self.samplers[j],
+                            pj.normal(),
+                            u,
+                            &s.segments,
+                            n,
+                            seed,
+                            (i, j),
+                        );
+                        Obstructed { s: m.s, var: m.var, method: MethodSet::MC_AREA }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,100 @@
+//! One partly obstructed pair end to end: choice of emitter and receiver, shadow geometry,
+//! adaptive integration, and the obstructed exchange area
+//! A_i F_ij = (A_i F_ij)_unobstructed − ∫_E g dA.
+//!
+//! **Which patch emits.** Only the emitter side is integrated numerically; the receiver side is
+//! exact. The integrand g varies as shadows move across the receiver while the viewpoint moves
+//! across the emitter: a blocker at height d_e above the emitter and d_r above the receiver
+//! shifts its shadow by (d_r/d_e)·Δ for a viewpoint step Δ. Relative to the receiver's size
+//! the shadow sweeps (L_e·d_r)/(d_e·L_r) over the whole emitter, so the emitter is the patch
+//! with the smaller L/d (its size over its distance to the nearest blocker): the receiver is
+//! the patch nearer to the blockers relative to its size. View3D picks the surface nearer to
+//! the obstructions (research/view3d.md §2); this also weighs the sizes, so a large patch next
+//! to a blocker is not chosen as emitter because a small one is slightly farther.
+use super::adaptive::{AdaptInfo, AdaptScratch, Integrator};
+use super::blockers::Blockers;
+use super::obstruction::clip_front;
+use super::shadow::ShadowGeometry;
+use crate::geometry::Polygon;
+use glam::DVec3;
+
+/// Result of one obstructed pair.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Shadowed {
+    /// Obstructed exchange area A_i F_ij, m² (never above the unobstructed one).
+    pub s: f64,
+    /// Error estimate of `s`, m².
+    pub error: f64,
+    /// Integration statistics.
+    pub info: AdaptInfo,
+    /// True when patch j was the emitter.
+    pub swapped: bool,
+}
+
+/// Reusable buffers.
+#[derive(Debug, Clone, Default)]
+pub struct PairScratch {
+    /// Integrator buffers.
+    pub adapt: AdaptScratch,
+    rings: Vec<Vec<DVec3>>,
+}
+
+/// Obstructed A_i F_ij for patches `pi`, `pj` with unobstructed exchange area `s_unobs` and the
+/// partial blockers `partial` (ids into `blockers`), to the absolute tolerance `tol` (m²).
+#[allow(clippy::too_many_arguments)]
+pub fn shadowed(
+    pi: &Polygon,
+    pj: &Polygon,
+    s_unobs: f64,
+    blockers: &Blockers,
+    partial: &[u32],
+    integrator: &Integrator,
+    tol: f64,
+    s: &mut PairScratch,
+) -> Shadowed {
+    let snap = blockers.snap();
+    // Blockers clipped to the region in front of both patches.
+    s.rings.resize_with(partial.len(), Vec::new);
+    let mut tmp = Vec::new();
+    let mut n = 0;
+    for &b in partial {
+        let ring = &blockers.get(b as usize).ring;
+        clip_front(ring, pi.normal(), pi.normal().dot(pi.centroid()), snap, &mut tmp);
+        if tmp.len() < 3 {
+            continue;
+        }
+        clip_front(&tmp, pj.normal(), pj.normal().dot(pj.centroid()), snap, &mut s.rings[n]);
+        if s.rings[n].len() >= 3 {
+            n += 1;
+        }
+    }
+    if n == 0 {
+        return Shadowed { s: s_unobs, ..Default::default() };
+    }
+    let rings: Vec<&[DVec3]> = s.rings[..n].iter().map(|r| r.as_slice()).collect();
+    let swapped = !emits_first(pi, pj, &rings);
+    let (e, r) = if swapped { (pj, pi) } else { (pi, pj) };
+    let Some(geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings) else {
+        return Shadowed { s: 0.0, swapped, ..Default::default() };
+    };
+    let info = integrator.shaded(&geo, tol, &mut s.adapt);
+    let value = (s_unobs - info.shaded).max(0.0);
+    debug_assert!(value <= s_unobs, "obstructed {value} above unobstructed {s_unobs}");
+    Shadowed { s: value, error: info.error, info, swapped }
+}
+
+/// True when `a` should be the emitter: its size over its distance to the nearest blocker
+/// point is the smaller (see the module notes).
+fn emits_first(a: &Polygon, b: &Polygon, blockers: &[&[DVec3]]) -> bool {
+    let dist = |p: &Polygon| {
+        blockers
+            .iter()
+            .flat_map(|r| r.iter())
+            .map(|&v| p.plane_distance(v))
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0)
+    };
+    let (da, db) = (dist(a), dist(b));
+    // L_a/d_a ≤ L_b/d_b, written without divisions (either distance may be 0).
+    a.bounding_radius() * db <= b.bounding_radius() * da
+}

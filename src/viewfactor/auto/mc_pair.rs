@@ -1,0 +1,202 @@
+//! Monte Carlo for one partly obstructed pair, as a ratio to the exact unobstructed value:
+//! A_i F_ij = (A_i F_ij)_unobstructed · Σ_k K_k V_k / Σ_k K_k,
+//! with point pairs (x_k on i, y_k on j) from scrambled Sobol points, K = cosθ_i cosθ_j/(π r²)
+//! and V the visibility of the segment.
+//!
+//! - **Exact visibility from the candidates.** The segment is tested against the pair's
+//!   partial blockers only (clipped convex polygons, a plane and edge test each): the
+//!   obstruction classification guarantees nothing else can cut it, so no ray is traced through
+//!   the scene's BVH and a sample costs tens of nanoseconds.
+//! - **Ratio, not difference.** A pair entirely visible or entirely hidden gets the exact value
+//!   whatever the sample count; only the penumbra's variation costs samples.
+//! - **Standard error.** The ratio estimator's delta-method variance
+//!   Σ K_k² (V_k − R)² / (Σ K_k)², computed as for independent samples (an overestimate for
+//!   scrambled Sobol), with a floor from a half-count prior R̃ = (R·n_eff + ½)/(n_eff + 1),
+//!   n_eff = (ΣK)²/ΣK², so that a sample in which every point agreed never claims zero error.
+//! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
+use crate::geometry::sampling::PolygonSampler;
+use crate::geometry::Polygon;
+use crate::viewfactor::monte_carlo::{mix64, stream_key};
+use glam::{DVec2, DVec3};
+use std::f64::consts::FRAC_1_PI;
+
+/// Salt of the auto pair streams (distinct from the Monte Carlo methods' salts).
+const SALT: u64 = 0x6175_746F;
+
+/// Uniform points on a patch: the bilinear map for a parallelogram (keeps the Sobol
+/// stratification), else the triangle-table sampler.
+#[derive(Debug, Clone)]
+pub enum PatchSampler {
+    /// o + s·u + t·v.
+    Para {
+        /// Corner.
+        o: DVec3,
+        /// First edge.
+        u: DVec3,
+        /// Second edge.
+        v: DVec3,
+    },
+    /// Any planar polygon.
+    Poly(PolygonSampler),
+}
+
+impl PatchSampler {
+    /// The sampler of `p`.
+    pub fn new(p: &Polygon) -> Self {
+        let v = p.vertices();
+        if v.len() == 4 {
+            let scale = (v[2] - v[0]).length() + (v[3] - v[1]).length();
+            if ((v[0] + v[2]) - (v[1] + v[3])).length() <= 1e-12 * scale {
+                return PatchSampler::Para { o: v[0], u: v[1] - v[0], v: v[3] - v[0] };
+            }
+        }
+        PatchSampler::Poly(PolygonSampler::new(p))
+    }
+    /// Area-uniform point for u ∈ [0, 1)².
+    #[inline]
+    pub fn sample(&self, s: f64, t: f64) -> DVec3 {
+        match self {
+            PatchSampler::Para { o, u, v } => *o + s * *u + t * *v,
+            PatchSampler::Poly(p) => p.sample(DVec2::new(s, t)),
+        }
+    }
+}
+
+/// A convex blocker ready for segment tests.
+#[derive(Debug, Clone, Default)]
+pub struct SegmentBlocker {
+    n: DVec3,
+    off: f64,
+    /// (point on edge, inward edge normal in the plane).
+    edges: Vec<(DVec3, DVec3)>,
+}
+
+impl SegmentBlocker {
+    /// From a convex ring (counter-clockwise about its normal).
+    pub fn new(ring: &[DVec3]) -> Self {
+        let m = ring.len();
+        let mut n = DVec3::ZERO;
+        for k in 0..m {
+            n += ring[k].cross(ring[(k + 1) % m]);
+        }
+        let n = n.normalize_or_zero();
+        let edges = (0..m).map(|k| (ring[k], n.cross(ring[(k + 1) % m] - ring[k]))).collect();
+        Self { n, off: n.dot(ring[0]), edges }
+    }
+    /// True when the open segment x → y crosses the blocker's interior.
+    #[inline]
+    pub fn cuts(&self, x: DVec3, y: DVec3) -> bool {
+        let (dx, dy) = (self.n.dot(x) - self.off, self.n.dot(y) - self.off);
+        if dx * dy >= 0.0 {
+            return false;
+        }
+        let z = x + (y - x) * (dx / (dx - dy));
+        self.edges.iter().all(|&(a, m)| m.dot(z - a) > 0.0)
+    }
+}
+
+/// The estimate for one pair.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct McPair {
+    /// A_i F_ij, m².
+    pub s: f64,
+    /// Its variance, m⁴.
+    pub var: f64,
+    /// Samples used.
+    pub samples: u32,
+}
+
+/// Ratio estimate of the obstructed A_i F_ij from `n` point pairs.
+#[allow(clippy::too_many_arguments)]
+pub fn estimate(
+    si: &PatchSampler,
+    ni: DVec3,
+    sj: &PatchSampler,
+    nj: DVec3,
+    s_unobs: f64,
+    blockers: &[SegmentBlocker],
+    n: u32,
+    seed: u64,
+    (i, j): (usize, usize),
+) -> McPair {
+    let key = mix64(stream_key(seed, SALT, i, 0) ^ (j as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let scramble = mix64(key) as u32;
+    let (mut sk, mut skv, mut sk2) = (0.0, 0.0, 0.0);
+    let mut kv: Vec<(f64, bool)> = Vec::with_capacity(n as usize);
+    for k in 0..n {
+        let [a, b, c, d] = sobol_burley::sample_4d(k, 0, scramble);
+        let x = si.sample(a as f64, b as f64);
+        let y = sj.sample(c as f64, d as f64);
+        let dv = y - x;
+        let r2 = dv.length_squared();
+        let (ci, cj) = (ni.dot(dv), -nj.dot(dv));
+        if ci <= 0.0 || cj <= 0.0 || r2 == 0.0 {
+            continue;
+        }
+        let kern = ci * cj / (r2 * r2) * FRAC_1_PI;
+        let visible = !blockers.iter().any(|b| b.cuts(x, y));
+        sk += kern;
+        sk2 += kern * kern;
+        if visible {
+            skv += kern;
+        }
+        kv.push((kern, visible));
+    }
+    if !(sk > 0.0) {
+        return McPair { s: s_unobs, var: 0.0, samples: n };
+    }
+    let r = skv / sk;
+    let spread: f64 =
+        kv.iter().map(|&(k, v)| (k * (f64::from(u8::from(v)) - r)).powi(2)).sum::<f64>() / (sk * sk);
+    let n_eff = sk * sk / sk2;
+    let prior = (r * n_eff + 0.5) / (n_eff + 1.0);
+    let floor = prior * (1.0 - prior) / n_eff;
+    McPair { s: s_unobs * r, var: s_unobs * s_unobs * spread.max(floor), samples: n }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
+        let mut v = vec![
+            DVec3::new(x0, y0, z),
+            DVec3::new(x0 + s, y0, z),
+            DVec3::new(x0 + s, y0 + s, z),
+            DVec3::new(x0, y0 + s, z),
+        ];
+        if !up {
+            v.reverse();
+        }
+        Polygon::new(v).unwrap()
+    }
+
+    #[test]
+    fn segment_test_hits_the_interior_only() {
+        let b = SegmentBlocker::new(sq(0.5, 0.25, 0.25, 0.5, true).vertices());
+        assert!(b.cuts(DVec3::new(0.5, 0.5, 0.0), DVec3::new(0.5, 0.5, 1.0)));
+        assert!(!b.cuts(DVec3::new(0.1, 0.1, 0.0), DVec3::new(0.1, 0.1, 1.0)));
+        assert!(!b.cuts(DVec3::new(0.5, 0.5, 0.0), DVec3::new(0.5, 0.5, 0.4)));
+    }
+
+    #[test]
+    fn centred_blocker_within_four_standard_errors() {
+        // Two unit squares at gap 1 with a centred 0.5² blocker midway: F = 0.0995062946.
+        let (e, r) = (sq(0.0, 0.0, 0.0, 1.0, true), sq(1.0, 0.0, 0.0, 1.0, false));
+        let blockers = [SegmentBlocker::new(sq(0.5, 0.25, 0.25, 0.5, true).vertices())];
+        let (se, sr) = (PatchSampler::new(&e), PatchSampler::new(&r));
+        let unobs = 0.199_824_895_698;
+        let mut z2 = 0.0;
+        for seed in 0..20 {
+            let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, &blockers, 4096, seed, (0, 1));
+            let z = (m.s - 0.099_506_294_6) / m.var.sqrt();
+            assert!(z.abs() < 4.0, "seed {seed}: {} ± {}", m.s, m.var.sqrt());
+            z2 += z * z;
+        }
+        // The reported error is an upper bound for scrambled Sobol: rms z well below 1.
+        assert!((z2 / 20.0f64).sqrt() < 1.0, "rms z {}", (z2 / 20.0f64).sqrt());
+        // No blocker: exact whatever the sample count.
+        let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, &[], 4, 1, (0, 1));
+        assert_eq!(m.s, unobs);
+    }
+}
