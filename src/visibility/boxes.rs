@@ -14,6 +14,17 @@ impl Boundable for PaddedBox {
     }
 }
 
+/// Where a box lies relative to a query region.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Region {
+    /// Wholly outside: prune.
+    Out,
+    /// Wholly inside: everything below is in.
+    In,
+    /// Possibly both.
+    Cross,
+}
+
 /// A `Bvh2` over boxes, indexed 0..len in input order.
 #[derive(Clone, Default)]
 pub struct BoxTree {
@@ -80,6 +91,64 @@ impl BoxTree {
             } else {
                 stack.push(node.first_index + 1);
                 stack.push(node.first_index);
+            }
+        }
+    }
+
+    /// Walk with a three-way region test on node boxes: subtrees `Out` are pruned, subtrees
+    /// `In` are visited whole without further tests; `visit(index, region)` receives every box
+    /// of a reached leaf with its node's region (`Cross` boxes are left to the caller to test,
+    /// with [`BoxTree::get`] or finer geometry).
+    pub fn walk_regions(
+        &self,
+        mut region: impl FnMut(DVec3, DVec3) -> Region,
+        mut visit: impl FnMut(u32, Region),
+    ) {
+        if self.bvh.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![(0u32, false)];
+        while let Some((k, inside)) = stack.pop() {
+            let node = &self.bvh.nodes[k as usize];
+            let r = if inside { Region::In } else { region(to64(node.aabb.min), to64(node.aabb.max)) };
+            if r == Region::Out {
+                continue;
+            }
+            if node.is_leaf() {
+                for slot in node.first_index..node.first_index + node.prim_count {
+                    visit(self.bvh.primitive_indices[slot as usize], r);
+                }
+            } else {
+                let inside = r == Region::In;
+                stack.push((node.first_index + 1, inside));
+                stack.push((node.first_index, inside));
+            }
+        }
+    }
+
+    /// Walk carrying a state down the tree: `descend(lo, hi, parent_state)` returns the node's
+    /// state, or `None` to prune it; `visit(index, state)` receives every box of a reached leaf
+    /// with its leaf's state. Several region queries can share one walk this way.
+    pub fn walk_with<S: Copy>(
+        &self,
+        root: S,
+        mut descend: impl FnMut(DVec3, DVec3, S) -> Option<S>,
+        mut visit: impl FnMut(u32, S),
+    ) {
+        if self.bvh.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![(0u32, root)];
+        while let Some((k, parent)) = stack.pop() {
+            let node = &self.bvh.nodes[k as usize];
+            let Some(state) = descend(to64(node.aabb.min), to64(node.aabb.max), parent) else { continue };
+            if node.is_leaf() {
+                for slot in node.first_index..node.first_index + node.prim_count {
+                    visit(self.bvh.primitive_indices[slot as usize], state);
+                }
+            } else {
+                stack.push((node.first_index + 1, state));
+                stack.push((node.first_index, state));
             }
         }
     }
@@ -151,6 +220,37 @@ mod tests {
             .collect();
         assert!(want.len() > 100 && want.len() < 7900, "{}", want.len());
         assert_eq!(got, want);
+        // Three-way walk: inside the slab 10 ≤ x ≤ 20 counts as In.
+        let mut regions = Vec::new();
+        let slab = |lo: DVec3, hi: DVec3| {
+            if hi.x < 10.0 || lo.x > 20.0 {
+                Region::Out
+            } else if lo.x >= 10.0 && hi.x <= 20.0 {
+                Region::In
+            } else {
+                Region::Cross
+            }
+        };
+        tree.walk_regions(slab, |k, r| {
+            let r = if r == Region::Cross {
+                let (lo, hi) = tree.get(k as usize);
+                slab(lo, hi)
+            } else {
+                r
+            };
+            if r != Region::Out {
+                regions.push((k, r));
+            }
+        });
+        regions.sort_unstable_by_key(|p| p.0);
+        let want: Vec<(u32, Region)> = (0..8000u32)
+            .filter_map(|k| {
+                let (lo, hi) = tree.get(k as usize);
+                let r = slab(lo, hi);
+                (r != Region::Out).then_some((k, r))
+            })
+            .collect();
+        assert_eq!(regions, want);
         // Early stop.
         let mut visits = 0;
         tree.walk(

@@ -115,6 +115,10 @@ impl Blockers {
     pub fn blockers_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.blocker_tree.collect(keep, out);
     }
+    /// The hierarchy over patch boxes (index = patch).
+    pub fn patch_tree(&self) -> &BoxTree {
+        &self.patch_tree
+    }
     /// Patches whose padded box passes `keep(lo, hi)` at every level, appended to `out`.
     pub fn patches_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.patch_tree.collect(keep, out);

@@ -139,3 +139,57 @@ impl<'s> Shadows<'s> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Polygon;
+    use crate::viewfactor::analytic::contour::polygon_polygon;
+    use crate::viewfactor::analytic::obstruction::Status;
+    use glam::DVec3;
+
+    fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
+        let mut v = vec![
+            DVec3::new(x0, y0, z),
+            DVec3::new(x0 + s, y0, z),
+            DVec3::new(x0 + s, y0 + s, z),
+            DVec3::new(x0, y0 + s, z),
+        ];
+        if !up {
+            v.reverse();
+        }
+        Polygon::new(v).unwrap()
+    }
+
+    /// A_0 F_01 through classification and the obstructed branch, as a kernel would.
+    fn exchange(scene: &Scene, policy: Policy) -> (f64, MethodSet) {
+        let shadows = Shadows::new(scene, policy).expect("the blocker is found");
+        let mut s = ShadowScratch::default();
+        shadows.classify_row(0, &mut s);
+        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
+        let Status::Partial(partial) = s.row.status(1) else { panic!("pair 0-1 is partly obstructed") };
+        let partial = partial.to_vec();
+        let r = shadows.pair(0, 1, u, &partial, &mut s);
+        assert!(r.s <= u);
+        (r.s, r.method)
+    }
+
+    #[test]
+    fn plates_with_centred_and_corner_blockers() {
+        for (blocker, exact) in [
+            (sq(0.5, 0.25, 0.25, 0.5, true), 0.099_506_294_6),
+            (sq(0.5, 0.0, 0.0, 0.5, false), 0.149_868_671_8),
+        ] {
+            let scene = Scene::builder()
+                .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
+                .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
+                .obstruction("plate", vec![blocker])
+                .build();
+            let (s, method) = exchange(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL });
+            assert!((s - exact).abs() < 1e-9, "analytic {s} vs {exact}");
+            assert_eq!(method, MethodSet::SHADOWED);
+            let (s, _) = exchange(&scene, Policy::Auto { tol: 1e-4, seed: 1 });
+            assert!((s - exact).abs() < 1e-4, "auto {s} vs {exact}");
+        }
+    }
+}

@@ -4,60 +4,84 @@
 //! 1. the blockers with a point strictly in front of patch i come from the blocker hierarchy;
 //! 2. each is clipped to i's front half-space (the rest meets no segment leaving i) and its
 //!    penumbra and umbra from i are built ([`super::penumbra`]);
-//! 3. the penumbra prunes the patch hierarchy to the receivers it may shadow; each of those is
-//!    classified exactly: clear, fully blocked (inside the umbra) or partial.
+//! 3. the patch hierarchy is walked once for all these volumes: a subtree is pruned when it is
+//!    clear of every penumbra, blocked whole when it is inside some umbra, and the remaining
+//!    receivers that face i are classified one by one against the volumes still in play:
+//!    clear, fully blocked or partial.
 //!
-//! A receiver absent from the result is unobstructed. The cost is proportional to the receivers
-//! each blocker's penumbra reaches, not to N × blockers.
+//! A receiver absent from the result is unobstructed. The cost follows the receivers near each
+//! blocker's shadow boundary, not N × blockers.
 use super::blockers::Blockers;
-use super::penumbra::{Build, Class, ShadowVolume};
+use super::penumbra::{Build, Class, Region, ShadowVolume};
 use crate::scene::Scene;
 use glam::DVec3;
 
-/// The obstruction status of one pair (i, j) of a row.
+/// The obstruction status of receiver j in a row.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PairStatus {
-    /// Receiver patch.
-    pub j: u32,
-    /// Some single blocker intercepts every segment between i and j: F = 0.
-    pub blocked: bool,
-    /// Partial blockers: `RowShadows::blockers[start..start + len]`.
-    pub start: u32,
-    /// Their number.
-    pub len: u32,
+pub enum Status<'a> {
+    /// No blocker reaches the pair.
+    Clear,
+    /// Some single blocker intercepts every segment between the two patches: F = 0.
+    Blocked,
+    /// These blockers (indices into [`Blockers`]) may cut some segments.
+    Partial(&'a [u32]),
 }
 
-/// The obstructed pairs of one row, sorted by receiver.
+const CLEAR: u8 = 0;
+const BLOCKED: u8 = 1;
+const PARTIAL: u8 = 2;
+
+/// The classification of one row; dense per receiver, reset in time proportional to the
+/// receivers touched.
 #[derive(Debug, Clone, Default)]
 pub struct RowShadows {
-    /// One status per obstructed receiver.
-    pub pairs: Vec<PairStatus>,
-    /// Partial blocker ids (indices into [`Blockers`]), grouped per pair.
-    pub blockers: Vec<u32>,
-    /// Scratch: (j, blocker, class) triples before grouping.
-    hits: Vec<(u32, u32, Class)>,
+    mark: Vec<u8>,
+    /// Per partial receiver: start of its blockers in `blockers`, and their number.
+    span: Vec<(u32, u32)>,
+    touched: Vec<u32>,
+    blockers: Vec<u32>,
+    partial: Vec<(u32, u32)>,
     row_blockers: Vec<u32>,
-    receivers: Vec<u32>,
     ring: Vec<DVec3>,
-    volume: ShadowVolume,
+    volumes: Vec<ShadowVolume>,
+    ids: Vec<u32>,
 }
 
 impl RowShadows {
-    /// The partial blockers of `p`.
-    pub fn partial(&self, p: &PairStatus) -> &[u32] {
-        &self.blockers[p.start as usize..(p.start + p.len) as usize]
+    /// Status of receiver `j` (any j ≥ the row's first receiver).
+    #[inline]
+    pub fn status(&self, j: usize) -> Status<'_> {
+        match self.mark.get(j).copied().unwrap_or(CLEAR) {
+            CLEAR => Status::Clear,
+            BLOCKED => Status::Blocked,
+            _ => {
+                let (start, len) = self.span[j];
+                Status::Partial(&self.blockers[start as usize..(start + len) as usize])
+            }
+        }
     }
-    /// Status of receiver j, if obstructed.
-    pub fn get(&self, j: usize) -> Option<&PairStatus> {
-        self.pairs.binary_search_by_key(&(j as u32), |p| p.j).ok().map(|k| &self.pairs[k])
+    /// Receivers with a non-clear status, unordered.
+    pub fn touched(&self) -> &[u32] {
+        &self.touched
+    }
+    fn reset(&mut self, n: usize) {
+        if self.mark.len() != n {
+            self.mark = vec![CLEAR; n];
+            self.span = vec![(0, 0); n];
+        } else {
+            for &j in &self.touched {
+                self.mark[j as usize] = CLEAR;
+            }
+        }
+        self.touched.clear();
+        self.blockers.clear();
+        self.partial.clear();
     }
 }
 
-/// Fills `out` with the obstructed receivers j ≥ `first` of row `i`.
+/// Classifies the receivers j ≥ `first` (j ≠ i) of row `i` into `out`.
 pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, out: &mut RowShadows) {
-    out.pairs.clear();
-    out.blockers.clear();
-    out.hits.clear();
+    out.reset(scene.patches.len());
     if blockers.is_empty() {
         return;
     }
@@ -69,46 +93,106 @@ pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, 
     out.row_blockers.clear();
     blockers.blockers_where(in_front, &mut out.row_blockers);
     out.row_blockers.sort_unstable();
-    for k in 0..out.row_blockers.len() {
-        let b = out.row_blockers[k];
-        let blocker = blockers.get(b as usize);
-        clip_front(&blocker.ring, ni, off, snap, &mut out.ring);
-        if out.ring.len() < 3 {
-            continue;
-        }
-        if out.volume.build(pi.vertices(), &out.ring, snap) == Build::Never {
-            continue;
-        }
-        out.receivers.clear();
-        let volume = &out.volume;
-        blockers.patches_where(|lo, hi| in_front(lo, hi) && !volume.box_clear(lo, hi), &mut out.receivers);
-        for &j in &out.receivers {
-            if (j as usize) < first || j as usize == i {
+    // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
+    let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, .. } = out;
+    for chunk in row_blockers.chunks(64) {
+        ids.clear();
+        for &b in chunk {
+            clip_front(&blockers.get(b as usize).ring, ni, off, snap, ring);
+            if ring.len() < 3 {
                 continue;
             }
-            match volume.classify(scene.patches[j as usize].polygon.vertices()) {
-                Class::Clear => {}
-                class => out.hits.push((j, b, class)),
+            if volumes.len() <= ids.len() {
+                volumes.push(ShadowVolume::default());
+            }
+            if volumes[ids.len()].build(pi.vertices(), ring, snap) == Build::Casts {
+                ids.push(b);
             }
         }
-    }
-    // Group by receiver: blocked when any blocker covers it, else the list of partial ones.
-    out.hits.sort_unstable_by_key(|&(j, b, _)| (j, b));
-    let mut k = 0;
-    while k < out.hits.len() {
-        let j = out.hits[k].0;
-        let end = k + out.hits[k..].iter().take_while(|h| h.0 == j).count();
-        let blocked = out.hits[k..end].iter().any(|h| h.2 == Class::Full);
-        let start = out.blockers.len() as u32;
-        if !blocked {
-            out.blockers.extend(out.hits[k..end].iter().map(|h| h.1));
+        if ids.is_empty() {
+            continue;
         }
-        out.pairs.push(PairStatus { j, blocked, start, len: out.blockers.len() as u32 - start });
-        k = end;
+        let vols = &volumes[..ids.len()];
+        let all = if ids.len() == 64 { u64::MAX } else { (1u64 << ids.len()) - 1 };
+        // State: (volumes whose penumbra may reach the box, the box is in some umbra).
+        let descend = |lo: DVec3, hi: DVec3, (mask, blocked): (u64, bool)| {
+            if blocked {
+                return Some((mask, true));
+            }
+            if !in_front(lo, hi) {
+                return None;
+            }
+            let mut keep = 0u64;
+            let mut m = mask;
+            while m != 0 {
+                let k = m.trailing_zeros() as usize;
+                m &= m - 1;
+                match vols[k].box_region(lo, hi) {
+                    Region::Out => {}
+                    Region::In => return Some((0, true)),
+                    Region::Cross => keep |= 1 << k,
+                }
+            }
+            (keep != 0).then_some((keep, false))
+        };
+        blockers.patch_tree().walk_with((all, false), descend, |j, (mask, blocked)| {
+            let ju = j as usize;
+            if ju < first || ju == i || mark[ju] == BLOCKED {
+                return;
+            }
+            let pj = &scene.patches[ju].polygon;
+            if !blocked {
+                // Only receivers that face i and that i faces can exchange with it.
+                let (nj, offj) = (pj.normal(), pj.normal().dot(pj.centroid()));
+                if !pj.vertices().iter().any(|&v| ni.dot(v) - off > snap)
+                    || !pi.vertices().iter().any(|&v| nj.dot(v) - offj > snap)
+                {
+                    return;
+                }
+            }
+            let mut m = mask;
+            let mut full = blocked;
+            let mut any = false;
+            while m != 0 && !full {
+                let k = m.trailing_zeros() as usize;
+                m &= m - 1;
+                match vols[k].classify(pj.vertices()) {
+                    Class::Clear => {}
+                    Class::Full => full = true,
+                    Class::Partial => {
+                        partial.push((j, ids[k]));
+                        any = true;
+                    }
+                }
+            }
+            if full {
+                if mark[ju] == CLEAR {
+                    touched.push(j);
+                }
+                mark[ju] = BLOCKED;
+            } else if any && mark[ju] == CLEAR {
+                touched.push(j);
+                mark[ju] = PARTIAL;
+            }
+        });
+    }
+    // Group the partial blockers of receivers not blocked outright.
+    out.partial.retain(|&(j, _)| out.mark[j as usize] == PARTIAL);
+    out.partial.sort_unstable();
+    let mut k = 0;
+    while k < out.partial.len() {
+        let j = out.partial[k].0;
+        let start = out.blockers.len() as u32;
+        while k < out.partial.len() && out.partial[k].0 == j {
+            out.blockers.push(out.partial[k].1);
+            k += 1;
+        }
+        out.span[j as usize] = (start, out.blockers.len() as u32 - start);
     }
 }
 
-/// The part of a convex ring with n·x − off ≥ 0 (snapping within `snap`), into `out`.
+/// The part of a convex ring with n·x − off ≥ 0 (snapping within `snap`), into `out`; empty
+/// when no vertex is strictly in front.
 pub fn clip_front(ring: &[DVec3], n: DVec3, off: f64, snap: f64, out: &mut Vec<DVec3>) {
     out.clear();
     let m = ring.len();

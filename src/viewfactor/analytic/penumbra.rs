@@ -10,10 +10,12 @@
 //!   beyond B's plane. Using any subset of them stays conservative.
 //! - U is the intersection of the cones from each point of E through B, beyond B. For each
 //!   edge of B the wedge of planes through it is extremal at vertices of E, so U is bounded by
-//!   the planes through an edge of B and a vertex of E (B inside), and by B's plane.
+//!   B's plane and, per edge of B, the plane through it and the vertex of E that leaves every
+//!   other vertex of E on B's side (the tightest of the wedge).
 //!
 //! A convex receiver outside one penumbra plane is clear; one inside every umbra plane is
 //! blocked. Anything else is partial and goes to the shadow integrator.
+pub use crate::visibility::boxes::Region;
 use glam::DVec3;
 
 /// An oriented plane n·x + d = 0 with a unit normal; the region of interest is n·x + d ≥ 0.
@@ -51,6 +53,12 @@ impl Plane {
         let c = 0.5 * (lo + hi);
         let h = 0.5 * (hi - lo);
         self.eval(c) + self.n.abs().dot(h)
+    }
+    /// Smallest signed distance over an axis-aligned box.
+    pub fn box_min(&self, lo: DVec3, hi: DVec3) -> f64 {
+        let c = 0.5 * (lo + hi);
+        let h = 0.5 * (hi - lo);
+        self.eval(c) - self.n.abs().dot(h)
     }
 }
 
@@ -137,18 +145,21 @@ impl ShadowVolume {
                 }
             }
         }
-        // Umbra: planes through an edge of B and a vertex of E, B's interior inside.
+        // Umbra: per edge of B, the tightest plane through it and a vertex of E (B's interior
+        // inside): the one with every other vertex of E on B's side.
         if self.umbra_valid {
             let cb = b.iter().copied().sum::<DVec3>() / b.len() as f64;
             let m = b.len();
             for k in 0..m {
                 let (a, c) = (b[k], b[(k + 1) % m]);
-                for &v in e {
-                    match Plane::through(a, c, v, min_len) {
-                        Some(p) if p.eval(cb) >= 0.0 => self.umbra.push(p),
-                        Some(p) => self.umbra.push(p.flipped()),
-                        None => self.umbra_valid = false,
-                    }
+                let tightest = e.iter().find_map(|&v| {
+                    let p = Plane::through(a, c, v, min_len)?;
+                    let p = if p.eval(cb) >= 0.0 { p } else { p.flipped() };
+                    e.iter().all(|&w| p.eval(w) >= -snap).then_some(p)
+                });
+                match tightest {
+                    Some(p) => self.umbra.push(p),
+                    None => self.umbra_valid = false,
                 }
             }
         }
@@ -173,6 +184,21 @@ impl ShadowVolume {
     /// True when the box [lo, hi] lies wholly outside the penumbra.
     pub fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
         !self.unbounded && self.penumbra.iter().any(|p| p.box_max(lo, hi) <= self.snap)
+    }
+
+    /// The box [lo, hi] against the volume: `Out` clear of the penumbra, `In` inside the umbra
+    /// (everything in it is blocked), else `Cross`.
+    pub fn box_region(&self, lo: DVec3, hi: DVec3) -> Region {
+        if self.box_clear(lo, hi) {
+            Region::Out
+        } else if self.umbra_valid
+            && !self.unbounded
+            && self.umbra.iter().all(|p| p.box_min(lo, hi) >= self.snap)
+        {
+            Region::In
+        } else {
+            Region::Cross
+        }
     }
 }
 
