@@ -11,6 +11,8 @@ use std::fmt;
 use std::str::FromStr;
 
 pub mod engine;
+pub mod hemicube;
+pub mod single_plane;
 pub mod sink;
 
 pub use sink::{Entry, Level, ViewFactors};
@@ -169,6 +171,14 @@ impl Default for Params {
 #[allow(unused_variables, unreachable_code)]
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        Method::Hemicube => {
+            Box::new(hemicube::HemicubeKernel::new(scene, params.resolution, hemicube::Positions::Adaptive)?)
+        }
+        Method::SinglePlane => Box::new(single_plane::SinglePlaneKernel::new(
+            scene,
+            params.resolution,
+            single_plane::SinglePlaneOptions::default(),
+        )?),
         m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
     };
     #[allow(unreachable_code)]
