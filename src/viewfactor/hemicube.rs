@@ -51,7 +51,9 @@ pub(crate) const RECEIVER_DEPTH_BIAS: f64 = 1e-6;
 /// Validates and evens a requested resolution.
 pub(crate) fn checked_resolution(method: &str, r: usize) -> Result<usize> {
     if !(2..=MAX_RESOLUTION).contains(&r) {
-        return Err(Error::Usage(format!("{method} resolution must be between 2 and {MAX_RESOLUTION}, got {r}")));
+        return Err(Error::Usage(format!(
+            "{method} resolution must be between 2 and {MAX_RESOLUTION}, got {r}"
+        )));
     }
     Ok(r + r % 2)
 }
@@ -113,7 +115,14 @@ impl<'a> HemicubeKernel<'a> {
             Face::new(x, z, y, false, r, near),
             Face::new(x, z, -y, false, r, near),
         ];
-        Ok(Self { scene, prep, deltas: delta::DeltaTables::new(r), positions, faces, pool: Mutex::new(Vec::new()) })
+        Ok(Self {
+            scene,
+            prep,
+            deltas: delta::DeltaTables::new(r),
+            positions,
+            faces,
+            pool: Mutex::new(Vec::new()),
+        })
     }
 
     /// The resolution in use (the requested one, evened).
@@ -174,8 +183,8 @@ impl RowKernel for HemicubeKernel<'_> {
         let poly = &self.scene.patches[i].polygon;
         let rule = positions::rule(poly, self.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
-        for (&x, &w) in rule.points.iter().zip(&rule.weights) {
-            let eye = Eye::new(x, poly.normal(), v[1] - v[0]);
+        for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
+            let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.positions.turn(k));
             ws.gathered.gather(&self.prep, &eye, i);
             for face in &self.faces {
                 self.render_face(face, &mut ws, w);

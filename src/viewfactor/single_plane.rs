@@ -33,8 +33,8 @@ use std::sync::Mutex;
 pub(crate) mod grid;
 pub(crate) mod warnock;
 
-pub use grid::{corner_factor, Spacing};
 use grid::PlaneGrid;
+pub use grid::{corner_factor, Spacing};
 use warnock::PlaneScene;
 
 /// Default half-width s of the plane at unit height: captures 4·F_corner(100, 100, 1) =
@@ -82,7 +82,10 @@ impl<'a> SinglePlaneKernel<'a> {
     pub fn new(scene: &'a Scene, resolution: usize, options: SinglePlaneOptions) -> Result<Self> {
         let r = checked_resolution("single-plane", resolution)?;
         if !(options.half_width.is_finite() && options.half_width > 0.0) {
-            return Err(crate::Error::Usage(format!("single-plane half-width must be positive, got {}", options.half_width)));
+            return Err(crate::Error::Usage(format!(
+                "single-plane half-width must be positive, got {}",
+                options.half_width
+            )));
         }
         let grid = PlaneGrid::new(r, options.half_width, options.spacing);
         Ok(Self { scene, prep: Prepared::new(scene), grid, options, pool: Mutex::new(Vec::new()) })
@@ -107,8 +110,8 @@ impl RowKernel for SinglePlaneKernel<'_> {
         let rule = positions::rule(poly, self.options.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
         let near = NEAR_REL * self.prep.scale;
-        for (&x, &w) in rule.points.iter().zip(&rule.weights) {
-            let eye = Eye::new(x, poly.normal(), v[1] - v[0]);
+        for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
+            let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.options.positions.turn(k));
             ws.gathered.gather(&self.prep, &eye, i);
             ws.plane.project(&ws.gathered, self.options.half_width, near);
             let Workspace { plane, acc, touched, .. } = &mut ws;

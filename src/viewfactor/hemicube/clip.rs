@@ -22,7 +22,12 @@ pub(crate) fn sphere_outside(planes: &[HalfSpace], centre: DVec3, radius: f64) -
 
 /// Clips the ring `input` by every half-space; the result is left in `out` (fewer than three
 /// vertices means nothing is left). `tmp` is scratch.
-pub(crate) fn clip_polygon(input: &[DVec3], planes: &[HalfSpace], out: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>) {
+pub(crate) fn clip_polygon(
+    input: &[DVec3],
+    planes: &[HalfSpace],
+    out: &mut Vec<DVec3>,
+    tmp: &mut Vec<DVec3>,
+) {
     out.clear();
     out.extend_from_slice(input);
     for h in planes {

@@ -20,7 +20,7 @@ pub(crate) struct DeltaTables {
 impl DeltaTables {
     /// Tables for an even resolution `r`.
     pub fn new(r: usize) -> Self {
-        debug_assert!(r >= 2 && r % 2 == 0);
+        debug_assert!(r >= 2 && r.is_multiple_of(2));
         let h = 2.0 / r as f64;
         let centre = |k: usize| -1.0 + (k as f64 + 0.5) * h;
         let mut top = Vec::with_capacity(r * r);

@@ -71,7 +71,8 @@ impl Prepared {
                 push(poly, NO_RECEIVER);
             }
         }
-        let (lo, hi) = verts.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let (lo, hi) =
+            verts.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
         let scale = if verts.is_empty() { 1.0 } else { (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE) };
         Self { polys, verts, scale }
     }
@@ -123,6 +124,12 @@ impl Eye {
         }
         let t = t.normalize();
         Self { origin, t, b: n.cross(t), n }
+    }
+    /// The same eye with its tangents turned by `angle` about the normal.
+    pub fn turned(self, angle: f64) -> Self {
+        let (s, c) = angle.sin_cos();
+        let t = c * self.t + s * self.b;
+        Self { t, b: self.n.cross(t), ..self }
     }
     /// World direction → local (t, b, n) components.
     pub fn dir(&self, d: DVec3) -> DVec3 {

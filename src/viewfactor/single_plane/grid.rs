@@ -54,7 +54,7 @@ impl PlaneGrid {
         // Exact ends (and centre) so the plane's total is exactly 4·F_corner(s, s).
         nodes[0] = -half_width;
         nodes[r] = half_width;
-        if r % 2 == 0 {
+        if r.is_multiple_of(2) {
             nodes[r / 2] = 0.0;
         }
         let mut g = Vec::with_capacity((r + 1) * (r + 1));
@@ -93,7 +93,10 @@ mod tests {
     #[test]
     fn cells_add_up_and_match_the_corner_formula() {
         let g = PlaneGrid::new(16, 10.0, Spacing::EqualAngle);
-        let sum: f64 = (0..16).flat_map(|i| (0..16).map(move |j| (i, j))).map(|(i, j)| g.cell_factor(i, i + 1, j, j + 1)).sum();
+        let sum: f64 = (0..16)
+            .flat_map(|i| (0..16).map(move |j| (i, j)))
+            .map(|(i, j)| g.cell_factor(i, i + 1, j, j + 1))
+            .sum();
         assert!((sum - 4.0 * corner_factor(10.0, 10.0)).abs() < 1e-14);
         // The quadrant [0, s]² is one corner factor.
         assert!((g.cell_factor(8, 16, 8, 16) - corner_factor(10.0, 10.0)).abs() < 1e-15);

@@ -5,6 +5,7 @@
 use super::grid::PlaneGrid;
 use crate::viewfactor::hemicube::clip::{self, HalfSpace};
 use crate::viewfactor::hemicube::prepare::{Gathered, NO_RECEIVER};
+use crate::viewfactor::hemicube::raster::crossing;
 use crate::viewfactor::hemicube::RECEIVER_DEPTH_BIAS;
 use glam::{DVec2, DVec3};
 
@@ -44,7 +45,9 @@ enum Relation {
 pub(crate) struct PlaneScene {
     polys: Vec<ProjPoly>,
     pts: Vec<DVec2>,
-    stack: Vec<u32>,
+    /// Candidate polygons of the cells being visited, with "surrounds the cell" flags (a
+    /// polygon that surrounds a cell surrounds its children: no retest).
+    stack: Vec<(u32, bool)>,
     clipped: Vec<DVec3>,
     tmp: Vec<DVec3>,
 }
@@ -73,17 +76,27 @@ impl PlaneScene {
             let first = self.pts.len() as u32;
             self.pts.extend(self.clipped.iter().map(|q| DVec2::new(q.x / q.z, q.y / q.z)));
             let ring = &self.pts[first as usize..];
-            let (lo, hi) = ring.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(l, h), q| (l.min(*q), h.max(*q)));
+            let (lo, hi) =
+                ring.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(l, h), q| (l.min(*q), h.max(*q)));
             let k = (if p.id == NO_RECEIVER { 1.0 } else { 1.0 + RECEIVER_DEPTH_BIAS }) / p.c;
             let len = ring.len() as u32;
-            self.polys.push(ProjPoly { first, len, id: p.id, lo, hi, a: p.m.x * k, b: p.m.y * k, c: p.m.z * k });
+            self.polys.push(ProjPoly {
+                first,
+                len,
+                id: p.id,
+                lo,
+                hi,
+                a: p.m.x * k,
+                b: p.m.y * k,
+                c: p.m.z * k,
+            });
         }
     }
 
     /// Resolves the plane and calls `add(id, factor)` for every cell or pixel a receiver wins.
     pub fn resolve(&mut self, grid: &PlaneGrid, add: &mut impl FnMut(u32, f64)) {
         self.stack.clear();
-        self.stack.extend(0..self.polys.len() as u32);
+        self.stack.extend((0..self.polys.len() as u32).map(|k| (k, false)));
         let n = self.stack.len();
         self.visit(grid, [0, grid.r, 0, grid.r], 0..n, add);
     }
@@ -93,21 +106,29 @@ impl PlaneScene {
     }
 
     /// One Warnock cell [i0, i1) × [j0, j1) with the candidate polygons stack[parent].
-    fn visit(&mut self, grid: &PlaneGrid, cell: [usize; 4], parent: std::ops::Range<usize>, add: &mut impl FnMut(u32, f64)) {
+    fn visit(
+        &mut self,
+        grid: &PlaneGrid,
+        cell: [usize; 4],
+        parent: std::ops::Range<usize>,
+        add: &mut impl FnMut(u32, f64),
+    ) {
         let [i0, i1, j0, j1] = cell;
         let lo = DVec2::new(grid.nodes[i0], grid.nodes[j0]);
         let hi = DVec2::new(grid.nodes[i1], grid.nodes[j1]);
         let start = self.stack.len();
         let mut crossing = false;
         for k in parent {
-            let p = self.stack[k];
-            match self.relation(&self.polys[p as usize], lo, hi) {
+            let (p, surrounds) = self.stack[k];
+            let relation =
+                if surrounds { Relation::Surrounds } else { self.relation(&self.polys[p as usize], lo, hi) };
+            match relation {
                 Relation::Disjoint => {}
                 Relation::Crosses => {
                     crossing = true;
-                    self.stack.push(p);
+                    self.stack.push((p, false));
                 }
-                Relation::Surrounds => self.stack.push(p),
+                Relation::Surrounds => self.stack.push((p, true)),
             }
         }
         let list = start..self.stack.len();
@@ -145,22 +166,32 @@ impl PlaneScene {
     fn front_most(&self, list: std::ops::Range<usize>, lo: DVec2, hi: DVec2) -> Option<u32> {
         let corners = [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)];
         let range = |p: &ProjPoly| {
-            corners.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| (a.min(p.depth(*c)), b.max(p.depth(*c))))
+            corners.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                (a.min(p.depth(*c)), b.max(p.depth(*c)))
+            })
         };
         let best = list.clone().max_by(|&a, &b| {
-            range(&self.polys[self.stack[a] as usize]).0.total_cmp(&range(&self.polys[self.stack[b] as usize]).0)
+            range(&self.polys[self.stack[a].0 as usize])
+                .0
+                .total_cmp(&range(&self.polys[self.stack[b].0 as usize]).0)
         })?;
-        let near = range(&self.polys[self.stack[best] as usize]).0;
+        let near = range(&self.polys[self.stack[best].0 as usize]).0;
         list.filter(|&k| k != best)
-            .all(|k| range(&self.polys[self.stack[k] as usize]).1 <= near)
-            .then(|| self.polys[self.stack[best] as usize].id)
+            .all(|k| range(&self.polys[self.stack[k].0 as usize]).1 <= near)
+            .then(|| self.polys[self.stack[best].0 as usize].id)
     }
 
     /// Point-samples one pixel: the nearest candidate containing its centre wins it.
-    fn sample_pixel(&self, list: std::ops::Range<usize>, centre: DVec2, factor: f64, add: &mut impl FnMut(u32, f64)) {
+    fn sample_pixel(
+        &self,
+        list: std::ops::Range<usize>,
+        centre: DVec2,
+        factor: f64,
+        add: &mut impl FnMut(u32, f64),
+    ) {
         let mut best: Option<(f64, u32)> = None;
         for k in list {
-            let p = &self.polys[self.stack[k] as usize];
+            let p = &self.polys[self.stack[k].0 as usize];
             if contains(self.ring(p), centre) {
                 let q = p.depth(centre);
                 if best.is_none_or(|(b, _)| q > b) {
@@ -195,7 +226,7 @@ fn contains(ring: &[DVec2], p: DVec2) -> bool {
     let mut inside = false;
     for k in 0..n {
         let (a, b) = (ring[k], ring[(k + 1) % n]);
-        if (a.y <= p.y) != (b.y <= p.y) && p.x >= a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+        if (a.y <= p.y) != (b.y <= p.y) && p.x >= crossing(a, b, p.y) {
             inside = !inside;
         }
     }
