@@ -21,8 +21,9 @@ fn cube_from_floor_centre_converges_at_the_model_orders() {
     // One hemicube at the floor centre of the unit cube: opposite face O(h²), adjacent O(h).
     let scene = cube(1);
     let x = scene.patches[0].polygon.centroid();
-    let exact: Vec<f64> =
-        (0..6).map(|j| if j == 0 { 0.0 } else { lambert(x, DVec3::Z, &scene.patches[j].polygon) }).collect();
+    let exact: Vec<f64> = (0..6)
+        .map(|j| if j == 0 { 0.0 } else { point_to_polygon(x, DVec3::Z, &scene.patches[j].polygon) })
+        .collect();
     let rs = [16, 32, 64, 128];
     let (mut e_opp, mut e_adj) = (vec![], vec![]);
     for r in rs {
@@ -53,7 +54,7 @@ fn parallel_squares_c11() {
     let r = 128;
     // Classic single hemicube: pixel error tiny, proximity error ≈ +20 % (literature §4).
     let f1 = row_factors(&hemicube(&scene, r, Positions::Centroid), &scene, 0)[1];
-    let point = lambert(floor.centroid(), DVec3::Z, ceiling);
+    let point = point_to_polygon(floor.centroid(), DVec3::Z, ceiling);
     eprintln!("C-11 centroid: pixel {:.2e}, proximity {:+.1} %", f1 - point, 100.0 * (point / exact - 1.0));
     assert!((f1 - point).abs() <= interior_tol(r));
     assert!(point / exact - 1.0 > 0.15, "the proximity error should show: {point} vs {exact}");
@@ -70,7 +71,7 @@ fn parallel_squares_c11() {
         } else {
             row_factors(&single_plane(&scene, r, pos), &scene, 0)[1]
         };
-        let fq = position_average(floor, q, |x| lambert(x, DVec3::Z, ceiling));
+        let fq = position_average(floor, q, |x| point_to_polygon(x, DVec3::Z, ceiling));
         eprintln!(
             "C-11 {name} {pos:?}: {f:.8} (exact {exact:.8}), pixel {:.2e}, total {:.2e}",
             f - fq,
@@ -87,7 +88,7 @@ fn perpendicular_squares_c14() {
     let (floor, wall) = (&scene.patches[0].polygon, &scene.patches[1].polygon);
     let exact = c14(1.0, 1.0, 1.0);
     let r = 128;
-    let fq = position_average(floor, 3, |x| lambert(x, DVec3::Z, wall));
+    let fq = position_average(floor, 3, |x| point_to_polygon(x, DVec3::Z, wall));
     let sp = SinglePlaneKernel::new(
         &scene,
         r,
@@ -189,7 +190,7 @@ fn small_target_aliases_as_the_pixel_model_predicts() {
         .surface("target", vec![target.clone()], 1.0, None)
         .ambient(300.0)
         .build();
-    let exact = lambert(v(0.5, 0.5, 0.0), DVec3::Z, &target);
+    let exact = point_to_polygon(v(0.5, 0.5, 0.0), DVec3::Z, &target);
     let mut rel = vec![];
     for r in [32, 64, 128, 256, 512] {
         let f = row_factors(&hemicube(&scene, r, Positions::Centroid), &scene, 0)[1];
@@ -217,7 +218,7 @@ fn single_plane_misses_exactly_the_grazing_fraction() {
         .ambient(300.0)
         .build();
     let eye = scene.patches[0].polygon.centroid();
-    let truth = lambert(eye, DVec3::Z, &scene.patches[1].polygon);
+    let truth = point_to_polygon(eye, DVec3::Z, &scene.patches[1].polygon);
     for (s, spacing, literature) in
         [(100.0, Spacing::EqualAngle, None), (10.0, Spacing::Uniform, Some(0.9919))]
     {
@@ -226,7 +227,7 @@ fn single_plane_misses_exactly_the_grazing_fraction() {
         let f = row_factors(&k, &scene, 0)[1];
         // Independent: Lambert over the plane's square [−s, s]² at unit height.
         let plane = rect(v(0.5 - s, 0.5 - s, 1.0), DVec3::Y * 2.0 * s, DVec3::X * 2.0 * s);
-        let captured = lambert(eye, DVec3::Z, &plane);
+        let captured = point_to_polygon(eye, DVec3::Z, &plane);
         eprintln!("s = {s}: captured {f:.6}, grazing bias {:.3e} (true F {truth:.8})", truth - f);
         assert!((f - captured).abs() < 1e-12, "s = {s}: {f} vs 4·F_corner = {captured}");
         assert!((k.captured() - captured).abs() < 1e-12);

@@ -34,7 +34,7 @@ pub(crate) mod grid;
 pub(crate) mod warnock;
 
 use grid::PlaneGrid;
-pub use grid::{corner_factor, Spacing};
+pub use grid::Spacing;
 use warnock::PlaneScene;
 
 /// Default half-width s of the plane at unit height: captures 4·F_corner(100, 100, 1) =

@@ -9,49 +9,11 @@ use lambert::viewfactor::hemicube::{HemicubeKernel, Positions};
 use lambert::viewfactor::single_plane::{SinglePlaneKernel, SinglePlaneOptions};
 use std::f64::consts::PI;
 
-// ---------------------------------------------------------------------------------------
-// Closed forms (literature.md §1.1; the shared closed_form module was not on main yet).
-
-/// V1 / C-11: identical parallel directly opposed rectangles a×b at gap c.
-pub fn c11(a: f64, b: f64, c: f64) -> f64 {
-    let (x, y) = (a / c, b / c);
-    let (x2, y2) = (x * x, y * y);
-    2.0 / (PI * x * y)
-        * (((1.0 + x2) * (1.0 + y2) / (1.0 + x2 + y2)).sqrt().ln()
-            + x * (1.0 + y2).sqrt() * (x / (1.0 + y2).sqrt()).atan()
-            + y * (1.0 + x2).sqrt() * (y / (1.0 + x2).sqrt()).atan()
-            - x * x.atan()
-            - y * y.atan())
-}
-
-/// V2 / C-14: perpendicular rectangles with a common edge l; A1 of width w, A2 of height h.
-pub fn c14(w: f64, h: f64, l: f64) -> f64 {
-    let (w, h) = (w / l, h / l);
-    let (w2, h2) = (w * w, h * h);
-    let s = (h2 + w2).sqrt();
-    let log = ((1.0 + w2) * (1.0 + h2) / (1.0 + w2 + h2)).ln()
-        + w2 * (w2 * (1.0 + w2 + h2) / ((1.0 + w2) * (w2 + h2))).ln()
-        + h2 * (h2 * (1.0 + w2 + h2) / ((1.0 + h2) * (w2 + h2))).ln();
-    (w * (1.0 / w).atan() + h * (1.0 / h).atan() - s * (1.0 / s).atan() + 0.25 * log) / (PI * w)
-}
-
-/// V12: Lambert's point-to-polygon factor from `x` (normal `n`); the polygon is first clipped
-/// to the point's front half-space.
-pub fn lambert(x: DVec3, n: DVec3, poly: &Polygon) -> f64 {
-    let Some(p) = poly.clip(x, n) else { return 0.0 };
-    let v = p.vertices();
-    let mut sum = 0.0;
-    for k in 0..v.len() {
-        let (a, b) = (v[k] - x, v[(k + 1) % v.len()] - x);
-        let c = a.cross(b);
-        let len = c.length();
-        if len > 0.0 {
-            sum += len.atan2(a.dot(b)) * n.dot(c) / len;
-        }
-    }
-    // CCW seen from the point means the polygon faces it (clockwise about its own normal).
-    sum.abs() / (2.0 * PI)
-}
+// Closed forms: the shared catalogue (literature.md §1.1) and Lambert's point factor (V12).
+pub use lambert::viewfactor::analytic::lambert::point_to_polygon;
+pub use lambert::viewfactor::closed_form::{
+    parallel_opposed_rectangles as c11, perpendicular_common_edge as c14,
+};
 
 // ---------------------------------------------------------------------------------------
 // Scenes.
@@ -185,9 +147,10 @@ pub fn boundary_tol(r: usize) -> f64 {
 pub fn visible_past_blocker(x: DVec3, ceiling: &Polygon) -> f64 {
     let lo = |c: f64| (0.5 - c).max(0.0);
     let hi = |c: f64| (1.5 - c).min(1.0);
+    // Spanned y then x so that it faces the floor (Lambert's factor is one-sided).
     let shadow =
-        rect(v(lo(x.x), lo(x.y), 1.0), DVec3::X * (hi(x.x) - lo(x.x)), DVec3::Y * (hi(x.y) - lo(x.y)));
-    lambert(x, DVec3::Z, ceiling) - lambert(x, DVec3::Z, &shadow)
+        rect(v(lo(x.x), lo(x.y), 1.0), DVec3::Y * (hi(x.y) - lo(x.y)), DVec3::X * (hi(x.x) - lo(x.x)));
+    point_to_polygon(x, DVec3::Z, ceiling) - point_to_polygon(x, DVec3::Z, &shadow)
 }
 
 /// The item-buffer model of a square target [−a, a]² on the top face: midpoint delta factors

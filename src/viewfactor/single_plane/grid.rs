@@ -6,7 +6,7 @@
 //! [x_i0, x_i1] × [y_j0, y_j1] is G(i1, j1) − G(i0, j1) − G(i1, j0) + G(i0, j0), exact, in four
 //! look-ups. A Warnock cell that one polygon covers therefore adds its exact factor; only
 //! cells cut by edges (down to one pixel) carry sampling error.
-use std::f64::consts::PI;
+use crate::viewfactor::closed_form::element_to_rectangle_corner;
 
 /// How the R pixels are laid out along each axis of the plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -20,11 +20,10 @@ pub enum Spacing {
     Uniform,
 }
 
-/// Signed corner factor F(dA → [0, x] × [0, y] at unit height), catalogue B (V10):
-/// (1/2π)[x/√(1+x²)·atan(y/√(1+x²)) + y/√(1+y²)·atan(x/√(1+y²))]; odd in x and in y.
-pub fn corner_factor(x: f64, y: f64) -> f64 {
-    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
+/// Signed corner factor F(dA → [0, x] × [0, y] at unit height), catalogue B (V10); the
+/// formula is odd in x and in y, so signed corners sum to any rectangle.
+fn corner_factor(x: f64, y: f64) -> f64 {
+    element_to_rectangle_corner(x, y, 1.0)
 }
 
 /// Node coordinates and the node table of [`corner_factor`].
