@@ -65,9 +65,24 @@ fn line(lo: f64, hi: f64, k: usize, n: usize) -> f64 {
     }
 }
 
+/// Snapping distance to a grid line, relative to the polygon's extent: a few ulps, so points
+/// that round-off puts beside a line (a diagonal through a cell corner) land on it exactly,
+/// while the area moves by far less than 1e-12.
+const SNAP_TOL: f64 = 1e-14;
+
 /// Keeps the part of `ring` with sign·(p[axis] − c) ≥ 0 (Sutherland–Hodgman, canonical
-/// intersections; points on the line get p[axis] = c exactly).
-fn clip(ring: &[P], axis: usize, c: f64, sign: f64) -> Vec<P> {
+/// intersections; points within `snap` of the line are put on it, p[axis] = c exactly).
+fn clip(ring: &[P], axis: usize, c: f64, sign: f64, snap: f64) -> Vec<P> {
+    let ring: Vec<P> = ring
+        .iter()
+        .map(|&p| {
+            let mut q = p;
+            if (q[axis] - c).abs() <= snap {
+                q[axis] = c;
+            }
+            q
+        })
+        .collect();
     let n = ring.len();
     let d: Vec<f64> = ring.iter().map(|p| sign * (p[axis] - c)).collect();
     let mut out = Vec::with_capacity(n + 2);
@@ -110,6 +125,7 @@ fn area2(r: &[P]) -> f64 {
 pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>, PolygonError> {
     let frame = PlaneFrame::of(poly);
     let (lo, hi) = frame.bounds(poly);
+    let snap = SNAP_TOL * (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let xs: Vec<f64> = (0..=nu).map(|i| line(lo[0], hi[0], i, nu)).collect();
     let ys: Vec<f64> = (0..=nv).map(|j| line(lo[1], hi[1], j, nv)).collect();
     let sources: Vec<Vec<P>> = if poly.is_convex() {
@@ -122,14 +138,14 @@ pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>
         let (smin, smax) =
             src.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[0]), a.1.max(p[0])));
         for i in span(&xs, smin, smax) {
-            let col = clip(&clip(src, 0, xs[i], 1.0), 0, xs[i + 1], -1.0);
+            let col = clip(&clip(src, 0, xs[i], 1.0, snap), 0, xs[i + 1], -1.0, snap);
             if col.is_empty() {
                 continue;
             }
             let (tmin, tmax) =
                 col.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[1]), a.1.max(p[1])));
             for j in span(&ys, tmin, tmax) {
-                let piece = clip(&clip(&col, 1, ys[j], 1.0), 1, ys[j + 1], -1.0);
+                let piece = clip(&clip(&col, 1, ys[j], 1.0, snap), 1, ys[j + 1], -1.0, snap);
                 if !piece.is_empty() && area2(&piece) > 0.0 {
                     cells[j * nu + i].push(piece);
                 }

@@ -28,7 +28,12 @@ pub fn read_text(path: &Path) -> Result<String, InputError> {
 
 /// Loads and validates a TOML scene.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = read_text(path)?;
+    from_str(path, &read_text(path)?)
+}
+
+/// Validates TOML scene `text` as if read from `path` (model files resolve beside `path`).
+pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
+    let text = text.to_string();
     let raw: RawScene = toml::from_str(&text).map_err(|e| from_toml(path, &text, &e))?;
     let at = |offset: usize| line_of(&text, offset);
     let err = |surface: Option<&str>, offset: usize, problem: String| {
