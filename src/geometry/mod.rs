@@ -3,9 +3,10 @@
 //! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
-//! - [`grid_clip`]: grid cells of any simple polygon, clipped and glued.
+//! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
+mod glue;
 pub mod grid_clip;
 pub mod polygon;
 pub mod quadrature;

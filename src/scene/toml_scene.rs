@@ -204,6 +204,13 @@ fn surface(path: &Path, text: &str, k: usize, s: &Spanned<RawSurface>) -> Result
 }
 
 fn polygon(pts: &[[f64; 3]]) -> Result<ShapeSpec, String> {
+    if pts.len() > v::MAX_POLYGON_VERTICES {
+        return Err(format!(
+            "the polygon has {} vertices, more than the limit of {}; bring large outlines in as a glTF mesh",
+            pts.len(),
+            v::MAX_POLYGON_VERTICES
+        ));
+    }
     let vs = pts
         .iter()
         .enumerate()
