@@ -145,3 +145,30 @@ fn box_interior_case_faces_inward() {
         assert!(poly.plane_distance(centre) > 0.49, "every face looks at the centre: {poly:?}");
     }
 }
+
+#[test]
+fn instanced_unnamed_nodes_get_stable_unique_names() {
+    let s = load("gltf/instanced.gltf");
+    let names: Vec<&str> = s.surfaces.iter().map(|x| x.name.as_str()).collect();
+    assert_eq!(names, ["M_node0", "M_node1"]);
+    assert!(s.patches[s.surfaces[1].patches.start].polygon.vertices().iter().all(|v| v.z == 1.0));
+}
+
+#[test]
+fn model_role_and_name_clashes_between_models() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = data("gltf/hierarchy.gltf");
+    let m = format!("[[model]]\nfile = {:?}\n", model.to_str().unwrap());
+    let floor = "[[surface]]\nname = \"floor\"\npolygon = [[0,0,0],[1,0,0],[0,1,0]]\n";
+    // A model-wide role: every surface of the model only blocks rays.
+    let path = dir.path().join("role.toml");
+    std::fs::write(&path, format!("{floor}{m}role = \"obstruction\"\n")).unwrap();
+    let s = scene::load(&path).unwrap();
+    assert_eq!(s.surfaces.len(), 1);
+    assert_eq!(s.obstructions.len(), 6);
+    // The same model twice: its names clash.
+    let path = dir.path().join("twice.toml");
+    std::fs::write(&path, format!("{m}{m}")).unwrap();
+    let e = scene::load(&path).unwrap_err().to_string();
+    assert!(e.contains("hierarchy.gltf: surface 'PanelA'") && e.contains("names must be unique"), "{e}");
+}

@@ -72,6 +72,7 @@ proptest! {
         let patches = patching::polygon(&p, Split::Grid(nu, nv)).unwrap();
         assert_tiles(&p, &patches)?;
         prop_assert!(!patches.is_empty());
+        prop_assert_eq!(&patches, &patching::polygon(&p, Split::Grid(nu, nv)).unwrap(), "deterministic");
         // Every patch lies inside one cell of the grid over the bounding box.
         let f = PlaneFrame::of(&p);
         let (lo, hi) = f.bounds(&p);

@@ -58,7 +58,7 @@ pub(super) fn glue_all(pieces: Vec<Vec<P>>) -> Vec<Group> {
     }
     // Deterministic order (the map's iteration order is not).
     boundary.sort_by_key(|x| (x.0, key(x.1), key(x.2)));
-    let mut roots: Vec<usize> = (0..pieces.len()).map(|i| find(&mut parent, i)).collect();
+    let roots: Vec<usize> = (0..pieces.len()).map(|i| find(&mut parent, i)).collect();
     // Per union–find root: its boundary edges and its pieces.
     type Members = (Vec<(P, P)>, Vec<usize>);
     let mut groups: HashMap<usize, Members> = HashMap::new();
@@ -68,9 +68,14 @@ pub(super) fn glue_all(pieces: Vec<Vec<P>>) -> Vec<Group> {
     for &(i, a, b) in &boundary {
         groups.entry(roots[i]).or_default().0.push((a, b));
     }
-    roots.sort_unstable();
-    roots.dedup();
-    roots
+    // Groups in the order of their first piece: root ids depend on the map's union order.
+    let mut order: Vec<usize> = Vec::new();
+    for &root in &roots {
+        if !order.contains(&root) {
+            order.push(root);
+        }
+    }
+    order
         .into_iter()
         .map(|root| {
             let (edges, members) = groups.remove(&root).unwrap_or_default();

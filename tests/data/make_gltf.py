@@ -161,6 +161,9 @@ def bad_files():
     one_mesh("bad_extras.gltf", QUAD, idx=QUAD_IDX, nodes=[{"name": "Panel", "mesh": 0, "extras": {"emissivity": 1.5}}])
     one_mesh("bad_role.gltf", QUAD, idx=QUAD_IDX, nodes=[{"name": "Panel", "mesh": 0, "extras": {"role": "obstruction", "temperature": 300}}])
 
+    # Two unnamed nodes instancing the mesh "M": surfaces "M_node0" and "M_node1".
+    one_mesh("instanced.gltf", QUAD, idx=QUAD_IDX, nodes=[{"mesh": 0}, {"mesh": 0, "translation": [0, 0, 1]}])
+
     def no_position(doc):
         prim = doc["meshes"][0]["primitives"][0]
         prim["attributes"] = {"NORMAL": prim["attributes"]["POSITION"]}
