@@ -41,7 +41,7 @@ fn glb(path: &Path, k: usize) {
         "buffers": [{"byteLength": pos.len() + idx.len()}],
     });
     let mut js = serde_json::to_vec(&doc).unwrap();
-    while js.len() % 4 != 0 {
+    while !js.len().is_multiple_of(4) {
         js.push(b' ');
     }
     let bin: Vec<u8> = pos.into_iter().chain(idx).collect();
