@@ -129,7 +129,7 @@ fn thin_two_sided_plate_in_a_box_sends_both_faces_to_the_box() {
             let x = s.sample(DVec2::new(rng.random(), rng.random()));
             let d = f.to_world(sample_uniform_hemisphere(DVec2::new(rng.random(), rng.random())));
             let h = vis.first_hit(x, d, f64::INFINITY, Some(p)).expect("closed box");
-            assert!(h.front_facing && h.occluder.clone() >= Occluder::Patch(2), "from {p}: {h:?}");
+            assert!(h.front_facing && h.occluder >= Occluder::Patch(2), "from {p}: {h:?}");
         }
     }
 }

@@ -124,13 +124,7 @@ pub fn sample_triangle(a: DVec3, b: DVec3, c: DVec3, u: DVec2) -> DVec3 {
 
 /// Inverse of [`sample_triangle`]: the unit-square point that maps to `p` (p in the triangle).
 pub fn invert_triangle(a: DVec3, b: DVec3, c: DVec3, p: DVec3) -> DVec2 {
-    // Barycentrics of p by least squares in the triangle's plane.
-    let (e1, e2, d) = (b - a, c - a, p - a);
-    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-    let (r1, r2) = (d.dot(e1), d.dot(e2));
-    let det = d11 * d22 - d12 * d12;
-    let b1 = (d22 * r1 - d12 * r2) / det;
-    let b2 = (d11 * r2 - d12 * r1) / det;
+    let (b1, b2) = barycentrics(a, b, c, p);
     let s = b1 + b2;
     let v = if s > 0.0 { b2 / s } else { 0.5 };
     DVec2::new(s * s, v)
@@ -185,6 +179,13 @@ impl PolygonSampler {
         let lo = if k == 0 { 0.0 } else { self.cdf[k - 1] };
         DVec2::new(lo + local.x * (self.cdf[k] - lo), local.y)
     }
+    /// True when `p` (a point of the polygon's plane) lies inside the polygon.
+    pub fn contains(&self, p: DVec3) -> bool {
+        self.tris.iter().any(|&[a, b, c]| {
+            let (b1, b2) = barycentrics(a, b, c, p);
+            b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0
+        })
+    }
     /// Number of triangles.
     pub fn triangles(&self) -> usize {
         self.tris.len()
@@ -197,6 +198,15 @@ impl PolygonSampler {
         let r = if w > 0.0 { ((u - lo) / w).clamp(0.0, 1.0 - f64::EPSILON) } else { 0.5 };
         (k, r)
     }
+}
+
+/// Barycentrics (b₁, b₂) of `p` (projected on the plane) for triangle (a, b, c).
+fn barycentrics(a: DVec3, b: DVec3, c: DVec3, p: DVec3) -> (f64, f64) {
+    let (e1, e2, d) = (b - a, c - a, p - a);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (r1, r2) = (d.dot(e1), d.dot(e2));
+    let det = d11 * d22 - d12 * d12;
+    ((d22 * r1 - d12 * r2) / det, (d11 * r2 - d12 * r1) / det)
 }
 
 /// Maps an angle in (−π, π] to [0, 1).
@@ -303,6 +313,8 @@ mod tests {
             total += 1;
             in_square += usize::from(x.x < 1.0 && x.y < 1.0);
         }
+        assert!(s.contains(DVec3::new(0.5, 1.5, 1.0)) && !s.contains(DVec3::new(1.5, 1.5, 1.0)));
+        assert!(!s.contains(DVec3::new(-0.1, 0.5, 1.0)) && s.contains(DVec3::new(1.9, 0.1, 1.0)));
         // The unit corner square holds 1/3 of the area.
         let frac = in_square as f64 / total as f64;
         assert!((frac - 1.0 / 3.0).abs() < 0.01, "corner fraction {frac}");

@@ -21,9 +21,10 @@
 //! front sides exchange. This is what the analytic methods compute for front-to-front pairs
 //! with two-sided blockers, and it is View3D's rule (research/view3d.md §2: obstructions are
 //! opaque; keeping only those facing the receiver is exact for closed solids and plates).
-//! A ray leaving a patch never meets that patch's plane again, so triangles lying in it
-//! (coplanar neighbours, the far face of a two-sided thin plate) are skipped, whatever f32
-//! rounding of the origin says; occlusion queries do the same for both end planes.
+//! A ray leaving the front of a patch never meets anything behind or in that patch's plane, so
+//! such triangles (coplanar neighbours, the far face of a two-sided thin plate, the other faces
+//! of a convex solid) are skipped, whatever f32 rounding of the origin says; occlusion queries
+//! do the same for both end planes.
 //! Near the origin (|t| < [`NEAR_REL`] of the scene size, the f32 rounding scale) only
 //! front-side crossings of other surfaces count: the true origin lies in front of every
 //! surface that meets its patch at an edge, so such a crossing is a real contact seen from the

@@ -13,8 +13,8 @@ use obvhs::ray::{Ray, RayHit};
 impl Visibility {
     /// Closest hit along the unit direction `dir` from `origin`, up to `tmax` (world units),
     /// ignoring the triangles of `skip_patch` (the ray's own patch, whose front the ray leaves)
-    /// and every triangle lying in that patch's plane (coplanar neighbours, the far face of a
-    /// two-sided thin plate).
+    /// and every triangle behind or in that patch's plane (coplanar neighbours, the far face of
+    /// a two-sided thin plate, the other faces of a convex solid).
     pub fn first_hit(&self, origin: DVec3, dir: DVec3, tmax: f64, skip_patch: Option<usize>) -> Option<Hit> {
         if self.tris.is_empty() {
             return None;
@@ -54,7 +54,7 @@ impl Visibility {
                     if h.t > -near
                         && h.t < r.tmax
                         && (h.front || h.t >= near)
-                        && !plane.is_some_and(|pl| self.in_plane(id, pl)) =>
+                        && !plane.is_some_and(|pl| self.behind(id, pl)) =>
                 {
                     best = Some((id, h));
                     h.t
@@ -65,15 +65,16 @@ impl Visibility {
         best
     }
 
-    /// True when triangle `id` lies in `plane` (unit normal, offset) to within the near band:
-    /// a ray leaving a plane never meets that plane again, whatever rounding says.
+    /// True when triangle `id` lies behind or in `plane` (unit normal, offset), to within the
+    /// near band: a ray leaving the front of a plane never meets such a triangle, whatever
+    /// rounding of its origin says.
     #[inline]
-    fn in_plane(&self, id: usize, (n, off): (Vec3A, f32)) -> bool {
-        self.tris[id].iter().all(|v| (n.dot(*v) - off).abs() <= self.near)
+    fn behind(&self, id: usize, (n, off): (Vec3A, f32)) -> bool {
+        self.tris[id].iter().all(|v| n.dot(*v) - off <= self.near)
     }
 
-    /// True when something other than patches `skip_i` and `skip_j` (and anything lying in
-    /// their planes) blocks the segment p–q; p and q are points of those patches.
+    /// True when something other than patches `skip_i` and `skip_j` (and anything behind or in
+    /// their planes) blocks the segment p–q; p and q are front-facing points of those patches.
     pub fn occluded(&self, p: DVec3, q: DVec3, skip_i: usize, skip_j: usize) -> bool {
         if self.tris.is_empty() {
             return false;
@@ -106,7 +107,7 @@ impl Visibility {
                         && h.t < len + near
                         && (h.front || h.t >= near)
                         && (!h.front || h.t <= len - near)
-                        && !planes.iter().any(|&pl| self.in_plane(id, pl)) =>
+                        && !planes.iter().any(|&pl| self.behind(id, pl)) =>
                 {
                     0.0
                 }

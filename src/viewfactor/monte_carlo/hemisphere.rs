@@ -61,7 +61,7 @@ impl RowKernel for HemisphereKernel<'_> {
         };
         let skip = i as u32;
         let inf = f32::INFINITY;
-        let mut tally = Tally::new(reps);
+        let mut tally = Tally::new(reps, c.cell_of);
         for r in 0..reps {
             let n = replicate_len(c.samples, reps, r);
             let mut points = Points::new(kind, stream_key(c.seed, salt, i, r));

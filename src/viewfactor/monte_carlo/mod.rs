@@ -17,9 +17,8 @@
 //! - [`Sampler::Sobol`] (default): Owen-scrambled Sobol points (sobol_burley), split into
 //!   [`SOBOL_REPLICATES`] independently scrambled replicates. The standard error of an entry is
 //!   the spread of the replicate estimates (randomised QMC); the binomial formula would
-//!   overstate it. Entries are then independent estimates as far as the sink knows
-//!   (`shared_samples = 0`), so a surface aggregate adds their variances and drops the
-//!   (negative, for hit counting) covariances between receivers: an upper bound.
+//!   overstate it. The spread is taken per output cell (see [`tally`]), so surface sums get
+//!   their true replicate variance, covariances included (`shared_samples = 0`).
 //! - [`Sampler::Random`]: independent PCG draws; the error of an entry is the sample second
 //!   moment rule, which is the binomial √(F(1−F)/N) for `mc-cosine`, and
 //!   `shared_samples = N` lets the sink apply the exact multinomial rule to surface sums.
@@ -42,6 +41,9 @@ pub const SOBOL_REPLICATES: u32 = 16;
 const MIN_PER_REPLICATE: usize = 4;
 /// sobol_burley sequences hold 2¹⁶ points per seed; longer replicates chain new seeds.
 const SOBOL_BLOCK_BITS: u32 = 16;
+
+/// Half the f32 grid step of sobol_burley's output (24-bit mantissa on [0, 1)).
+const SOBOL_HALF_CELL: f64 = 0.5 / (1u32 << 24) as f64;
 
 /// Point generator behind the estimators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -73,7 +75,12 @@ pub fn compute_with(scene: &Scene, params: &Params, level: Level, options: McOpt
     let samples = u32::try_from(params.samples)
         .map_err(|_| Error::Usage(format!("--samples {} exceeds 2^32 - 1 per patch", params.samples)))?;
     let vis = Visibility::new(scene);
-    let common = Common { scene, vis: &vis, samples, seed: params.seed, sampler: options.sampler };
+    let cell_of: Vec<u32> = match level {
+        Level::Surface => scene.patches.iter().map(|p| p.surface as u32).collect(),
+        Level::Patch => (0..scene.patches.len() as u32).collect(),
+    };
+    let common =
+        Common { scene, vis: &vis, cell_of: &cell_of, samples, seed: params.seed, sampler: options.sampler };
     let kernel: Box<dyn RowKernel + '_> = match params.method {
         Method::McArea => Box::new(area::AreaKernel::new(common)),
         Method::McUniform => Box::new(hemisphere::HemisphereKernel::new(common, hemisphere::Warp::Uniform)),
@@ -88,6 +95,8 @@ pub fn compute_with(scene: &Scene, params: &Params, level: Level, options: McOpt
 pub(crate) struct Common<'a> {
     pub scene: &'a Scene,
     pub vis: &'a Visibility,
+    /// Output cell (surface or patch) of each patch, for replicate variances.
+    pub cell_of: &'a [u32],
     pub samples: u32,
     pub seed: u64,
     pub sampler: Sampler,
@@ -159,7 +168,8 @@ impl Points {
                 *index += 1;
                 let [a, b, c, d] = sobol_burley::sample_4d(k, 0, seed);
                 let e = sobol_burley::sample(k, 4, seed);
-                [a as f64, b as f64, c as f64, d as f64, e as f64]
+                // Centre each 2⁻²⁴ cell: never exactly 0, so no warp lands on its boundary.
+                [a, b, c, d, e].map(|x| x as f64 + SOBOL_HALF_CELL)
             }
         }
     }
@@ -178,7 +188,7 @@ mod tests {
             let (pa, pb, pc) = (a.next(), b.next(), c.next());
             assert_eq!(pa, pb);
             assert_ne!(pa, pc);
-            assert!(pa.iter().all(|x| (0.0..1.0).contains(x)));
+            assert!(pa.iter().all(|&x| x > 0.0 && x < 1.0));
         }
     }
 
