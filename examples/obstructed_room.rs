@@ -58,6 +58,7 @@ fn stats(scene: &Scene, tol: f64) {
     let n = scene.patches.len();
     let t = Instant::now();
     let (mut blocked, mut partial, mut blockers) = (0u64, 0u64, 0u64);
+    let mut printed = 0;
     let mut s = ShadowScratch::default();
     for i in 0..n {
         shadows.classify_row(i, &mut s);
@@ -67,6 +68,43 @@ fn stats(scene: &Scene, tol: f64) {
                 Status::Partial(b) => {
                     partial += 1;
                     blockers += b.len() as u64;
+                    if std::env::var("DEBUG_PARTIAL").is_ok() && printed < 8 && partial % 997 == 0 {
+                        let pi = &scene.patches[i].polygon;
+                        let pj = &scene.patches[j as usize].polygon;
+                        let mut hit = 0;
+                        let mut tot = 0;
+                        for a in 0..20 {
+                            for c in 0..20 {
+                                let v = pi.vertices();
+                                let w = pj.vertices();
+                                let x = v[0]
+                                    + (v[1] - v[0]) * ((a as f64 + 0.5) / 20.0)
+                                    + (v[3] - v[0]) * (((a * 7 + c * 3) % 20) as f64 / 20.0 + 0.025);
+                                let y = w[0]
+                                    + (w[1] - w[0]) * ((c as f64 + 0.5) / 20.0)
+                                    + (w[3] - w[0]) * (((c * 7 + a * 3) % 20) as f64 / 20.0 + 0.025);
+                                if pi.normal().dot(y - x) <= 0.0 || pj.normal().dot(x - y) <= 0.0 {
+                                    continue;
+                                }
+                                tot += 1;
+                                let inside = |p: DVec3| (0..3).all(|k| p[k] > 1.0 && p[k] < 2.0);
+                                if (1..200).any(|t| inside(x + (y - x) * (t as f64 / 200.0))) {
+                                    hit += 1;
+                                }
+                            }
+                        }
+                        if hit == 0 || hit == tot {
+                            printed += 1;
+                            println!(
+                                "pair {} -> {}: {hit}/{tot} blocked; blockers {:?}",
+                                scene.patch_name(i),
+                                scene.patch_name(j as usize),
+                                b
+                            );
+                            println!("  i {:?}", pi.vertices());
+                            println!("  j {:?}", pj.vertices());
+                        }
+                    }
                 }
                 Status::Clear => {}
             }

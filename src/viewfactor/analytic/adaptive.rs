@@ -364,4 +364,52 @@ mod tests {
         let f = PARALLEL_UNIT - info.shaded;
         assert!((f - 0.099_506_294_6).abs() < 1e-9, "F = {f}, {info:?}");
     }
+
+    #[test]
+    fn a_small_blocker_near_an_edge_is_not_missed() {
+        // A 0.2 × 0.1 plate 0.03 above the emitter, straddling its edge y = 1: no point of the
+        // 3×3 or 4×4 Gauss rules on the whole emitter sees its shadow on the receiver, so a
+        // fixed rule pair (View3D without minO) agrees with itself on "unobstructed".
+        let e = sq(0.0, 0.0, 0.0, 1.0, true);
+        let r = sq(1.0, 0.0, 0.0, 1.0, false);
+        let b = vec![
+            DVec3::new(0.4, 0.95, 0.03),
+            DVec3::new(0.6, 0.95, 0.03),
+            DVec3::new(0.6, 1.05, 0.03),
+            DVec3::new(0.4, 1.05, 0.03),
+        ];
+        let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&b]).unwrap();
+        let mut s = AdaptScratch::default();
+        let whole = Cell::Para { o: DVec3::ZERO, u: DVec3::X, v: DVec3::Y };
+        let naive = |n: usize, s: &mut AdaptScratch| {
+            let mut v = 0.0;
+            Rule::new(n).each(&whole, |p, w| v += w * geo.shaded(p, &[0], &mut s.shadow).0);
+            v
+        };
+        let (n3, n4) = (naive(3, &mut s), naive(4, &mut s));
+        // Reference: every emitter cell split five times (1024 cells, 25 600 viewpoints).
+        let deep = Integrator::new(AdaptParams { low: 3, high: 4, min_depth: 5, max_depth: 10 });
+        let deep_info = deep.shaded(&geo, 1e-13, &mut s);
+        let reference = deep_info.shaded;
+        eprintln!("deep {deep_info:?}");
+        assert!(reference > 1e-4, "the plate shades {reference}");
+        assert!(
+            (n3 - n4).abs() < 1e-12 && (n4 - reference).abs() > 0.5 * reference,
+            "naive {n3} {n4} vs {reference}"
+        );
+        // The adaptive integration with its blocker checks finds it without a deep minimum.
+        let info = Integrator::new(AdaptParams { low: 3, high: 4, min_depth: 0, max_depth: 10 })
+            .shaded(&geo, 1e-10, &mut s);
+        eprintln!("adaptive {info:?} {}", info.shaded - reference);
+        for tol in [1e-4, 1e-6, 1e-8] {
+            let i2 = Integrator::new(AdaptParams { low: 3, high: 4, min_depth: 0, max_depth: 10 })
+                .shaded(&geo, tol, &mut s);
+            eprintln!("tol {tol:e}: {i2:?} err {:.2e}", i2.shaded - reference);
+            let i3 = Integrator::new(AdaptParams { low: 1, high: 2, min_depth: 0, max_depth: 10 })
+                .shaded(&geo, tol, &mut s);
+            eprintln!("  1/2 rules: {i3:?} err {:.2e}", i3.shaded - reference);
+        }
+        assert!((info.shaded - reference).abs() < 1e-9, "{info:?} vs {reference}");
+        assert!(info.evals < 25_600 / 2, "adapts: {} evaluations", info.evals);
+    }
 }
