@@ -10,6 +10,7 @@ use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
 
+pub mod analytic;
 pub mod engine;
 pub mod sink;
 
