@@ -11,6 +11,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub mod analytic;
+pub mod closed_form;
 pub mod engine;
 pub mod sink;
 

@@ -1,9 +1,25 @@
 //! The `analytic` method: exact for planar polygons, with a Gauss ladder where provably
 //! accurate enough.
 //!
+//! Exact kernels:
+//! - [`lambert`]: point-to-polygon (Lambert 1760), point-to-ring and exact point-to-disk factors;
+//! - [`disk`]: the exact element-to-disk factor (full circle and clipped circular segment);
+//! - [`contour`]: polygon-to-polygon exchange area by the double contour integral;
+//! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
+//! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
+//! - [`ring`]: stack-allocated vertex rings and half-space clipping.
+//!
+//! The method on a scene:
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`occlusion`]: detection of pairs whose view is partly blocked (refused until shadowing);
 //! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes).
+pub mod contour;
+pub mod disk;
+pub mod edge;
+pub mod gauss;
+pub mod lambert;
+pub mod ring;
+
 pub mod ladder;
 pub mod occlusion;
 pub mod planes;
