@@ -66,10 +66,27 @@ fn main() {
             let v = [(-0.5, -0.1), (0.5, -0.1), (0.5, 0.1), (-0.5, 0.1)];
             Polygon::new(v.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect()).unwrap()
         }),
-        ("triangle", Polygon::new(vec![DVec3::new(-0.5, -0.4, 0.0), DVec3::new(0.5, -0.4, 0.0), DVec3::new(0.1, 0.5, 0.0)]).unwrap()),
-        ("skinny-tri", Polygon::new(vec![DVec3::new(-0.5, 0.0, 0.0), DVec3::new(0.5, -0.05, 0.0), DVec3::new(0.5, 0.05, 0.0)]).unwrap()),
+        (
+            "triangle",
+            Polygon::new(vec![
+                DVec3::new(-0.5, -0.4, 0.0),
+                DVec3::new(0.5, -0.4, 0.0),
+                DVec3::new(0.1, 0.5, 0.0),
+            ])
+            .unwrap(),
+        ),
+        (
+            "skinny-tri",
+            Polygon::new(vec![
+                DVec3::new(-0.5, 0.0, 0.0),
+                DVec3::new(0.5, -0.05, 0.0),
+                DVec3::new(0.5, 0.05, 0.0),
+            ])
+            .unwrap(),
+        ),
     ];
-    let mut samples: [Vec<Vec<(f64, f64, f64)>>; 2] = [vec![Vec::new(); MAX_ORDER + 1], vec![Vec::new(); MAX_ORDER + 1]];
+    let mut samples: [Vec<Vec<(f64, f64, f64)>>; 2] =
+        [vec![Vec::new(); MAX_ORDER + 1], vec![Vec::new(); MAX_ORDER + 1]];
     for (name, pi) in &emitters {
         let rules_i = PatchRules::new([pi]);
         let li = rules_i.param_len(0);
@@ -93,14 +110,14 @@ fn main() {
             let (nj, hj) = plane(&pj);
             let side = pj.bounding_radius();
             let ref_j = points_of(&pj, REF_ORDER, if side > 0.25 * dl { 2 } else { 1 });
-            let exact = gauss_exchange(ref_i.view(), ni, hi, ref_j.view(), nj, hj);
+            let exact = gauss_exchange(ref_i.view(), ni, hi, ref_j.view(), nj, hj, &mut Vec::new());
             if !(exact > 0.0) {
                 continue;
             }
             let mut buf = Points::default();
             for m in 1..=MAX_ORDER {
                 let pts = rules_i.points(0, m, &mut buf);
-                let s = gauss_exchange(pts, ni, hi, ref_j.view(), nj, hj);
+                let s = gauss_exchange(pts, ni, hi, ref_j.view(), nj, hj, &mut Vec::new());
                 let e = ((s - exact) / exact).abs();
                 worst[m] = worst[m].max(e / ErrorModel::side_error(m, tri, lam, nu));
                 if e > ROUNDOFF {
@@ -159,7 +176,10 @@ fn extent(pi: &Polygon, pj: &Polygon) -> (f64, f64) {
     if d.abs() >= r {
         return (d - r, d + r);
     }
-    pi.vertices().iter().map(|v| pj.plane_distance(*v)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| (a.min(d), b.max(d)))
+    pi.vertices()
+        .iter()
+        .map(|v| pj.plane_distance(*v))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| (a.min(d), b.max(d)))
 }
 
 fn receiver(trial: usize, rng: &mut rand_pcg::Pcg64) -> Polygon {
@@ -174,10 +194,15 @@ fn receiver(trial: usize, rng: &mut rand_pcg::Pcg64) -> Polygon {
         2 => {
             // Perpendicular, often grazing: bottom edge on the emitter's plane.
             let z0 = if rng.random_bool(0.5) { 0.0 } else { rng.random_range(0.0..1.0) * d };
-            square(DVec3::new(0.5 + d, rng.random_range(-1.0..1.0) * d, z0 + side / 2.0), -DVec3::X, side, 0.0)
+            square(
+                DVec3::new(0.5 + d, rng.random_range(-1.0..1.0) * d, z0 + side / 2.0),
+                -DVec3::X,
+                side,
+                0.0,
+            )
         }
         3 => {
-            // Cube-like: emitter on the floor, receiver on a wall x = 0.5 + g facing −x... 
+            // Cube-like: emitter on the floor, receiver on a wall x = 0.5 + g facing −x...
             // placed so the emitter is grazing for the receiver (receiver plane through an
             // emitter edge).
             let h = rng.random_range(0.0..2.0) * d;
@@ -186,12 +211,29 @@ fn receiver(trial: usize, rng: &mut rand_pcg::Pcg64) -> Polygon {
         4 => {
             let t = rng.random_range(0.05..1.5f64);
             let n = DVec3::new(-t.sin(), 0.0, -t.cos());
-            square(DVec3::new(0.5 + d * t.sin(), 0.0, d * t.cos() + side), n, side, rng.random_range(0.0..1.0))
+            square(
+                DVec3::new(0.5 + d * t.sin(), 0.0, d * t.cos() + side),
+                n,
+                side,
+                rng.random_range(0.0..1.0),
+            )
         }
         _ => {
-            let dir = DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(0.0..1.0)).normalize();
+            let dir = DVec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(0.0..1.0),
+            )
+            .normalize();
             let c = dir * (d + 0.7 + side);
-            let n = (-c.normalize() + 0.8 * DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))).normalize();
+            let n = (-c.normalize()
+                + 0.8
+                    * DVec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    ))
+            .normalize();
             square(c, n, side, rng.random_range(0.0..1.0))
         }
     }

@@ -171,6 +171,10 @@ impl Default for Params {
 #[allow(unused_variables, unreachable_code)]
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        // `auto` is analytic until shadowing and Monte Carlo fallbacks exist for blocked pairs.
+        Method::Analytic | Method::Auto => {
+            Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
+        }
         m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
     };
     #[allow(unreachable_code)]

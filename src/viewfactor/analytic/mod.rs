@@ -12,7 +12,8 @@
 //! The method on a scene:
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`occlusion`]: detection of pairs whose view is partly blocked (refused until shadowing);
-//! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes).
+//! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes);
+//! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
 pub mod contour;
 pub mod disk;
 pub mod edge;
@@ -20,6 +21,7 @@ pub mod gauss;
 pub mod lambert;
 pub mod ring;
 
+pub mod kernel;
 pub mod ladder;
 pub mod occlusion;
 pub mod planes;

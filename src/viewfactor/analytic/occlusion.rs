@@ -223,7 +223,9 @@ impl Occlusion {
         let n = scene.patches.len();
         (0..n)
             .into_par_iter()
-            .flat_map_iter(|i| (i + 1..n).filter_map(move |j| self.first_blocker(scene, i, j).map(|k| (i, j, k))))
+            .flat_map_iter(|i| {
+                (i + 1..n).filter_map(move |j| self.first_blocker(scene, i, j).map(|k| (i, j, k)))
+            })
             .collect()
     }
 
@@ -256,7 +258,8 @@ impl Occlusion {
 fn scene_size(scene: &Scene) -> f64 {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    let polys = scene.patches.iter().map(|p| &p.polygon).chain(scene.obstructions.iter().flat_map(|o| &o.polygons));
+    let polys =
+        scene.patches.iter().map(|p| &p.polygon).chain(scene.obstructions.iter().flat_map(|o| &o.polygons));
     for poly in polys {
         for v in poly.vertices() {
             lo = lo.min(*v);

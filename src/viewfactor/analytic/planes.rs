@@ -22,7 +22,13 @@ impl Plane {
     /// The unoriented plane of `poly`.
     pub fn of(poly: &Polygon) -> Self {
         let mut n = poly.normal();
-        let flip = if n.x != 0.0 { n.x < 0.0 } else if n.y != 0.0 { n.y < 0.0 } else { n.z < 0.0 };
+        let flip = if n.x != 0.0 {
+            n.x < 0.0
+        } else if n.y != 0.0 {
+            n.y < 0.0
+        } else {
+            n.z < 0.0
+        };
         if flip {
             n = -n;
         }
