@@ -9,9 +9,9 @@
 //!   vertices, crossings and 0·ln 0 need no special handling;
 //! - otherwise (skew lines; edges far apart, where the 4-corner closed forms would cancel; or
 //!   nearly parallel lines, whose crossing point is ill-conditioned): the analytic inner
-//!   integral J(x) = ½[b ln r₁² + u ln(r₀²/r₁²)] − b + hθ (Mitalas–Stephenson form of recipe 4b,
-//!   the ln ratio through ln_1p so that no term carries round-off of order u·ε) integrated
-//!   over e by singularity-graded Gauss ([`super::gauss::integrate`]).
+//!   integral J(x) (Mitalas–Stephenson form of recipe 4b near f, a multipole series beyond two
+//!   edge lengths, both free of cancellation) integrated over e by singularity-graded Gauss
+//!   ([`super::gauss::integrate`]).
 //!
 //! Inputs are in the normalised frame of [`super::contour`] (coordinates of order 1).
 use super::angle::atan2_pos;
@@ -33,6 +33,11 @@ const COPLANAR: f64 = 1e-10;
 /// ε/sin α too large for the closed form (it shifts the edges against each other); such pairs
 /// go to quadrature unless they share an exact vertex.
 const CROSSING_MIN_SIN: f64 = 0.1;
+/// The inner integral uses its multipole series beyond this many edge lengths from the edge's
+/// midpoint: q = (b/2R)² ≤ 1/16, so 13 terms reach 1e-17.
+const FAR_FIELD: f64 = 2.0;
+/// Series terms below this are dropped (relative to b, against J's round-off of about ε·b).
+const SERIES_CUTOFF: f64 = 1e-18;
 /// The closed forms are used only while every corner parameter is within this many edge
 /// lengths (|e| + |f|) of the lines' crossing point, or of the other edge for parallel lines:
 /// their corner values grow like M² ln M and cancel, whereas quadrature stays local.
@@ -200,9 +205,21 @@ fn quadrature(e: &Edge, f: &Edge, pinch: Option<Singularity>) -> Term {
     Term { value: k, magnitude: k.abs() + e.len * f.len }
 }
 
-/// J(x) = ∫_f ln‖x − y‖ dl_y = ½[b ln r₁² + u ln(r₀²/r₁²)] − b + h·θ, from v₀ = x − f.a;
-/// θ is the angle f subtends at x, u and h the axial and radial coordinates of x about f.
+/// J(x) = ∫_f ln‖x − y‖ dl_y from v₀ = x − f.a: the multipole series [`inner_far`] when x is
+/// at least 2|f| from f's midpoint, else the closed form [`inner_near`].
 pub fn inner(v0: DVec3, f: &Edge) -> f64 {
+    let vm = v0 - (0.5 * f.len) * f.dir;
+    let rm2 = vm.length_squared();
+    if rm2 >= FAR_FIELD * FAR_FIELD * f.len * f.len {
+        inner_far(vm, rm2, f)
+    } else {
+        inner_near(v0, f)
+    }
+}
+
+/// J(x) = ½[b ln r₁² + u ln(r₀²/r₁²)] − b + h·θ, with θ the angle f subtends at x and u, h the
+/// axial and radial coordinates of x about f (Mitalas–Stephenson form of recipe 4b).
+pub fn inner_near(v0: DVec3, f: &Edge) -> f64 {
     let b = f.len;
     let v1 = v0 - b * f.dir;
     let (r0, r1) = (v0.length_squared(), v1.length_squared());
@@ -219,6 +236,27 @@ pub fn inner(v0: DVec3, f: &Edge) -> f64 {
     let x = b * (2.0 * u - b) / r1;
     let ratio = if x.abs() < 0.5 { x.ln_1p() } else { r0.ln() - r1.ln() };
     0.5 * (b * r1.ln() + u * ratio) - b + h * theta
+}
+
+/// J(x) = b ln R − (b/2) Σ_k q^k cos(2kφ)/(k(2k + 1)), q = (b/2R)², from the expansion
+/// ln|1 − z e^{iφ}| = −Σ zⁿ cos(nφ)/n integrated over f; R = |x − m| (m: f's midpoint, `vm` =
+/// x − m, `rm2` = R²) and φ the angle between x − m and f. No term cancels, so the far field
+/// keeps full relative accuracy, at one logarithm.
+pub fn inner_far(vm: DVec3, rm2: f64, f: &Edge) -> f64 {
+    let b = f.len;
+    let q = 0.25 * b * b / rm2;
+    let cos2 = 2.0 * vm.dot(f.dir).powi(2) / rm2 - 1.0;
+    // Step: Σ q^k T_k(cos 2φ)/(k(2k + 1)) by the Chebyshev recurrence, until q^k is negligible.
+    let (mut t_prev, mut t) = (1.0, cos2);
+    let (mut qk, mut sum) = (q, 0.0);
+    let mut k = 1.0;
+    while qk > SERIES_CUTOFF {
+        sum += qk * t / (k * (2.0 * k + 1.0));
+        (t_prev, t) = (t, 2.0 * cos2 * t - t_prev);
+        qk *= q;
+        k += 1.0;
+    }
+    0.5 * b * rm2.ln() - 0.5 * b * sum
 }
 
 #[cfg(test)]
@@ -262,7 +300,12 @@ mod tests {
             mid,
             f.a - 0.3 * f.dir,
         ];
-        for x in pts {
+        let far = [
+            DVec3::new(4.0, -3.0, 1.0),
+            f.a + 2.05 * f.len * f.dir.any_orthonormal_vector(),
+            DVec3::new(40.0, 2.0, -9.0),
+        ];
+        for x in pts.into_iter().chain(far) {
             // Reference: tanh-sinh on both sides of the foot of x on f.
             let u = (x - f.a).dot(f.dir).clamp(0.0, f.len);
             let g = |t: f64| (x - f.a - t * f.dir).length().ln();
