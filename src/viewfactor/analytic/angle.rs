@@ -59,6 +59,15 @@ pub fn atan2_pos(y: f64, x: f64) -> f64 {
     }
 }
 
+/// atan2(y, x) for any y, in [−π, π] (the sign of a zero y is not honoured).
+pub fn atan2(y: f64, x: f64) -> f64 {
+    if y < 0.0 {
+        -atan2_pos(-y, x)
+    } else {
+        atan2_pos(y, x)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,6 +86,8 @@ mod tests {
             let y = next() * 10f64.powi(k % 9 - 4);
             let x = (next() - 0.5) * 10f64.powi(k % 7 - 3);
             let (got, want) = (atan2_pos(y, x), y.atan2(x));
+            worst = worst.max((got - want).abs() / want.abs().max(f64::MIN_POSITIVE));
+            let (got, want) = (atan2(-y, x), (-y).atan2(x));
             worst = worst.max((got - want).abs() / want.abs().max(f64::MIN_POSITIVE));
         }
         assert!(worst <= 2.0 * f64::EPSILON, "worst relative error {worst:e}");

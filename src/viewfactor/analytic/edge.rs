@@ -14,7 +14,7 @@
 //!   ([`super::gauss::integrate`]).
 //!
 //! Inputs are in the normalised frame of [`super::contour`] (coordinates of order 1).
-use super::angle::atan2_pos;
+use super::angle::{atan2, atan2_pos};
 use super::gauss::{integrate, Singularity};
 use glam::DVec3;
 
@@ -151,12 +151,13 @@ pub fn parallel_antiderivative(w: f64, d: f64) -> f64 {
     if r2 == 0.0 {
         return 0.0;
     }
-    0.25 * (w * w - d * d) * r2.ln() - 0.75 * w * w + d * w * w.atan2(d)
+    // w·atan(w/d) is even in w: evaluated on |w| with the fast non-negative atan2.
+    0.25 * (w * w - d * d) * r2.ln() - 0.75 * w * w + d * w.abs() * atan2_pos(w.abs(), d)
 }
 
 /// K for lines crossing at a point O, with e spanning s ∈ `s` and f spanning t ∈ `t` from O.
 pub fn coplanar(c: f64, sn: f64, s: [f64; 2], t: [f64; 2]) -> Term {
-    let alpha = sn.atan2(c);
+    let alpha = atan2_pos(sn, c);
     let p = |s: f64, t: f64| coplanar_antiderivative(s, t, c, sn, alpha);
     corners([p(s[1], t[1]), p(s[1], t[0]), p(s[0], t[1]), p(s[0], t[0])])
 }
@@ -179,8 +180,9 @@ pub fn coplanar_antiderivative(s: f64, t: f64, c: f64, sn: f64, alpha: f64) -> f
     if r2 == 0.0 {
         return 0.0;
     }
-    let phi_t = (-t * sn).atan2(s - t * c);
-    let phi_s = (-s * sn).atan2(s * c - t) + alpha;
+    // The sign of a zero first argument does not matter: t² or s² multiplies it.
+    let phi_t = atan2(-t * sn, s - t * c);
+    let phi_s = atan2(-s * sn, s * c - t) + alpha;
     -0.5 * coef * (0.5 * r2.ln() - 1.5) - 0.5 * sn * (s * s * phi_s - t * t * phi_t)
 }
 
@@ -249,15 +251,28 @@ pub fn inner_far(vm: DVec3, rm2: f64, f: &Edge) -> f64 {
     // Step: Σ q^k T_k(cos 2φ)/(k(2k + 1)) by the Chebyshev recurrence, until q^k is negligible.
     let (mut t_prev, mut t) = (1.0, cos2);
     let (mut qk, mut sum) = (q, 0.0);
-    let mut k = 1.0;
-    while qk > SERIES_CUTOFF {
-        sum += qk * t / (k * (2.0 * k + 1.0));
-        (t_prev, t) = (t, 2.0 * cos2 * t - t_prev);
+    for c in SERIES {
+        sum += qk * t * c;
         qk *= q;
-        k += 1.0;
+        if qk <= SERIES_CUTOFF {
+            break;
+        }
+        (t_prev, t) = (t, 2.0 * cos2 * t - t_prev);
     }
     0.5 * b * rm2.ln() - 0.5 * b * sum
 }
+
+/// 1/(k(2k + 1)) for k = 1, 2, …: enough terms for q ≤ 1/(2·FAR_FIELD)² = 1/16.
+const SERIES: [f64; 15] = {
+    let mut c = [0.0; 15];
+    let mut k = 0;
+    while k < 15 {
+        let kk = (k + 1) as f64;
+        c[k] = 1.0 / (kk * (2.0 * kk + 1.0));
+        k += 1;
+    }
+    c
+};
 
 #[cfg(test)]
 mod tests {
