@@ -159,14 +159,15 @@ impl<'a> HemicubeKernel<'a> {
             let depth = DepthPlane { a: mu * h, b: mv * h, c: mw - mu + mv * face.v0 };
             ws.buffer.draw(&ws.pts, depth, p.id);
         }
-        let deltas = if face.top { &self.deltas.top } else { &self.deltas.side };
-        for (&id, &d) in ws.buffer.ids().iter().zip(deltas) {
-            if id != NO_RECEIVER {
-                let a = &mut ws.acc[id as usize];
-                if *a == 0.0 {
-                    ws.touched.push(id);
-                }
-                *a += weight * d;
+        // Credit each run of equal ids along a pixel row with its delta factors (prefix sums).
+        let prefix = if face.top { &self.deltas.top_prefix } else { &self.deltas.side_prefix };
+        for (ids, pre) in ws.buffer.ids().chunks_exact(r).zip(prefix.chunks_exact(r + 1)) {
+            let mut start = 0;
+            while start < r {
+                let id = ids[start];
+                let end = ids[start..].iter().position(|&k| k != id).map_or(r, |n| start + n);
+                credit(&mut ws.acc, &mut ws.touched, id, weight * (pre[end] - pre[start]));
+                start = end;
             }
         }
     }
@@ -194,6 +195,18 @@ impl RowKernel for HemicubeKernel<'_> {
         out.pairs = self.scene.patches.len().saturating_sub(1) as u64;
         self.pool.lock().unwrap_or_else(|e| e.into_inner()).push(ws);
         Ok(())
+    }
+}
+
+/// Adds `s` to receiver `id`'s exchange area, noting first touches; blockers get nothing.
+#[inline]
+pub(crate) fn credit(acc: &mut [f64], touched: &mut Vec<u32>, id: u32, s: f64) {
+    if id != NO_RECEIVER && s > 0.0 {
+        let a = &mut acc[id as usize];
+        if *a == 0.0 {
+            touched.push(id);
+        }
+        *a += s;
     }
 }
 
