@@ -15,7 +15,15 @@
 //! crossing pixels cost O(h) (an edge on the hemicube horizon worst of all); receivers that
 //! project to a few pixels alias (a 0.05×0.05 target at unit distance: −100 % at R = 32,
 //! +56 % at 64); a single centroid projection has the proximity error, which
-//! [`Positions`] trades against cost. The row is not symmetric: row i is patch i's view.
+//! [`Positions`] trades against cost. Shadows make it worse: a blocker close to a patch puts
+//! kinks in the point factor across the patch (the centred 0.5² blocker midway between unit
+//! squares: the centroid sees nothing, 3×3 Gauss positions miss by 9 %), so shadowed
+//! emitters must be subdivided (4×4 patches with 2×2 positions: 1e-5). `compute` uses
+//! [`Positions::Adaptive`]. The row is not symmetric: row i is patch i's view, and
+//! reciprocity is left to enforcement.
+//!
+//! Cost: 3R² pixels per position plus a clip of every polygon in front of the patch, so a
+//! row is O(R² + N) and the method O(N·R² + N²) per position.
 //!
 //! Resolution: R pixels along the top face (R/2 rows on each side face); an odd R is rounded
 //! up to the next even number, and R is capped at [`MAX_RESOLUTION`].
