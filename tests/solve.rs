@@ -38,13 +38,22 @@ fn rectangle_oracle_matches_catalogue() {
     assert!((rect::f_c14(1.0, 1.0, 1.0) - 0.20004378).abs() < V_TOL);
     assert!((rect::f_c14(1.0, 2.0, 1.0) - 0.23285260).abs() < V_TOL);
     // V4 strips and V5 corner touch.
-    assert!((rect::perpendicular([0.0, 1.0], [1.0, 2.0], [0.0, 1.0], [0.0, 1.0]) - 0.032808827).abs() < V_TOL);
-    assert!((rect::perpendicular([1.0, 2.0], [1.0, 2.0], [0.0, 1.0], [0.0, 1.0]) - 0.032938162).abs() < V_TOL);
-    assert!((rect::perpendicular([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], [1.0, 2.0]) - 0.040592230).abs() < V_TOL);
+    assert!(
+        (rect::perpendicular([0.0, 1.0], [1.0, 2.0], [0.0, 1.0], [0.0, 1.0]) - 0.032808827).abs() < V_TOL
+    );
+    assert!(
+        (rect::perpendicular([1.0, 2.0], [1.0, 2.0], [0.0, 1.0], [0.0, 1.0]) - 0.032938162).abs() < V_TOL
+    );
+    assert!(
+        (rect::perpendicular([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], [1.0, 2.0]) - 0.040592230).abs() < V_TOL
+    );
     assert!((rect::perpendicular([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], [0.5, 1.5]) - 0.13191681).abs() < V_TOL);
     // V7 parallel, general position; V1 through the corner sum.
     // V7 quotes F12; the corner sum gives A1F12 with A1 = 2.
-    assert!((rect::parallel([0.0, 1.0], [0.0, 2.0], [0.5, 2.0], [1.0, 1.5], 0.7) / 2.0 - 0.093413492).abs() < V_TOL);
+    assert!(
+        (rect::parallel([0.0, 1.0], [0.0, 2.0], [0.5, 2.0], [1.0, 1.5], 0.7) / 2.0 - 0.093413492).abs()
+            < V_TOL
+    );
     assert!((rect::parallel([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], [0.0, 1.0], 1.0) - 0.19982490).abs() < V_TOL);
 }
 
@@ -72,7 +81,11 @@ fn check_e3(sol: &Solution) {
     assert!(rel(sol.results[4].heat_rate, 21_385.907) < REF_TOL, "E3 q = {}", sol.results[4].heat_rate);
     assert!(rel(sol.results[5].heat_rate, -21_385.907) < REF_TOL, "E3 ceiling {}", sol.results[5].heat_rate);
     for w in 0..4 {
-        assert!(rel(sol.results[w].temperature, 876.93099) < REF_TOL, "E3 T_wall = {}", sol.results[w].temperature);
+        assert!(
+            rel(sol.results[w].temperature, 876.93099) < REF_TOL,
+            "E3 T_wall = {}",
+            sol.results[w].temperature
+        );
         assert!(sol.results[w].heat_rate.abs() < 1e-9 * 21_385.907);
     }
     assert_balance(sol);
@@ -97,11 +110,13 @@ fn subdivided_cube_solvers_agree_and_balance() {
     // 3×3 patches per face: no closed form, but every solver must agree and conserve energy.
     let (scene, s) = support::box_scene([1.0; 3], 3, &e3_props());
     let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
-    let sols: Vec<Solution> =
-        SOLVERS.iter().map(|&(solver, dense_max)| {
+    let sols: Vec<Solution> = SOLVERS
+        .iter()
+        .map(|&(solver, dense_max)| {
             let p = Params { solver, dense_max, ..Params::default() };
             solve::solve_gray(&scene, &ex, &p).expect("solve")
-        }).collect();
+        })
+        .collect();
     for sol in &sols {
         assert_balance(sol);
         assert_balance(&sol.by_surface(&scene));
@@ -119,7 +134,8 @@ fn cube_refinement_converges_below_six_node_answer() {
         .map(|split| {
             let (scene, s) = support::box_scene([1.0; 3], split, &e3_props());
             let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
-            solve::solve_gray(&scene, &ex, &Params::default()).unwrap().by_surface(&scene).results[4].heat_rate
+            solve::solve_gray(&scene, &ex, &Params::default()).unwrap().by_surface(&scene).results[4]
+                .heat_rate
         })
         .collect();
     assert!(q[0] > q[1] && q[1] > q[2] && q[1] - q[2] < q[0] - q[1], "{q:?}");
@@ -158,12 +174,28 @@ fn concentric_cubes_closed_form() {
     let s12 = a1;
     let s22 = a2 - a1;
     let scene = Scene::builder()
-        .surface("inner", support::rect::box_faces([1.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(), e1, Some(Temperature(t1)))
-        .surface("outer", support::rect::box_faces([3.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(), e2, Some(Temperature(t2)))
+        .surface(
+            "inner",
+            support::rect::box_faces([1.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(),
+            e1,
+            Some(Temperature(t1)),
+        )
+        .surface(
+            "outer",
+            support::rect::box_faces([3.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(),
+            e2,
+            Some(Temperature(t2)),
+        )
         .build();
     // Stand-in polygons: only names and areas matter, the factors are given.
     let names = vec!["inner".to_string(), "outer".to_string()];
-    let vf = support::vf_from_s(names, vec![a1, a2], &[vec![0.0, s12], vec![s12, s22]], lambert::viewfactor::Level::Surface, lambert::viewfactor::MethodSet::ANALYTIC);
+    let vf = support::vf_from_s(
+        names,
+        vec![a1, a2],
+        &[vec![0.0, s12], vec![s12, s22]],
+        lambert::viewfactor::Level::Surface,
+        lambert::viewfactor::MethodSet::ANALYTIC,
+    );
     let mut ex = Exchange::from_viewfactors(&vf);
     enforce(&mut ex, &EnforceParams { mode: Enforce::Closure, ..Default::default() }).unwrap();
     // Areas of the stand-in scene differ (6 and 54 m² here by construction of the boxes).

@@ -31,7 +31,8 @@ impl Diagnostics {
         let dev: Vec<f64> = (0..n).map(|i| sums[i] / ex.areas[i] - 1.0).collect();
         let err: Vec<f64> = dev.iter().map(|&d| if open { d.max(0.0) } else { d.abs() }).collect();
         let max_row_error = err.iter().copied().fold(0.0, f64::max);
-        let rms_row_error = if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
+        let rms_row_error =
+            if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
         let ip = ex.indptr();
         let (num, den) = (0..n)
             .into_par_iter()

@@ -13,8 +13,11 @@ const CHUNK: usize = 4096;
 
 /// Σ a_i b_i, identical on any thread count.
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let parts: Vec<f64> =
-        a.par_chunks(CHUNK).zip(b.par_chunks(CHUNK)).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p * q).sum()).collect();
+    let parts: Vec<f64> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK))
+        .map(|(x, y)| x.iter().zip(y).map(|(p, q)| p * q).sum())
+        .collect();
     parts.iter().sum()
 }
 

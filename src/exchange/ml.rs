@@ -68,12 +68,16 @@ pub fn max_likelihood(ex: &mut Exchange, tol: f64) -> Result<usize> {
                 _ => t *= 0.5,
             }
             if t < 1e-6 {
-                return Err(Error::Compute(format!("ML closure: line search failed at closure error {err:.3e}")));
+                return Err(Error::Compute(format!(
+                    "ML closure: line search failed at closure error {err:.3e}"
+                )));
             }
         }
     }
     if err <= tol {
         return Ok(MAX_NEWTON);
     }
-    Err(Error::Compute(format!("ML closure did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps")))
+    Err(Error::Compute(format!(
+        "ML closure did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
+    )))
 }

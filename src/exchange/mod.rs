@@ -25,6 +25,9 @@ pub mod ml;
 pub mod scaling;
 
 pub use diagnostics::Diagnostics;
+/// One CSR row under construction: (columns, values, variances, methods).
+type RowBuf = (Vec<usize>, Vec<f64>, Vec<f64>, Vec<MethodSet>);
+
 pub use enforce::{enforce, ClosureMethod, Enforce, EnforceParams, EnforceReport};
 
 /// Sparse exchange areas between the nodes (patches or surfaces) of a scene.
@@ -133,7 +136,7 @@ impl Exchange {
         let t = self.transpose();
         let n = self.len();
         let (a, b) = (&*self, &t);
-        let rows: Vec<(Vec<usize>, Vec<f64>, Vec<f64>, Vec<MethodSet>)> = (0..n)
+        let rows: Vec<RowBuf> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let (ra, rb) = (a.row(i), b.row(i));
@@ -189,7 +192,8 @@ impl Exchange {
                 let j = self.s.indices()[k];
                 let dst = count[j];
                 count[j] += 1;
-                (ind[dst], dat[dst], var[dst], met[dst]) = (i, self.s.data()[k], self.var[k], self.methods[k]);
+                (ind[dst], dat[dst], var[dst], met[dst]) =
+                    (i, self.s.data()[k], self.var[k], self.methods[k]);
             }
         }
         Exchange {
@@ -215,7 +219,7 @@ impl Exchange {
     }
 
     /// Replaces the matrix by the given sorted rows.
-    fn set_rows(&mut self, rows: Vec<(Vec<usize>, Vec<f64>, Vec<f64>, Vec<MethodSet>)>) {
+    fn set_rows(&mut self, rows: Vec<RowBuf>) {
         let n = self.len();
         let mut indptr = vec![0usize];
         let (mut ind, mut dat, mut var, mut met) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -235,7 +239,8 @@ impl Exchange {
     /// `group[i]` is node i's group; `names`/`areas` describe the groups.
     pub fn aggregate(&self, group: &[usize], names: Vec<String>, areas: Vec<f64>, level: Level) -> Exchange {
         let m = names.len();
-        let mut acc: Vec<std::collections::BTreeMap<usize, (f64, f64, MethodSet)>> = vec![Default::default(); m];
+        let mut acc: Vec<std::collections::BTreeMap<usize, (f64, f64, MethodSet)>> =
+            vec![Default::default(); m];
         let mut samples = vec![0u32; m];
         for i in 0..self.len() {
             let gi = group[i];
@@ -289,7 +294,12 @@ impl Exchange {
                 let a = self.areas[i];
                 (0..c.len())
                     .filter(|&k| d[k] != 0.0)
-                    .map(|k| Entry { to: c[k] as u32, factor: d[k] / a, std_error: v[k].sqrt() / a, method: me[k] })
+                    .map(|k| Entry {
+                        to: c[k] as u32,
+                        factor: d[k] / a,
+                        std_error: v[k].sqrt() / a,
+                        method: me[k],
+                    })
                     .collect()
             })
             .collect();

@@ -55,7 +55,9 @@ pub fn symmetric_scaling(ex: &mut Exchange, tol: f64) -> Result<usize> {
     if err <= tol {
         return Ok(total);
     }
-    Err(Error::Compute(format!("symmetric scaling did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps")))
+    Err(Error::Compute(format!(
+        "symmetric scaling did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
+    )))
 }
 
 fn apply(ex: &mut Exchange, base: &[f64], ip: &[usize], idx: &[usize], logg: &[f64]) {

@@ -100,7 +100,8 @@ pub fn factor(k: &Csr, dense_max: usize, cache: &mut Cache) -> Result<Factor> {
             *cache = Some(SymbolicCache { indptr: k.indptr.clone(), indices: k.indices.clone(), symbolic });
         }
         let symbolic = cache.as_ref().map(|c| c.symbolic.clone()).expect("cache set above");
-        if let Ok(f) = SpLlt::try_new_with_symbolic(symbolic, SparseColMatRef::new(sym, &k.data), Side::Lower) {
+        if let Ok(f) = SpLlt::try_new_with_symbolic(symbolic, SparseColMatRef::new(sym, &k.data), Side::Lower)
+        {
             return Ok(Factor::SparseLlt(f));
         }
     }

@@ -54,7 +54,9 @@ impl FromStr for Solver {
             "direct" => Ok(Solver::Direct),
             "jacobi" => Ok(Solver::Jacobi),
             "gauss-seidel" => Ok(Solver::GaussSeidel),
-            _ => Err(Error::Usage(format!("unknown --solver '{s}'; expected direct, jacobi or gauss-seidel"))),
+            _ => {
+                Err(Error::Usage(format!("unknown --solver '{s}'; expected direct, jacobi or gauss-seidel")))
+            }
         }
     }
 }
@@ -166,7 +168,8 @@ impl Solution {
             let a = areas[s];
             if a > 0.0 {
                 let t = &mut results[s];
-                (t.temperature, t.radiosity, t.irradiation) = (t.temperature / a, t.radiosity / a, t.irradiation / a);
+                (t.temperature, t.radiosity, t.irradiation) =
+                    (t.temperature / a, t.radiosity / a, t.irradiation / a);
                 t.heat_flux = t.heat_rate / a;
                 eps[s] /= a;
             }
@@ -212,7 +215,11 @@ pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solut
 }
 
 /// Solves K x = b with the chosen solver; `symbolic` caches the sparse LLT analysis.
-pub fn solve_system(sys: &system::System, params: &Params, cache: &mut direct::Cache) -> Result<(Vec<f64>, Info)> {
+pub fn solve_system(
+    sys: &system::System,
+    params: &Params,
+    cache: &mut direct::Cache,
+) -> Result<(Vec<f64>, Info)> {
     let info = |solver: &str, iterations, residual| Info {
         solver: solver.to_string(),
         unknowns: sys.b.len(),

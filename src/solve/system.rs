@@ -154,7 +154,9 @@ impl System {
 /// True when S_ij = S_ji exactly for every stored entry.
 pub fn is_symmetric(ex: &Exchange) -> bool {
     let ip = ex.indptr();
-    (0..ex.len()).into_par_iter().all(|i| (ip[i]..ip[i + 1]).all(|k| ex.get(ex.s.indices()[k], i) == ex.s.data()[k]))
+    (0..ex.len())
+        .into_par_iter()
+        .all(|i| (ip[i]..ip[i + 1]).all(|k| ex.get(ex.s.indices()[k], i) == ex.s.data()[k]))
 }
 
 /// Assembles K J = b for per-node emissivities, row kinds and ambient emissive power.
@@ -241,6 +243,7 @@ pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System
         x
     }
     let mut anchored = vec![false; m];
+    #[allow(clippy::needless_range_loop)] // u indexes K's rows and the union-find alike
     for u in 0..m {
         let (lo, hi) = (sys.k.indptr[u], sys.k.indptr[u + 1]);
         let mut margin = 0.0;
@@ -258,9 +261,9 @@ pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System
         anchored[u] = margin > ANCHOR_TOL * diag.abs();
     }
     let mut root_ok = vec![false; m];
-    for u in 0..m {
+    for (u, &a) in anchored.iter().enumerate() {
         let r = find(&mut parent, u);
-        root_ok[r] |= anchored[u];
+        root_ok[r] |= a;
     }
     let bad: Vec<usize> = (0..m).filter(|&u| !root_ok[find(&mut parent, u)]).collect();
     let Some(&first) = bad.first() else { return Ok(()) };
@@ -311,7 +314,13 @@ pub fn recover(
                     (eb / SIGMA).powf(0.25)
                 }
             };
-            Ok(super::NodeResult { temperature, heat_flux: q, heat_rate: a * q, radiosity: j[i], irradiation: h })
+            Ok(super::NodeResult {
+                temperature,
+                heat_flux: q,
+                heat_rate: a * q,
+                radiosity: j[i],
+                irradiation: h,
+            })
         })
         .collect()
 }
@@ -320,4 +329,3 @@ pub fn recover(
 pub fn ambient_heat(ex: &Exchange, j: &[f64], e_amb: f64) -> f64 {
     ex.ambient.as_ref().map_or(0.0, |am| am.iter().zip(j).map(|(a, j)| a * (e_amb - j)).sum())
 }
-

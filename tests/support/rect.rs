@@ -34,7 +34,8 @@ impl Rect {
             DVec3::from_array(p)
         };
         let (u0, u1, v0, v1) = (self.lo[u], self.hi[u], self.lo[v], self.hi[v]);
-        let poly = Polygon::new(vec![corner(u0, v0), corner(u1, v0), corner(u1, v1), corner(u0, v1)]).unwrap();
+        let poly =
+            Polygon::new(vec![corner(u0, v0), corner(u1, v0), corner(u1, v1), corner(u0, v1)]).unwrap();
         if poly.normal()[self.axis] * self.inward > 0.0 {
             poly
         } else {
@@ -148,7 +149,13 @@ pub fn exchange_area(a: &Rect, b: &Rect) -> f64 {
             return 0.0;
         }
         let (u, v) = others(a.axis);
-        return parallel([a.lo[u], a.hi[u]], [a.lo[v], a.hi[v]], [b.lo[u], b.hi[u]], [b.lo[v], b.hi[v]], (a.pos - b.pos).abs());
+        return parallel(
+            [a.lo[u], a.hi[u]],
+            [a.lo[v], a.hi[v]],
+            [b.lo[u], b.hi[u]],
+            [b.lo[v], b.hi[v]],
+            (a.pos - b.pos).abs(),
+        );
     }
     // a is the floor (normal along p), b the wall (normal along q), r the common axis.
     let (p, q) = (a.axis, b.axis);
