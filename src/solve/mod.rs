@@ -27,6 +27,9 @@ pub mod system;
 pub use iterative::NoConvergence;
 pub use system::Node;
 
+/// Name of the ambient node in results.
+pub const AMBIENT: &str = "ambient";
+
 /// Energy-balance acceptance: |Σ heat_rate| ≤ this × max |heat_rate| (SPEC-level check of a
 /// conservative, converged solve; round-off of a direct solve is ~1e-14).
 pub const BALANCE_TOL: f64 = 1e-9;
