@@ -57,7 +57,9 @@ impl BandSpec {
             ));
         }
         for (k, w) in b.windows(2).enumerate() {
-            if w[0].upper != w[1].lower || !(w[0].lower < w[0].upper) {
+            if w[0].upper != w[1].lower
+                || w[0].lower.partial_cmp(&w[0].upper) != Some(std::cmp::Ordering::Less)
+            {
                 return Err(bad(format!(
                     "[[band]] '{}' (#{k}): bands must be contiguous and increasing",
                     w[0].name
