@@ -307,3 +307,146 @@ fn conductances_with_ambient_node() {
     let via_radk: f64 = (0..5).map(|i| SIGMA * c.radk[i][5] * 900f64.powi(4)).sum();
     assert!(rel(via_radk, total) < 1e-12, "{via_radk} vs {total}");
 }
+
+/// Unit-area-scaled stand-in squares: only names and areas matter when factors come from a file.
+fn stand_in(surfaces: &[(&str, f64, f64, BoundaryCondition)]) -> Scene {
+    let mut b = Scene::builder().source("tests/data/stand-in.toml");
+    for (k, (name, area, eps, bc)) in surfaces.iter().enumerate() {
+        let s = area.sqrt();
+        let o = glam::DVec3::new(0.0, 2.0 * k as f64, 0.0);
+        let poly = lambert::geometry::Polygon::new(vec![
+            o,
+            o + glam::DVec3::X * s,
+            o + glam::DVec3::new(s, 0.0, s),
+            o + glam::DVec3::Z * s,
+        ])
+        .unwrap();
+        b = b.surface(name, vec![poly], *eps, Some(*bc));
+    }
+    b.build()
+}
+
+fn solve_file(scene: &Scene, csv: &str) -> Solution {
+    let vf = lambert::report::read_vf::read_viewfactors(std::path::Path::new(csv), scene)
+        .expect("read view factors");
+    let ex = exchange(scene, &vf, Enforce::solve_default(!scene.is_closed()));
+    let sol = solve::solve_gray(scene, &ex, &Params::default()).expect("solve");
+    assert_balance(&sol);
+    sol
+}
+
+/// literature.md quotes E1/E2 with σ = 5.67e-8; lambert uses CODATA σ: q scales by the ratio.
+const SIGMA_RATIO: f64 = SIGMA / 5.67e-8;
+
+#[test]
+fn e1_paint_baking_oven() {
+    let scene = stand_in(&[
+        ("heater", 1.0, 0.8, Temperature(1200.0)),
+        ("panels", 1.0, 0.4, Temperature(500.0)),
+        ("insulated", 1.0, 0.8, HeatFlux(0.0)),
+    ]);
+    let sol = solve_file(&scene, "tests/data/e1_oven.csv");
+    // 36 982.498 W/m at σ = 5.67e-8 is 36 984.941 W/m with CODATA σ (literature.md E1).
+    assert!(
+        rel(sol.results[0].heat_rate, 36_982.498 * SIGMA_RATIO) < REF_TOL,
+        "{}",
+        sol.results[0].heat_rate
+    );
+    assert!(rel(sol.results[0].heat_rate, 36_984.941) < REF_TOL);
+    // T_R does not depend on σ (every condition is linear in σT⁴).
+    assert!(rel(sol.results[2].temperature, 1102.1734) < REF_TOL, "{}", sol.results[2].temperature);
+}
+
+#[test]
+fn e2_cryogenic_tubes_with_and_without_shield() {
+    let (d1, d2, d3) = (0.02, 0.05, 0.035);
+    let pi = std::f64::consts::PI;
+    let scene = stand_in(&[
+        ("inner", pi * d1, 0.02, Temperature(77.0)),
+        ("outer", pi * d2, 0.05, Temperature(300.0)),
+    ]);
+    let sol = solve_file(&scene, "tests/data/e2_tubes.csv");
+    assert!(
+        rel(sol.results[0].heat_rate, -0.49881163 * SIGMA_RATIO) < REF_TOL,
+        "{}",
+        sol.results[0].heat_rate
+    );
+    // Shield: a thin tube whose two faces share one temperature; per-face conditions cannot
+    // express that coupling, so T3 comes from the series network and both faces take it.
+    let r_a = (1.0 / 0.02 + (1.0 - 0.02) / 0.02 * d1 / d3) / (pi * d1);
+    let r_b = (1.0 / 0.02 + (1.0 - 0.05) / 0.05 * d3 / d2) / (pi * d3);
+    let q = -0.25165272 * SIGMA_RATIO;
+    let t3 = ((77f64.powi(4) * r_b + 300f64.powi(4) * r_a) / (r_a + r_b)).powf(0.25);
+    assert!(rel(SIGMA * (77f64.powi(4) - 300f64.powi(4)) / (r_a + r_b), q) < REF_TOL, "ΣR = {}", r_a + r_b);
+    let names = ["inner", "shield_in", "shield_out", "outer"].map(String::from).to_vec();
+    let areas = vec![pi * d1, pi * d3, pi * d3, pi * d2];
+    let s = [
+        vec![0.0, pi * d1, 0.0, 0.0],
+        vec![pi * d1, pi * (d3 - d1), 0.0, 0.0],
+        vec![0.0, 0.0, 0.0, pi * d3],
+        vec![0.0, 0.0, pi * d3, pi * (d2 - d3)],
+    ];
+    let vf = support::vf_from_s(
+        names,
+        areas.clone(),
+        &s,
+        lambert::viewfactor::Level::Surface,
+        lambert::viewfactor::MethodSet::ANALYTIC,
+    );
+    let scene = stand_in(&[
+        ("inner", areas[0], 0.02, Temperature(77.0)),
+        ("shield_in", areas[1], 0.02, Temperature(t3)),
+        ("shield_out", areas[2], 0.02, Temperature(t3)),
+        ("outer", areas[3], 0.05, Temperature(300.0)),
+    ]);
+    let ex = exchange(&scene, &vf, Enforce::Closure);
+    let sol = solve::solve_gray(&scene, &ex, &Params::default()).unwrap();
+    assert_balance(&sol);
+    assert!(rel(sol.results[0].heat_rate, q) < REF_TOL, "{} vs {q}", sol.results[0].heat_rate);
+    assert!(rel(sol.results[1].heat_rate, -sol.results[2].heat_rate) < 1e-9, "shield faces must balance");
+    assert!(rel(q / (-0.49881163 * SIGMA_RATIO), 1.0 - 0.4955) < 1e-3, "49.55 % reduction");
+}
+
+#[test]
+fn e5_concentric_spheres() {
+    let (r1, r2) = (0.1f64, 0.2f64);
+    let pi = std::f64::consts::PI;
+    let scene = stand_in(&[
+        ("inner", 4.0 * pi * r1 * r1, 0.3, Temperature(400.0)),
+        ("outer", 4.0 * pi * r2 * r2, 0.5, Temperature(300.0)),
+    ]);
+    let sol = solve_file(&scene, "tests/data/e5_spheres.csv");
+    // literature.md's 34.799455 W is computed with CODATA σ already.
+    assert!(rel(sol.results[0].heat_rate, 34.799455) < REF_TOL, "{}", sol.results[0].heat_rate);
+}
+
+#[test]
+fn mismatched_viewfactor_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = stand_in(&[
+        ("heater", 1.0, 0.8, Temperature(1200.0)),
+        ("panels", 1.0, 0.4, Temperature(500.0)),
+        ("lid", 1.0, 0.8, HeatFlux(0.0)),
+    ]);
+    let read = |body: &str| {
+        let p = dir.path().join("vf.csv");
+        std::fs::write(&p, body).unwrap();
+        lambert::report::read_vf::read_viewfactors(&p, &scene)
+    };
+    let msg = |body: &str| {
+        let e = read(body).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{e}");
+        e.to_string()
+    };
+    let unknown =
+        msg("from,to,factor\nheater,panels,0.5\nheater,insulated,0.5\npanels,heater,1\nlid,heater,1\n");
+    assert!(unknown.contains("insulated") && unknown.contains("not among"), "{unknown}");
+    let missing = msg("from,to,factor\nheater,panels,1\npanels,heater,1\n");
+    assert!(missing.contains("lid") && missing.contains("missing"), "{missing}");
+    assert!(msg("from,to\nheater,panels\n").contains("from,to,factor"));
+    assert!(msg("from,to,factor\nheater,panels,abc\n").contains(":2"), "line number");
+    assert!(msg("from,to,factor\nheater,panels,1\nheater,panels,1\n").contains("duplicate"));
+    // Extra columns and ambient rows are fine.
+    let ok = read("from,to,factor,std_error,method,note\nheater,panels,0.5,0,analytic,x\nheater,lid,0.5,0,analytic,\nheater,ambient,0,0,analytic,\npanels,heater,1,0,,\nlid,heater,1,0,,\n").unwrap();
+    assert_eq!(ok.get(0, 2), 0.5);
+}
