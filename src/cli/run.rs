@@ -137,6 +137,7 @@ fn solve(a: SolveArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
     let scene = scene::load(&cfg.scene)?;
+    scene.check_boundary_conditions()?;
     let mode = match cfg.enforce.as_deref() {
         Some(e) => e.parse()?,
         None => Enforce::solve_default(!scene.is_closed()),
