@@ -110,10 +110,10 @@ fn synthetic(n: usize, fill: f64, seed: u64) -> (Scene, ViewFactors) {
                 }
             }
             row.sort_by_key(|e| e.to);
-            // Normalise to F (row sums 0.98) before closure scaling.
+            // Normalise to F (row sums 0.9995, inside the leak threshold) before closure scaling.
             let sum: f64 = row.iter().map(|e| e.factor).sum();
             for e in &mut row {
-                e.factor *= 0.98 / sum;
+                e.factor *= 0.9995 / sum;
             }
             row
         })

@@ -174,3 +174,36 @@ fn error_paths_follow_spec_exit_codes() {
     // Iterative solver that runs out of sweeps: the computation failed (exit 1) — not
     // reachable from the CLI without a cap option, so checked in tests/solve.rs.
 }
+
+#[test]
+fn semi_gray_bands_from_the_scene_file() {
+    use lambert::solve::planck::band_power;
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string("tests/data/e5_spheres.toml").unwrap();
+    let with_bands = format!(
+        "{}\n[[band]]\nname = \"solar\"\nlower = 0.0\nupper = 4.0\n\n[[band]]\nname = \"infrared\"\nlower = 4.0\n",
+        base.replace("emissivity = 0.3\n", "emissivity = 0.3\nemissivity_bands = [0.9, 0.3]\n")
+            .replace("emissivity = 0.5\n", "emissivity = 0.5\nemissivity_bands = [0.2, 0.6]\n")
+    );
+    let scene = write(dir.path(), "bands.toml", &with_bands);
+    let o = run(&["solve", &scene, "--viewfactors", "tests/data/e5_spheres.csv"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, rows) = table(&String::from_utf8_lossy(&o.stdout));
+    // Two-surface closed form per band: Σ_k A1 (E_b1k − E_b2k) / (1/ε1k + (A1/A2)(1/ε2k − 1)).
+    let (a1, ratio) = (4.0 * std::f64::consts::PI * 0.01, 0.25);
+    let q: f64 = [(0.0, 4.0, 0.9, 0.2), (4.0, f64::INFINITY, 0.3, 0.6)]
+        .iter()
+        .map(|&(lo, hi, e1, e2)| {
+            a1 * (band_power(lo, hi, 400.0).0 - band_power(lo, hi, 300.0).0)
+                / (1.0 / e1 + ratio * (1.0 / e2 - 1.0))
+        })
+        .sum();
+    assert!(((rows[0].1[4] - q) / q).abs() < 1e-9, "{} vs {q}", rows[0].1[4]);
+    // A wrong band count names the surface and the line.
+    let bad = write(dir.path(), "bad.toml", &with_bands.replace("[0.2, 0.6]", "[0.2]"));
+    assert_exit(
+        &run(&["solve", &bad, "--viewfactors", "tests/data/e5_spheres.csv"]),
+        2,
+        &["outer", "emissivity_bands", "bad.toml:"],
+    );
+}

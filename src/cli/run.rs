@@ -152,7 +152,10 @@ fn solve(a: SolveArgs) -> Result<()> {
         ));
     }
     let ex = enforced(&scene, &vf, mode)?;
-    let sol = solve::solve_gray(&scene, &ex, &params)?;
+    let sol = match &scene.spectral {
+        Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
+        None => solve::solve_gray(&scene, &ex, &params)?,
+    };
     let info = &sol.info;
     eprintln!(
         "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",

@@ -43,6 +43,14 @@ pub struct BandSpec {
     pub emissivity: Vec<Vec<f64>>,
 }
 
+impl From<&crate::scene::bands::Spectral> for BandSpec {
+    fn from(s: &crate::scene::bands::Spectral) -> Self {
+        let bands =
+            s.bands.iter().map(|b| Band { name: b.name.clone(), lower: b.lower, upper: b.upper }).collect();
+        BandSpec { bands, emissivity: s.emissivity.clone() }
+    }
+}
+
 impl BandSpec {
     /// Checks contiguity from 0 to ∞ and every ε in (0, 1]; names file and surface.
     pub fn validate(&self, scene: &Scene) -> Result<()> {
