@@ -10,14 +10,20 @@ mod synthetic;
 
 fn bench(c: &mut Criterion) {
     let (scene, vf) = synthetic::synthetic(600, 1.0, 1);
-    let closure = EnforceParams { mode: Enforce::Closure, method: ClosureMethod::SymmetricScaling, ..Default::default() };
+    let closure = EnforceParams {
+        mode: Enforce::Closure,
+        method: ClosureMethod::SymmetricScaling,
+        ..Default::default()
+    };
     let mut ex = Exchange::from_viewfactors(&vf);
     enforce(&mut ex, &closure).unwrap();
     let mut g = c.benchmark_group("solve_n600_full");
     g.sample_size(10);
-    for (name, solver, dense_max) in
-        [("dense_llt", Solver::Direct, usize::MAX), ("sparse_llt", Solver::Direct, 0), ("gauss_seidel", Solver::GaussSeidel, 0)]
-    {
+    for (name, solver, dense_max) in [
+        ("dense_llt", Solver::Direct, usize::MAX),
+        ("sparse_llt", Solver::Direct, 0),
+        ("gauss_seidel", Solver::GaussSeidel, 0),
+    ] {
         let p = Params { solver, dense_max, tolerance: 1e-10, ..Params::default() };
         g.bench_function(name, |b| b.iter(|| solve::solve_gray(&scene, &ex, &p).unwrap()));
     }

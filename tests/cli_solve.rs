@@ -207,3 +207,54 @@ fn semi_gray_bands_from_the_scene_file() {
         &["outer", "emissivity_bands", "bad.toml:"],
     );
 }
+
+/// mc-cosine at 200 000 rays per face: σ_F ≈ √(0.2·0.8/2e5) = 9e-4 (0.45 % of F); the E3
+/// heat rate moves about one-for-one with the factors, so 2 % is a > 4σ bound.
+const MC_TOL: f64 = 0.02;
+
+#[test]
+fn e3_cube_full_pipeline_with_monte_carlo_and_ml_closure() {
+    let o =
+        run(&["solve", "tests/data/e3_cube.toml", "-m", "mc-cosine", "--samples", "200000", "--seed", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("maximum likelihood"), "closure of hit counts uses ML: {err}");
+    let (_, rows) = table(&String::from_utf8_lossy(&o.stdout));
+    assert!(((rows[0].1[4] - 21_385.907) / 21_385.907).abs() < MC_TOL, "{:?}", rows[0]);
+    assert!(((rows[2].1[2] - 876.93099) / 876.93099).abs() < MC_TOL, "{:?}", rows[2]);
+    assert_heat_rate_sums_to_zero(&rows);
+}
+
+#[test]
+fn viewfactors_enforce_closure_is_exact() {
+    let o = run(&[
+        "viewfactors",
+        "tests/data/e3_cube.toml",
+        "-m",
+        "mc-cosine",
+        "--samples",
+        "20000",
+        "--enforce",
+        "closure",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let mut f = std::collections::HashMap::new();
+    for l in text.lines().skip(1) {
+        let c: Vec<&str> = l.split(',').collect();
+        f.insert((c[0].to_string(), c[1].to_string()), c[2].parse::<f64>().unwrap());
+    }
+    let names = ["floor", "ceiling", "wall_x0", "wall_x1", "wall_y0", "wall_y1"];
+    for a in names {
+        let sum: f64 =
+            names.iter().map(|b| f.get(&(a.to_string(), b.to_string())).copied().unwrap_or(0.0)).sum();
+        assert!((sum - 1.0).abs() < 1e-12, "{a}: {sum}");
+        for b in names {
+            let (x, y) = (
+                f.get(&(a.into(), b.into())).copied().unwrap_or(0.0),
+                f.get(&(b.into(), a.into())).copied().unwrap_or(0.0),
+            );
+            assert!((x - y).abs() < 1e-15, "equal areas: F must be symmetric ({a},{b})");
+        }
+    }
+}

@@ -59,7 +59,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     } else {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
-        let ex = enforced(&scene, &raw, mode)?;
+        let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
         at_level(&scene, &ex, level).to_viewfactors(raw.wall)
     };
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
@@ -98,8 +98,16 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors) {
 }
 
 /// Builds the exchange matrix of `vf` and enforces `mode`, printing the diagnostics.
-fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce) -> Result<Exchange> {
+/// `rays`: rays per patch of a hit-counting method (mc-cosine, mc-uniform), which the
+/// Sobol sampler does not report per row (it reports replicate spreads instead); with it the
+/// closure can use maximum likelihood.
+fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>) -> Result<Exchange> {
     let mut ex = Exchange::from_viewfactors(vf);
+    if let (Some(n), Level::Patch) = (rays, ex.level) {
+        if ex.samples.iter().all(|&s| s == 0) {
+            ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
+        }
+    }
     let p =
         EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
     let rep = exchange::enforce(&mut ex, &p)?;
@@ -112,6 +120,11 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce) -> Result<Exchange> 
         rep.after
     );
     Ok(ex)
+}
+
+/// Rays per patch when the method counts hits with equal weights.
+fn hit_rays(p: &viewfactor::Params) -> Option<usize> {
+    matches!(p.method, viewfactor::Method::McCosine | viewfactor::Method::McUniform).then_some(p.samples)
 }
 
 fn mode_name(m: Enforce) -> &'static str {
@@ -151,7 +164,8 @@ fn solve(a: SolveArgs) -> Result<()> {
             "--patches needs patch-level view factors (a `viewfactors --patches` file)".into(),
         ));
     }
-    let ex = enforced(&scene, &vf, mode)?;
+    let rays = if a.viewfactors.is_none() { hit_rays(&cfg.params) } else { None };
+    let ex = enforced(&scene, &vf, mode, rays)?;
     let sol = match &scene.spectral {
         Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
         None => solve::solve_gray(&scene, &ex, &params)?,

@@ -86,7 +86,7 @@ pub fn capped_scaling(ex: &mut Exchange, tol: f64) -> Result<usize> {
             let data = ex.s.data_mut();
             for i in 0..n {
                 for k in ip[i]..ip[i + 1] {
-                    data[k] = base[k] * g[i] * g[idx[k]];
+                    data[k] = base[k] * (g[i] * g[idx[k]]);
                 }
             }
             return Ok(sweep);
