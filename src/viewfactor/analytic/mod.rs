@@ -7,13 +7,15 @@
 //! - [`contour`]: polygon-to-polygon exchange area by the double contour integral;
 //! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
 //! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
-//! - [`ring`]: stack-allocated vertex rings and half-space clipping.
+//! - [`ring`]: stack-allocated vertex rings and half-space clipping;
+//! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
 //!
 //! The method on a scene:
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`occlusion`]: detection of pairs whose view is partly blocked (refused until shadowing);
 //! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes);
 //! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
+pub mod angle;
 pub mod contour;
 pub mod disk;
 pub mod edge;
