@@ -61,7 +61,7 @@ fn stats(scene: &Scene, tol: f64) {
     let mut printed = 0;
     let mut s = ShadowScratch::default();
     for i in 0..n {
-        shadows.classify_row(i, &mut s);
+        shadows.classify_row(i, &mut s.row);
         for &j in s.row.touched() {
             match s.row.status(j as usize) {
                 Status::Blocked => blocked += 1,

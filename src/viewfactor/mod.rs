@@ -174,10 +174,10 @@ impl Default for Params {
 /// Computes the view factors of `scene` at the requested level with the chosen method.
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
-        // `auto` is analytic until shadowing and Monte Carlo fallbacks exist for blocked pairs.
-        Method::Analytic | Method::Auto => {
+        Method::Analytic => {
             Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
         }
+        Method::Auto => Box::new(auto::kernel(scene, params)),
         Method::McArea | Method::McUniform | Method::McCosine => {
             return monte_carlo::compute(scene, params, level)
         }

@@ -1,22 +1,32 @@
 //! The analytic [`RowKernel`]: row i, columns j > i, each pair by the cheapest exact-enough
 //! rung of the ladder.
 //!
+//! Per row, when the scene has blockers, the receivers are first classified against them
+//! ([`super::obstructed::Shadows`]): clear, blocked by one blocker (F = 0), or partly blocked.
+//!
 //! Per pair, cheapest test first:
 //! 1. same plane (plane id) → 0;
 //! 2. one patch entirely behind the other's plane (bounding sphere, then vertices) → 0;
-//! 3. a blocker cuts the view → `Error::Unsupported` naming both surfaces and the blocker;
+//! 3. blocked → 0;
 //! 4. both patches entirely in front of each other's plane and far enough apart that the
 //!    [`ErrorModel`] guarantees the per-pair relative target → tensor Gauss rules ("2AI");
-//! 5. otherwise the exact double contour integral (clips straddling patches itself).
+//! 5. otherwise the exact double contour integral (clips straddling patches itself);
+//! 6. partly blocked → the unobstructed value of 4–5 minus the shadowed part, under the
+//!    kernel's [`Policy`] (exact shadow integration for `analytic`, the cheapest estimator
+//!    meeting the tolerance for `auto`).
 use super::contour::polygon_polygon;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
+use super::obstructed::{Policy, ShadowScratch, Shadows, EXACT_REL_TOL};
+use super::obstruction::Status;
 use super::occlusion::Occlusion;
 use super::planes::PlaneGroups;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
 use crate::viewfactor::MethodSet;
-use crate::{Error, Result};
+use crate::Result;
 use glam::DVec3;
+use std::cell::RefCell;
+use std::sync::OnceLock;
 
 /// Relative tolerance for "these patches share a plane" (coplanar pairs exchange nothing).
 const COPLANAR_TOL: f64 = 1e-12;
@@ -58,13 +68,27 @@ pub struct AnalyticKernel<'s> {
     info: Vec<PatchInfo>,
     rules: PatchRules,
     model: ErrorModel,
-    occlusion: Occlusion,
+    occlusion: OnceLock<Occlusion>,
+    /// Blockers and the policy for partly blocked pairs; `None` when nothing can block.
+    shadows: Option<Shadows<'s>>,
+}
+
+thread_local! {
+    /// Per-thread buffers of the obstructed branch (reset per row; results never depend on
+    /// their previous content).
+    static SHADOW_SCRATCH: RefCell<ShadowScratch> = RefCell::new(ShadowScratch::default());
 }
 
 impl<'s> AnalyticKernel<'s> {
-    /// Prepares planes, Gauss rules and blocker groups for `scene`, with the per-pair relative
-    /// error target `rel_tol` for the Gauss rungs.
+    /// Prepares planes, Gauss rules and blockers for `scene`, with the per-pair relative error
+    /// target `rel_tol` for the Gauss rungs; obstructed pairs are integrated exactly
+    /// ([`EXACT_REL_TOL`]).
     pub fn new(scene: &'s Scene, rel_tol: f64) -> Self {
+        Self::with_policy(scene, rel_tol, Policy::Exact { rel_tol: EXACT_REL_TOL })
+    }
+
+    /// As [`Self::new`], with the given policy for partly blocked pairs.
+    pub fn with_policy(scene: &'s Scene, rel_tol: f64, policy: Policy) -> Self {
         let polys = scene.patches.iter().map(|p| &p.polygon);
         let scale = polys.clone().map(|p| p.bounding_radius()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
         let extent = scene
@@ -96,32 +120,19 @@ impl<'s> AnalyticKernel<'s> {
             info,
             rules,
             model: ErrorModel::new(rel_tol),
-            occlusion: Occlusion::new(scene),
+            occlusion: OnceLock::new(),
+            shadows: Shadows::new(scene, policy),
         }
     }
 
-    /// The blocker detector (for diagnostics and tests).
+    /// The blocker detector (for diagnostics and tests), built on first use.
     pub fn occlusion(&self) -> &Occlusion {
-        &self.occlusion
+        self.occlusion.get_or_init(|| Occlusion::new(self.scene))
     }
 
-    fn refuse(&self, i: usize, j: usize, blocker: super::occlusion::Blocker) -> Error {
-        let s = |p: usize| &self.scene.surfaces[self.scene.patches[p].surface].name;
-        let file = if self.scene.source.as_os_str().is_empty() {
-            String::new()
-        } else {
-            format!("{}: ", self.scene.source.display())
-        };
-        Error::Unsupported(format!(
-            "{file}the view between surface '{}' (patch {}) and surface '{}' (patch {}) is partly \
-             blocked by {}; the analytic method has no shadowing yet, use a Monte Carlo method \
-             (-m mc-area, mc-uniform or mc-cosine)",
-            s(i),
-            self.scene.patch_name(i),
-            s(j),
-            self.scene.patch_name(j),
-            blocker.describe(self.scene)
-        ))
+    /// The blockers and policy of the obstructed branch, when the scene has blockers.
+    pub fn shadows(&self) -> Option<&Shadows<'s>> {
+        self.shadows.as_ref()
     }
 
     /// Lowest and highest signed distance of patch `q`'s vertices from the plane of patch
@@ -142,25 +153,20 @@ impl<'s> AnalyticKernel<'s> {
         )
     }
 
-    /// A_i F_ij for one pair (j ≠ i), or the refusal when a blocker cuts the view.
-    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> Result<f64> {
+    /// Unobstructed A_i F_ij for one pair (j ≠ i).
+    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> f64 {
         let (a, b) = (&self.info[i], &self.info[j]);
         if a.plane == b.plane {
-            return Ok(0.0);
+            return 0.0;
         }
         // j seen from i's plane, and i from j's.
         let (jlo, jhi) = self.extent(a, j);
         if jhi <= 0.0 {
-            return Ok(0.0);
+            return 0.0;
         }
         let (ilo, ihi) = self.extent(b, i);
         if ihi <= 0.0 {
-            return Ok(0.0);
-        }
-        if !self.occlusion.is_clear() {
-            if let Some(k) = self.occlusion.first_blocker(self.scene, i, j) {
-                return Err(self.refuse(i, j, k));
-            }
+            return 0.0;
         }
         if jlo >= 0.0 && ilo >= 0.0 {
             let sphere = a.centroid.distance(b.centroid) - a.radius - b.radius;
@@ -175,11 +181,11 @@ impl<'s> AnalyticKernel<'s> {
                 let Scratch { rule_i, rule_j, weights } = scratch;
                 let pi = self.rules.points(i, mi, rule_i);
                 let pj = self.rules.points(j, mj, rule_j);
-                return Ok(gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights));
+                return gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights);
             }
         }
         let patches = &self.scene.patches;
-        Ok(polygon_polygon(&patches[i].polygon, &patches[j].polygon))
+        polygon_polygon(&patches[i].polygon, &patches[j].polygon)
     }
 }
 
@@ -199,12 +205,41 @@ impl RowKernel for AnalyticKernel<'_> {
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let n = self.info.len();
         let mut scratch = Scratch::default();
-        for j in i + 1..n {
-            let s = self.pair(i, j, &mut scratch)?;
-            if s > 0.0 {
-                out.entries.push(RawEntry { j: j as u32, method: MethodSet::ANALYTIC, s, var: 0.0 });
+        let Some(shadows) = &self.shadows else {
+            for j in i + 1..n {
+                let s = self.pair(i, j, &mut scratch);
+                if s > 0.0 {
+                    out.entries.push(RawEntry { j: j as u32, method: MethodSet::ANALYTIC, s, var: 0.0 });
+                }
             }
-        }
+            out.pairs = (n - i - 1) as u64;
+            return Ok(());
+        };
+        SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
+            shadows.classify_row(i, row);
+            for j in i + 1..n {
+                let entry = match row.status(j) {
+                    Status::Blocked => continue,
+                    Status::Clear => RawEntry {
+                        j: j as u32,
+                        method: MethodSet::ANALYTIC,
+                        s: self.pair(i, j, &mut scratch),
+                        var: 0.0,
+                    },
+                    Status::Partial(partial) => {
+                        let u = self.pair(i, j, &mut scratch);
+                        if !(u > 0.0) {
+                            continue;
+                        }
+                        let r = shadows.pair(i, j, u, partial, work);
+                        RawEntry { j: j as u32, method: r.method, s: r.s, var: r.var }
+                    }
+                };
+                if entry.s > 0.0 {
+                    out.entries.push(entry);
+                }
+            }
+        });
         out.pairs = (n - i - 1) as u64;
         Ok(())
     }

@@ -52,6 +52,10 @@ pub struct Obstructed {
     pub var: f64,
     /// Which method produced it.
     pub method: MethodSet,
+    /// Viewpoints evaluated (shadow integration) or point pairs sampled (Monte Carlo).
+    pub work: u64,
+    /// Cells accepted at the depth limit (shadow integration).
+    pub at_max_depth: u32,
 }
 
 /// Per-thread buffers of the obstructed branch.
@@ -59,6 +63,13 @@ pub struct Obstructed {
 pub struct ShadowScratch {
     /// The row's classification.
     pub row: RowShadows,
+    /// Buffers of the pair estimators.
+    pub work: PairWork,
+}
+
+/// Buffers of [`Shadows::pair`].
+#[derive(Debug, Clone, Default)]
+pub struct PairWork {
     pair: PairScratch,
     segments: Vec<SegmentBlocker>,
 }
@@ -97,18 +108,24 @@ impl<'s> Shadows<'s> {
         &self.blockers
     }
 
-    /// Classifies the receivers j > i of row `i` into `s.row`.
-    pub fn classify_row(&self, i: usize, s: &mut ShadowScratch) {
-        classify_row(self.scene, &self.blockers, i, i + 1, &mut s.row);
+    /// Classifies the receivers j > i of row `i` into `row`.
+    pub fn classify_row(&self, i: usize, row: &mut RowShadows) {
+        classify_row(self.scene, &self.blockers, i, i + 1, row);
     }
 
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
     /// partial blockers `partial` (from the row classification).
-    pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut ShadowScratch) -> Obstructed {
+    pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
         let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
-        let integrate = |goal: f64, s: &mut ShadowScratch| {
+        let integrate = |goal: f64, s: &mut PairWork| {
             let r = shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, &mut s.pair);
-            Obstructed { s: r.s, var: 0.0, method: MethodSet::SHADOWED }
+            Obstructed {
+                s: r.s,
+                var: 0.0,
+                method: MethodSet::SHADOWED,
+                work: r.info.evals,
+                at_max_depth: r.info.at_max_depth,
+            }
         };
         match self.policy {
             Policy::Exact { rel_tol } => integrate(rel_tol * u, s),
@@ -132,7 +149,13 @@ impl<'s> Shadows<'s> {
                             seed,
                             (i, j),
                         );
-                        Obstructed { s: m.s, var: m.var, method: MethodSet::MC_AREA }
+                        Obstructed {
+                            s: m.s,
+                            var: m.var,
+                            method: MethodSet::MC_AREA,
+                            work: n as u64,
+                            at_max_depth: 0,
+                        }
                     }
                 }
             }
@@ -165,11 +188,10 @@ mod tests {
     fn exchange(scene: &Scene, policy: Policy) -> (f64, MethodSet) {
         let shadows = Shadows::new(scene, policy).expect("the blocker is found");
         let mut s = ShadowScratch::default();
-        shadows.classify_row(0, &mut s);
+        shadows.classify_row(0, &mut s.row);
         let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
         let Status::Partial(partial) = s.row.status(1) else { panic!("pair 0-1 is partly obstructed") };
-        let partial = partial.to_vec();
-        let r = shadows.pair(0, 1, u, &partial, &mut s);
+        let r = shadows.pair(0, 1, u, partial, &mut s.work);
         assert!(r.s <= u);
         (r.s, r.method)
     }

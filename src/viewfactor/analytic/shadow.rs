@@ -80,8 +80,9 @@ pub struct ShadowGeometry {
     receiver: PieceSet,
     /// Vertices of the receiver pieces in the frame (z = 0), for classification.
     receiver_ring: Vec<DVec3>,
-    /// Half-planes of the receiver's convex hull.
+    /// Half-planes of the receiver's convex hull, and the hull itself.
     hull: Vec<HalfPlane>,
+    hull_ring: Vec<DVec2>,
     /// True when the receiver is one convex piece (shadows need no further clipping).
     convex: bool,
     receiver_area: f64,
@@ -174,6 +175,7 @@ impl ShadowGeometry {
             receiver,
             receiver_ring,
             hull,
+            hull_ring,
             convex,
             receiver_area,
             blockers: kept,
@@ -197,6 +199,14 @@ impl ShadowGeometry {
     /// Receiver vertices in the frame (z = 0); their convex hull bounds the receiver.
     pub fn receiver_ring(&self) -> &[DVec3] {
         &self.receiver_ring
+    }
+    /// Edges of the receiver pieces' convex hull in the frame (z = 0), as point pairs.
+    pub fn receiver_edges(&self) -> Vec<(DVec3, DVec3)> {
+        self.hull_ring
+            .iter()
+            .zip(self.hull_ring.iter().cycle().skip(1))
+            .map(|(a, b)| (a.extend(0.0), b.extend(0.0)))
+            .collect()
     }
     /// Kept blockers in the frame.
     pub fn blockers(&self) -> &[Vec<DVec3>] {

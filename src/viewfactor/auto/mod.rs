@@ -4,8 +4,8 @@
 //! the goal is τ·A_i. Per pair (i, j):
 //! 1. back-facing or coplanar → 0 (exact);
 //! 2. no blocker reaches the pair (exact classification, [`super::analytic::obstruction`]) →
-//!    the analytic ladder with relative target τ (F ≤ 1, so the absolute goal holds, and so
-//!    does every row sum and surface total);
+//!    the analytic ladder with relative target [`LADDER_SHARE`]·τ (F ≤ 1, so the absolute goal
+//!    holds, and so does every row sum and surface total);
 //! 3. one blocker holds the whole receiver in its umbra → 0 (exact);
 //! 4. partly obstructed → the cheaper of two estimators of the obstructed value, both anchored
 //!    on the exact unobstructed value u = (A_i F_ij)_unobstructed:
@@ -21,6 +21,23 @@
 //! Effort therefore goes only where the error needs it: nothing is sampled for clear or fully
 //! hidden pairs, and a small pair far below the goal costs a handful of samples.
 pub mod mc_pair;
+
+use super::analytic::kernel::AnalyticKernel;
+use super::analytic::obstructed::Policy;
+use super::Params;
+use crate::scene::Scene;
+
+/// Share of the tolerance given to the Gauss ladder on clear pairs, as a relative target:
+/// a tenfold margin on the ladder's error model costs little (its rules converge
+/// exponentially) and keeps the ladder's systematic error well inside every total.
+pub const LADDER_SHARE: f64 = 0.1;
+
+/// The `auto` kernel for `scene`: the analytic kernel with the [`Policy::Auto`] obstructed
+/// branch and the ladder's relative target [`LADDER_SHARE`] × `--tolerance`.
+pub fn kernel<'s>(scene: &'s Scene, params: &Params) -> AnalyticKernel<'s> {
+    let tol = params.tolerance;
+    AnalyticKernel::with_policy(scene, LADDER_SHARE * tol, Policy::Auto { tol, seed: params.seed })
+}
 
 /// Monte Carlo must meet the goal at this many standard errors (about 95 %).
 pub const MC_SIGMAS: f64 = 2.0;
