@@ -308,7 +308,7 @@ impl Integrator {
             if s.volume.build(&s.ring, blocker, geo.snap()) == Build::Never {
                 continue;
             }
-            match s.volume.classify(geo.receiver_ring()) {
+            match s.volume.classify_exact(geo.receiver_ring()) {
                 Class::Clear => {}
                 Class::Full => {
                     item.full = true;

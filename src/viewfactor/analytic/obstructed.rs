@@ -71,7 +71,6 @@ pub struct ShadowScratch {
 #[derive(Debug, Clone, Default)]
 pub struct PairWork {
     pair: PairScratch,
-    segments: Vec<SegmentBlocker>,
 }
 
 /// The scene's blockers, rules and policy.
@@ -82,6 +81,8 @@ pub struct Shadows<'s> {
     integrator: Integrator,
     policy: Policy,
     samplers: Vec<PatchSampler>,
+    /// Every blocker ready for segment tests (Monte Carlo under `auto`).
+    segments: Vec<SegmentBlocker>,
 }
 
 impl<'s> Shadows<'s> {
@@ -96,11 +97,14 @@ impl<'s> Shadows<'s> {
             Policy::Auto { .. } => (1, 2, 0),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
-        let samplers = match policy {
-            Policy::Auto { .. } => scene.patches.iter().map(|p| PatchSampler::new(&p.polygon)).collect(),
-            Policy::Exact { .. } => Vec::new(),
+        let (samplers, segments) = match policy {
+            Policy::Auto { .. } => (
+                scene.patches.iter().map(|p| PatchSampler::new(&p.polygon)).collect(),
+                (0..blockers.len()).map(|b| SegmentBlocker::new(&blockers.get(b).ring)).collect(),
+            ),
+            Policy::Exact { .. } => (Vec::new(), Vec::new()),
         };
-        Some(Self { scene, blockers, integrator, policy, samplers })
+        Some(Self { scene, blockers, integrator, policy, samplers, segments })
     }
 
     /// The blockers.
@@ -134,17 +138,13 @@ impl<'s> Shadows<'s> {
                 match choose(u, goal, partial.len()) {
                     Choice::Shadowed => integrate(goal, s),
                     Choice::MonteCarlo(n) => {
-                        s.segments.clear();
-                        s.segments.extend(
-                            partial.iter().map(|&b| SegmentBlocker::new(&self.blockers.get(b as usize).ring)),
-                        );
                         let m = estimate(
                             &self.samplers[i],
                             pi.normal(),
                             &self.samplers[j],
                             pj.normal(),
                             u,
-                            &s.segments,
+                            (&self.segments, partial),
                             n,
                             seed,
                             (i, j),

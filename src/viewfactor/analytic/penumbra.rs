@@ -168,13 +168,23 @@ impl ShadowVolume {
         Build::Casts
     }
 
-    /// Classifies a convex receiver ring.
+    /// Classifies a convex receiver ring with the bounding planes (fast, conservative).
     pub fn classify(&self, r: &[DVec3]) -> Class {
+        self.classify_with(r, false)
+    }
+
+    /// As [`Self::classify`], and a receiver the planes leave partial is checked once more
+    /// with the segments' crossing points (exact for a single part; about twice the cost).
+    pub fn classify_exact(&self, r: &[DVec3]) -> Class {
+        self.classify_with(r, true)
+    }
+
+    fn classify_with(&self, r: &[DVec3], exact: bool) -> Class {
         match self.count {
             0 => Class::Clear,
-            1 => self.parts[0].classify(r),
+            1 => self.parts[0].classify(r, exact),
             _ => {
-                if self.parts[..self.count].iter().all(|p| p.classify(r) == Class::Clear) {
+                if self.parts[..self.count].iter().all(|p| p.classify(r, exact) == Class::Clear) {
                     Class::Clear
                 } else {
                     Class::Partial
@@ -232,10 +242,17 @@ impl Part {
                     let Some(p) = Plane::through(a, c, v, min_len * (c - a).length()) else { continue };
                     let (elo, ehi) = extremes(e, &p);
                     let (blo, bhi) = extremes(b, &p);
-                    if ehi <= snap && blo >= -snap {
-                        self.penumbra.push(p);
+                    let p = if ehi <= snap && blo >= -snap {
+                        p
                     } else if elo >= -snap && bhi <= snap {
-                        self.penumbra.push(p.flipped());
+                        p.flipped()
+                    } else {
+                        continue;
+                    };
+                    // The same plane often comes from several edge–vertex pairs.
+                    if !self.penumbra.iter().any(|q| q.n.dot(p.n) > 1.0 - 1e-12 && (q.d - p.d).abs() <= snap)
+                    {
+                        self.penumbra.push(p);
                     }
                 }
             }
@@ -262,7 +279,7 @@ impl Part {
 
     /// Classifies a convex receiver ring: the bounding planes first, then, for what they leave
     /// partial, the crossing points of the segments with B's plane (see [`Self::crossings_miss`]).
-    fn classify(&self, r: &[DVec3]) -> Class {
+    fn classify(&self, r: &[DVec3], exact: bool) -> Class {
         if self.unbounded {
             return Class::Partial;
         }
@@ -273,7 +290,7 @@ impl Part {
         if self.umbra_valid && self.umbra.iter().all(|p| r.iter().all(|&x| p.eval(x) >= snap)) {
             return Class::Full;
         }
-        if self.crossings_miss(r) {
+        if exact && self.crossings_miss(r) {
             return Class::Clear;
         }
         Class::Partial
@@ -491,7 +508,7 @@ mod tests {
             if v.build(&e, &b, 1e-12) == Build::Never {
                 continue;
             }
-            let class = v.classify(&r);
+            let class = if case % 2 == 0 { v.classify(&r) } else { v.classify_exact(&r) };
             counts[class as usize] += 1;
             // Sample segments between random points of e and r.
             let mut bary = |t: &[DVec3]| {
