@@ -11,6 +11,7 @@ use lambert::geometry::subdivide::parallelogram_grid;
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
 use lambert::viewfactor::analytic::obstructed::{Policy, ShadowScratch, Shadows};
+use lambert::viewfactor::analytic::contour::polygon_polygon;
 use lambert::viewfactor::analytic::obstruction::Status;
 use lambert::viewfactor::{self, Level, Method, MethodSet, Params};
 use std::time::Instant;
@@ -56,68 +57,54 @@ fn stats(scene: &Scene, tol: f64) {
     let shadows = Shadows::new(scene, Policy::Auto { tol, seed: 0 }).expect("the block blocks");
     println!("blockers: {} (built in {:.3} s)", shadows.blockers().len(), start.elapsed().as_secs_f64());
     let n = scene.patches.len();
-    let t = Instant::now();
+    let (mut classify, mut partial_time) = (0.0, 0.0);
     let (mut blocked, mut partial, mut blockers) = (0u64, 0u64, 0u64);
-    let mut printed = 0;
+    // Per branch: pairs, work (samples or viewpoints), seconds.
+    let mut branch = [(0u64, 0u64, 0.0f64); 2];
     let mut s = ShadowScratch::default();
     for i in 0..n {
+        let t = Instant::now();
         shadows.classify_row(i, &mut s.row);
-        for &j in s.row.touched() {
+        classify += t.elapsed().as_secs_f64();
+        let touched: Vec<u32> = s.row.touched().to_vec();
+        for j in touched {
             match s.row.status(j as usize) {
                 Status::Blocked => blocked += 1,
                 Status::Partial(b) => {
                     partial += 1;
                     blockers += b.len() as u64;
-                    if std::env::var("DEBUG_PARTIAL").is_ok() && printed < 8 && partial % 997 == 0 {
-                        let pi = &scene.patches[i].polygon;
-                        let pj = &scene.patches[j as usize].polygon;
-                        let mut hit = 0;
-                        let mut tot = 0;
-                        for a in 0..20 {
-                            for c in 0..20 {
-                                let v = pi.vertices();
-                                let w = pj.vertices();
-                                let x = v[0]
-                                    + (v[1] - v[0]) * ((a as f64 + 0.5) / 20.0)
-                                    + (v[3] - v[0]) * (((a * 7 + c * 3) % 20) as f64 / 20.0 + 0.025);
-                                let y = w[0]
-                                    + (w[1] - w[0]) * ((c as f64 + 0.5) / 20.0)
-                                    + (w[3] - w[0]) * (((c * 7 + a * 3) % 20) as f64 / 20.0 + 0.025);
-                                if pi.normal().dot(y - x) <= 0.0 || pj.normal().dot(x - y) <= 0.0 {
-                                    continue;
-                                }
-                                tot += 1;
-                                let inside = |p: DVec3| (0..3).all(|k| p[k] > 1.0 && p[k] < 2.0);
-                                if (1..200).any(|t| inside(x + (y - x) * (t as f64 / 200.0))) {
-                                    hit += 1;
-                                }
-                            }
-                        }
-                        if hit == 0 || hit == tot {
-                            printed += 1;
-                            println!(
-                                "pair {} -> {}: {hit}/{tot} blocked; blockers {:?}",
-                                scene.patch_name(i),
-                                scene.patch_name(j as usize),
-                                b
-                            );
-                            println!("  i {:?}", pi.vertices());
-                            println!("  j {:?}", pj.vertices());
-                        }
+                    let u = polygon_polygon(&scene.patches[i].polygon, &scene.patches[j as usize].polygon);
+                    if u > 0.0 {
+                        let t = Instant::now();
+                        let r = shadows.pair(i, j as usize, u, b, &mut s.work);
+                        let dt = t.elapsed().as_secs_f64();
+                        partial_time += dt;
+                        let k = usize::from(r.method == MethodSet::MC_AREA);
+                        branch[k].0 += 1;
+                        branch[k].1 += r.work;
+                        branch[k].2 += dt;
                     }
                 }
                 Status::Clear => {}
             }
         }
     }
-    let secs = t.elapsed().as_secs_f64();
     let pairs = (n * (n - 1) / 2) as u64;
     println!(
-        "classification: {secs:.2} s single-threaded ({:.1} ns/pair); pairs {pairs}, blocked {blocked}, \
+        "classification: {classify:.2} s single-threaded ({:.1} ns/pair); pairs {pairs}, blocked {blocked}, \
          partial {partial} ({:.2} blockers each)",
-        secs * 1e9 / pairs as f64,
+        classify * 1e9 / pairs as f64,
         blockers as f64 / partial.max(1) as f64
     );
+    println!("partial pairs: {partial_time:.2} s single-threaded");
+    for (name, (count, work, secs)) in ["analytic-shadowed", "mc-area"].iter().zip(branch) {
+        println!(
+            "  {name}: {count} pairs, {:.1} {} each, {:.2} us each",
+            work as f64 / count.max(1) as f64,
+            if *name == "mc-area" { "samples" } else { "viewpoints" },
+            secs * 1e6 / count.max(1) as f64
+        );
+    }
 }
 
 fn main() {
@@ -155,5 +142,4 @@ fn main() {
             );
         }
     }
-    let _ = MethodSet::ANALYTIC;
 }

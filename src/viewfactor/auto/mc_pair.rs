@@ -13,6 +13,7 @@
 //!   Σ K_k² (V_k − R)² / (Σ K_k)², computed as for independent samples (an overestimate for
 //!   scrambled Sobol), with a floor from a half-count prior R̃ = (R·n_eff + ½)/(n_eff + 1),
 //!   n_eff = (ΣK)²/ΣK², so that a sample in which every point agreed never claims zero error.
+//! - **Budget.** The sample doubles until the standard error meets the goal.
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
 use crate::geometry::sampling::PolygonSampler;
 use crate::geometry::Polygon;
@@ -106,7 +107,20 @@ pub struct McPair {
     pub samples: u32,
 }
 
-/// Ratio estimate of the obstructed A_i F_ij from `n` point pairs.
+/// How many point pairs to draw.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Points drawn first.
+    pub first: u32,
+    /// Never more than this (at most 2¹⁶, one Sobol block).
+    pub max: u32,
+    /// Standard error to reach, m²; the sample doubles until it does.
+    pub sigma: f64,
+}
+
+/// Ratio estimate of the obstructed A_i F_ij, sampling until the standard error meets the
+/// budget: the kernel weights make the effective sample (ΣK)²/ΣK² smaller than the count, so
+/// the first guess can fall short.
 #[allow(clippy::too_many_arguments)]
 pub fn estimate(
     si: &PatchSampler,
@@ -115,34 +129,48 @@ pub fn estimate(
     nj: DVec3,
     s_unobs: f64,
     (all, ids): (&[SegmentBlocker], &[u32]),
-    n: u32,
+    budget: Budget,
     seed: u64,
     (i, j): (usize, usize),
 ) -> McPair {
     let key = mix64(stream_key(seed, SALT, i, 0) ^ (j as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let scramble = mix64(key) as u32;
+    let max = budget.max.clamp(1, 1 << 16);
     let (mut sk, mut skv, mut sk2, mut sk2v) = (0.0, 0.0, 0.0, 0.0);
-    for k in 0..n {
-        let [a, b, c, d] = sobol_burley::sample_4d(k, 0, scramble);
-        let x = si.sample(a as f64, b as f64);
-        let y = sj.sample(c as f64, d as f64);
-        let dv = y - x;
-        let r2 = dv.length_squared();
-        let (ci, cj) = (ni.dot(dv), -nj.dot(dv));
-        if ci <= 0.0 || cj <= 0.0 || r2 == 0.0 {
-            continue;
+    let (mut k, mut end) = (0, budget.first.clamp(1, max));
+    loop {
+        while k < end {
+            let [a, b, c, d] = sobol_burley::sample_4d(k, 0, scramble);
+            k += 1;
+            let x = si.sample(a as f64, b as f64);
+            let y = sj.sample(c as f64, d as f64);
+            let dv = y - x;
+            let r2 = dv.length_squared();
+            let (ci, cj) = (ni.dot(dv), -nj.dot(dv));
+            if ci <= 0.0 || cj <= 0.0 || r2 == 0.0 {
+                continue;
+            }
+            let kern = ci * cj / (r2 * r2) * FRAC_1_PI;
+            let visible = !ids.iter().any(|&b| all[b as usize].cuts(x, y));
+            sk += kern;
+            sk2 += kern * kern;
+            if visible {
+                skv += kern;
+                sk2v += kern * kern;
+            }
         }
-        let kern = ci * cj / (r2 * r2) * FRAC_1_PI;
-        let visible = !ids.iter().any(|&b| all[b as usize].cuts(x, y));
-        sk += kern;
-        sk2 += kern * kern;
-        if visible {
-            skv += kern;
-            sk2v += kern * kern;
+        let (s, var) = ratio(s_unobs, sk, skv, sk2, sk2v);
+        if var.sqrt() <= budget.sigma || end >= max {
+            return McPair { s, var, samples: end };
         }
+        end = end.saturating_mul(2).min(max);
     }
+}
+
+/// The ratio estimate and its variance from the kernel sums (see the module notes).
+fn ratio(s_unobs: f64, sk: f64, skv: f64, sk2: f64, sk2v: f64) -> (f64, f64) {
     if !(sk > 0.0) {
-        return McPair { s: s_unobs, var: 0.0, samples: n };
+        return (s_unobs, 0.0);
     }
     let r = skv / sk;
     // Σ K²(V − R)² with V ∈ {0, 1}: Σ_{V=1} K²·(1 − 2R) + R²·Σ K².
@@ -150,7 +178,7 @@ pub fn estimate(
     let n_eff = sk * sk / sk2;
     let prior = (r * n_eff + 0.5) / (n_eff + 1.0);
     let floor = prior * (1.0 - prior) / n_eff;
-    McPair { s: s_unobs * r, var: s_unobs * s_unobs * spread.max(floor), samples: n }
+    (s_unobs * r, s_unobs * s_unobs * spread.max(floor))
 }
 
 #[cfg(test)]
@@ -188,15 +216,21 @@ mod tests {
         let unobs = 0.199_824_895_698;
         let mut z2 = 0.0;
         for seed in 0..20 {
-            let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, blockers, 4096, seed, (0, 1));
+            let budget = Budget { first: 4096, max: 4096, sigma: 0.0 };
+            let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, blockers, budget, seed, (0, 1));
             let z = (m.s - 0.099_506_294_6) / m.var.sqrt();
             assert!(z.abs() < 4.0, "seed {seed}: {} ± {}", m.s, m.var.sqrt());
             z2 += z * z;
         }
         // The reported error is an upper bound for scrambled Sobol: rms z well below 1.
         assert!((z2 / 20.0f64).sqrt() < 1.0, "rms z {}", (z2 / 20.0f64).sqrt());
+        // The sample grows until the error meets the budget.
+        let budget = Budget { first: 8, max: 1 << 16, sigma: 1e-3 };
+        let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, blockers, budget, 3, (0, 1));
+        assert!(m.var.sqrt() <= 1e-3 && m.samples > 8, "{m:?}");
         // No blocker: exact whatever the sample count.
-        let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, (&[], &[]), 4, 1, (0, 1));
+        let budget = Budget { first: 4, max: 4, sigma: 0.0 };
+        let m = estimate(&se, e.normal(), &sr, r.normal(), unobs, (&[], &[]), budget, 1, (0, 1));
         assert_eq!(m.s, unobs);
     }
 }

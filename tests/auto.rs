@@ -1,0 +1,114 @@
+//! `auto`, the default method: each pair by the cheapest estimator meeting `--tolerance`.
+mod common;
+
+use common::{cube_faces, F_BLOCKED, F_PARALLEL, F_PERPENDICULAR};
+use lambert::geometry::DVec3;
+use lambert::scene::Scene;
+use lambert::viewfactor::auto::MC_SIGMAS;
+use lambert::viewfactor::{self, Level, Method, MethodSet, Params, ViewFactors};
+
+fn run(scene: &Scene, method: Method, tolerance: f64, level: Level) -> ViewFactors {
+    let params = Params { method, tolerance, seed: 5, ..Params::default() };
+    viewfactor::compute(scene, &params, level).expect("computes")
+}
+
+fn entry(vf: &ViewFactors, i: usize, j: usize) -> Option<lambert::viewfactor::Entry> {
+    vf.rows[i].iter().find(|e| e.to as usize == j).copied()
+}
+
+#[test]
+fn default_method_is_auto_with_tolerance_1e4() {
+    let p = Params::default();
+    assert_eq!(p.method, Method::Auto);
+    assert_eq!(p.tolerance, 1e-4);
+}
+
+#[test]
+fn centred_blocker_within_each_tolerance() {
+    let scene = common::blocked_squares();
+    for tol in [1e-3, 1e-4, 1e-6] {
+        let vf = run(&scene, Method::Auto, tol, Level::Surface);
+        let e = entry(&vf, 0, 1).expect("an entry");
+        assert!((e.factor - F_BLOCKED).abs() <= tol, "tol {tol}: {} vs {F_BLOCKED} ({})", e.factor, e.method);
+        // A large pair: integrating the shadows is cheaper than sampling to this goal.
+        assert_eq!(e.method, MethodSet::SHADOWED, "tol {tol}");
+    }
+}
+
+#[test]
+fn clear_scenes_are_pure_analytic() {
+    let vf = run(&common::cube_interior(3), Method::Auto, 1e-4, Level::Surface);
+    for (i, row) in vf.rows.iter().enumerate() {
+        for e in row {
+            assert_eq!(e.method, MethodSet::ANALYTIC);
+            let exact = if e.to as usize == i ^ 1 { F_PARALLEL } else { F_PERPENDICULAR };
+            // The ladder's target is a tenth of the tolerance, relative.
+            assert!((e.factor - exact).abs() <= 1e-5 * exact, "F({i}→{}) = {} vs {exact}", e.to, e.factor);
+        }
+    }
+}
+
+#[test]
+fn concentric_boxes_within_tolerance() {
+    let vf = run(&common::concentric_boxes(2), Method::Auto, 1e-4, Level::Surface);
+    let (inner, outer) = (0, 1);
+    for (i, j, exact) in [(inner, outer, 1.0), (outer, inner, 0.0625), (outer, outer, 0.9375)] {
+        let f = vf.get(i, j);
+        assert!((f - exact).abs() <= 1e-4, "F({i}→{j}) = {f}, exact {exact}");
+    }
+}
+
+/// A 3 m room (n² per wall) with the block [1, 2]³ (m² per face).
+fn room(n: usize, m: usize) -> Scene {
+    let mut b = Scene::builder();
+    for (k, f) in cube_faces(DVec3::splat(1.5), 3.0, true, n).into_iter().enumerate() {
+        b = b.surface(&format!("wall{k}"), f, 1.0, None);
+    }
+    for (k, f) in cube_faces(DVec3::splat(1.5), 1.0, false, m).into_iter().enumerate() {
+        b = b.surface(&format!("block{k}"), f, 1.0, None);
+    }
+    b.build()
+}
+
+#[test]
+fn every_pair_meets_its_goal_against_exact_shadows() {
+    // Patch by patch against `analytic` (shadows to 1e-9 relative): integrated pairs within
+    // the tolerance, sampled pairs within 5 reported standard errors, and those errors within
+    // the goal (σ ≤ τ/Z). A coarse tolerance makes the sampled branch appear, a fine one the
+    // integrated branch.
+    let scene = room(4, 2);
+    let exact = run(&scene, Method::Analytic, 1e-4, Level::Patch);
+    let mut seen = [0usize; 2];
+    for tol in [3e-2, 1e-5] {
+        let vf = run(&scene, Method::Auto, tol, Level::Patch);
+        for (i, row) in vf.rows.iter().enumerate() {
+            for e in row {
+                let f = exact.get(i, e.to as usize);
+                let err = (e.factor - f).abs();
+                let what =
+                    format!("tol {tol} {}→{}: {} vs {f} ± {} ({})", i, e.to, e.factor, e.std_error, e.method);
+                if e.method == MethodSet::MC_AREA {
+                    seen[1] += 1;
+                    assert!(err <= 5.0 * e.std_error + 1e-12, "{what}");
+                    assert!(e.std_error <= tol / MC_SIGMAS * (1.0 + 1e-9), "{what}");
+                } else {
+                    seen[0] += usize::from(e.method == MethodSet::SHADOWED);
+                    assert!(err <= tol, "{what}");
+                }
+            }
+        }
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "both branches exercised: {seen:?}");
+}
+
+#[test]
+fn same_seed_same_numbers_on_any_thread_count() {
+    let scene = room(6, 2);
+    let once = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| run(&scene, Method::Auto, 3e-2, Level::Patch))
+    };
+    let (a, b) = (once(1), once(2));
+    assert_eq!(a.rows, b.rows);
+    assert_eq!(a.patch_row_sums, b.patch_row_sums);
+}
