@@ -105,9 +105,9 @@ fn concentric_boxes_from_gltf() {
 
 #[test]
 fn room_with_a_block_stays_closed_and_reciprocal() {
-    // 3 m room (4² per wall) around the block [1, 2]³ (2² per face): every row sums to 1.
+    // 3 m room (3² per wall) around the block [1, 2]³ (2² per face): every row sums to 1.
     let mut b = Scene::builder();
-    for (k, f) in cube_faces(DVec3::splat(1.5), 3.0, true, 4).into_iter().enumerate() {
+    for (k, f) in cube_faces(DVec3::splat(1.5), 3.0, true, 3).into_iter().enumerate() {
         b = b.surface(&format!("wall{k}"), f, 1.0, None);
     }
     for (k, f) in cube_faces(DVec3::splat(1.5), 1.0, false, 2).into_iter().enumerate() {
@@ -133,7 +133,7 @@ fn quad(c: DVec3, n: DVec3, size: f64, jitter: [f64; 4]) -> Polygon {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 12, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 8, failure_persistence: None, ..ProptestConfig::default() })]
 
     /// Obstructed ≤ unobstructed, and agreement with the Monte Carlo method (independent code:
     /// BVH occlusion rays) within 5 standard errors.
@@ -159,7 +159,7 @@ proptest! {
         let (f, back) = (vf.get(0, 1), vf.get(1, 0) * vf.areas[1] / vf.areas[0]);
         prop_assert!(f <= f0 * (1.0 + 1e-12), "obstructed {} above unobstructed {}", f, f0);
         prop_assert!((f - back).abs() <= 1e-12 * f0, "reciprocity {} vs {}", f, back);
-        let params = Params { method: Method::McArea, samples: 200_000, seed: 11, ..Params::default() };
+        let params = Params { method: Method::McArea, samples: 60_000, seed: 11, ..Params::default() };
         let mc = viewfactor::compute(&blocked, &params, Level::Surface).unwrap();
         let (fm, sd) = (mc.get(0, 1), mc.rows[0].iter().find(|e| e.to == 1).map_or(0.0, |e| e.std_error));
         prop_assert!((f - fm).abs() <= 5.0 * sd + 1e-4, "analytic {} vs mc-area {} ± {}", f, fm, sd);

@@ -6,7 +6,7 @@
 //! the obstructed exchange area under a [`Policy`]:
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
 //!   unobstructed value, rules 3×3 vs 4×4 per cell, minimum depth [`EXACT_MIN_DEPTH`];
-//! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 1 vs 2×2, minimum
+//! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F
 //!   (see [`crate::viewfactor::auto`]).
 use super::adaptive::{AdaptParams, Integrator};
@@ -18,13 +18,13 @@ use crate::viewfactor::auto::mc_pair::{estimate, Budget, PatchSampler, SegmentBl
 use crate::viewfactor::auto::{choose, Choice, MC_MAX_SAMPLES, MC_SIGMAS};
 use crate::viewfactor::MethodSet;
 
-/// Default relative target of `analytic` on obstructed pairs: far below any use, far above
-/// the integrator's round-off (the contour values themselves are good to ~1e-12).
-pub const EXACT_REL_TOL: f64 = 1e-9;
+/// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
+/// target (5e-8, `kernel::GAUSS_REL_TOL`), so shadows never dominate the method's error.
+pub const EXACT_REL_TOL: f64 = 1e-8;
 /// `analytic` splits every emitter at least once: four cells, 100 viewpoints, before trusting
 /// the rules (the per-cell blocker checks then catch what coarse rules would miss).
 pub const EXACT_MIN_DEPTH: u32 = 1;
-/// `auto` also splits every emitter once: five viewpoints alone can agree on a wrong value.
+/// `auto` also splits every emitter once: one cell's rules alone can agree on a wrong value.
 pub const AUTO_MIN_DEPTH: u32 = 1;
 /// Deepest split (4⁸ = 65 536 cells per pair at most), as View3D's maxO.
 pub const MAX_DEPTH: u32 = 8;
@@ -97,7 +97,7 @@ impl<'s> Shadows<'s> {
         }
         let (low, high, min_depth) = match policy {
             Policy::Exact { .. } => (3, 4, EXACT_MIN_DEPTH),
-            Policy::Auto { .. } => (1, 2, AUTO_MIN_DEPTH),
+            Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
         let (samplers, segments) = match policy {

@@ -10,7 +10,7 @@
 //! 4. partly obstructed → the cheaper of two estimators of the obstructed value, both anchored
 //!    on the exact unobstructed value u = (A_i F_ij)_unobstructed:
 //!    - **analytic-shadowed**: u − ∫_E g dA with the adaptive shadow integration
-//!      ([`super::analytic::adaptive`], rules 1 vs 2×2 per cell, the emitter split at least
+//!      ([`super::analytic::adaptive`], rules 2×2 vs 3×3 per cell, the emitter split at least
 //!      once, refined until the rules agree to τ·A_i); expected cost [`SHADOW_EVAL_NS`] ×
 //!      (1 + b·[`SHADOW_BLOCKER_FACTOR`]) per viewpoint, [`SHADOW_EVALS`] viewpoints at the
 //!      minimum depth, times about √(u/(τA_i)) for the refinement;
@@ -55,10 +55,11 @@ pub const MC_BLOCKER_FACTOR: f64 = 0.3;
 pub const SHADOW_EVAL_NS: f64 = 150.0;
 /// Extra cost of one blocker per viewpoint (projection, clipping, union), relative.
 pub const SHADOW_BLOCKER_FACTOR: f64 = 1.0;
-/// Viewpoints at the minimum depth: four cells of 1 + 4 points (rules 1 vs 2×2). With the
-/// cells unsplit (5 viewpoints) both rules can agree on a wrong value when the shadow sweeps
-/// over the receiver's edge between the points (found in tests/auto.rs).
-pub const SHADOW_EVALS: f64 = 20.0;
+/// Viewpoints at the minimum depth: four cells of 4 + 9 points (rules 2×2 vs 3×3). Lower
+/// orders lose twice: one cell of 1 + 4 points can agree on a wrong value when a shadow sweeps
+/// over the receiver's edge between the points, and at fine goals the 1 vs 2×2 pair needs
+/// ~100× more cells than 2×2 vs 3×3 (both measured in tests/auto.rs).
+pub const SHADOW_EVALS: f64 = 52.0;
 
 /// How a partly obstructed pair is computed.
 #[derive(Debug, Clone, Copy, PartialEq)]
