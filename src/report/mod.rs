@@ -1,2 +1,7 @@
-//! Reports: the one place that turns results into bytes (CSV).
+//! Reports: the one place that turns results into bytes (CSV) and reads saved results back.
+//! - [`csv`]: the `viewfactors` matrix;
+//! - [`solve_csv`]: the `solve` table and radiative conductances;
+//! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`).
 pub mod csv;
+pub mod read_vf;
+pub mod solve_csv;

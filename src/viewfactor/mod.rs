@@ -4,7 +4,7 @@
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
 //! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
 //!   diagnostics; never an N×N dense temporary;
-//! - the method modules each provide a kernel.
+//! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::fmt;
@@ -14,6 +14,7 @@ pub mod analytic;
 pub mod closed_form;
 pub mod engine;
 pub mod hemicube;
+pub mod monte_carlo;
 pub mod single_plane;
 pub mod sink;
 
@@ -170,9 +171,11 @@ impl Default for Params {
 }
 
 /// Computes the view factors of `scene` at the requested level with the chosen method.
-#[allow(unused_variables, unreachable_code)]
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        Method::McArea | Method::McUniform | Method::McCosine => {
+            return monte_carlo::compute(scene, params, level)
+        }
         Method::Hemicube => {
             Box::new(hemicube::HemicubeKernel::new(scene, params.resolution, hemicube::Positions::Adaptive)?)
         }
@@ -183,6 +186,5 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
         )?),
         m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
     };
-    #[allow(unreachable_code)]
     engine::run(scene, kernel.as_ref(), params, level)
 }
