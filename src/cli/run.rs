@@ -50,6 +50,9 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let scene = scene::load(&cfg.scene)?;
+    for w in &scene.warnings {
+        eprintln!("lambert: warning: {w}");
+    }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let mode: Enforce = cfg.enforce.as_deref().unwrap_or("none").parse()?;
     let vf = if mode == Enforce::None {

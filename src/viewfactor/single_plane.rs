@@ -2,9 +2,9 @@
 //! plane parallel to the patch at unit height, of half-width s, and resolved there by
 //! Warnock-style adaptive subdivision.
 //!
-//! - [`grid`](self::grid): the R × R pixel grid and its exact cell factors (node table of
+//! - `grid`: the R × R pixel grid and its exact cell factors (node table of
 //!   the corner factor; it replaces per-level delta tables and serves every level);
-//! - [`warnock`](self::warnock): projection and the subdivision itself.
+//! - `warnock`: projection and the subdivision itself.
 //!
 //! Scene gathering, clipping and the receiver/blocker rules are the hemicube's
 //! ([`super::hemicube`]): front faces receive, back faces and obstructions only block.
@@ -24,7 +24,7 @@
 //! a hemicube's top face has 2/R); uniform spacing is kept for comparison.
 use super::engine::{Row, RowKernel};
 use super::hemicube::prepare::{Eye, Gathered, Prepared};
-use super::hemicube::{checked_resolution, emit, positions, Positions, NEAR_REL};
+use super::hemicube::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
 use super::MethodSet;
 use crate::scene::Scene;
 use crate::Result;
@@ -115,13 +115,7 @@ impl RowKernel for SinglePlaneKernel<'_> {
             ws.gathered.gather(&self.prep, &eye, i);
             ws.plane.project(&ws.gathered, self.options.half_width, near);
             let Workspace { plane, acc, touched, .. } = &mut ws;
-            plane.resolve(&self.grid, &mut |id, f| {
-                let a = &mut acc[id as usize];
-                if *a == 0.0 {
-                    touched.push(id);
-                }
-                *a += w * f;
-            });
+            plane.resolve(&self.grid, &mut |id, f| credit(acc, touched, id, w * f));
         }
         let Workspace { acc, touched, .. } = &mut ws;
         emit(acc, touched, MethodSet::SINGLE_PLANE, out);

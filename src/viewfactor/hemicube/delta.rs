@@ -11,10 +11,13 @@ use std::f64::consts::PI;
 pub(crate) struct DeltaTables {
     /// Pixels along the top face (even).
     pub resolution: usize,
-    /// Top face, R × R, row-major from y = −1.
-    pub top: Vec<f64>,
-    /// One side face, R columns × R/2 rows, row-major from z = 0 (all four sides share it).
-    pub side: Vec<f64>,
+    /// Top face (R × R, rows from y = −1) as row prefix sums, R + 1 per row starting at 0,
+    /// so a run of pixels sums in one subtraction.
+    pub top_prefix: Vec<f64>,
+    /// One side face (R columns × R/2 rows from z = 0; all four sides share it), likewise.
+    pub side_prefix: Vec<f64>,
+    /// Σ of all five faces' delta factors.
+    total: f64,
 }
 
 impl DeltaTables {
@@ -41,13 +44,28 @@ impl DeltaTables {
                 side.push(z * h * h / (PI * d * d));
             }
         }
-        Self { resolution: r, top, side }
+        let total = top.iter().sum::<f64>() + 4.0 * side.iter().sum::<f64>();
+        Self { resolution: r, top_prefix: row_prefix(&top, r), side_prefix: row_prefix(&side, r), total }
     }
 
     /// Σ of all five faces' delta factors (1 + O(h²)).
     pub fn total(&self) -> f64 {
-        self.top.iter().sum::<f64>() + 4.0 * self.side.iter().sum::<f64>()
+        self.total
     }
+}
+
+/// Per-row prefix sums (R + 1 per row, starting at 0) of a row-major table of width `r`.
+fn row_prefix(table: &[f64], r: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(table.len() / r * (r + 1));
+    for row in table.chunks_exact(r) {
+        let mut sum = 0.0;
+        out.push(0.0);
+        out.extend(row.iter().map(|d| {
+            sum += d;
+            sum
+        }));
+    }
+    out
 }
 
 #[cfg(test)]
