@@ -176,12 +176,16 @@ impl Reference {
 }
 
 /// The case folders under `root` that hold a `reference.toml`, sorted by name; folders without
-/// one are returned separately so the report can list them.
+/// one are returned separately so the report can list them. Folders named `_*` or `.*` are
+/// skipped.
 pub fn discover(root: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     let entries = std::fs::read_dir(root)
         .map_err(|e| InputError::file(root, format!("cannot read the cases folder: {e}")))?;
+    // Folders starting with '_' or '.' are tooling (cases/_generator), not cases.
+    let tooling =
+        |p: &PathBuf| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with(['_', '.']));
     let mut dirs: Vec<PathBuf> =
-        entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_dir()).collect();
+        entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_dir() && !tooling(p)).collect();
     dirs.sort();
     Ok(dirs.into_iter().partition(|d| d.join(REFERENCE_FILE).exists()))
 }
