@@ -2,10 +2,14 @@
 //!
 //! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
+//! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
+//! - [`grid_clip`]: grid cells of any simple polygon, clipped and glued.
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
+pub mod grid_clip;
 pub mod polygon;
 pub mod quadrature;
+pub mod subdivide;
 
 pub use glam::DVec3;
 pub use polygon::{Polygon, PolygonError};

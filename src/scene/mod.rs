@@ -1,12 +1,28 @@
 //! Scene level: named surfaces (what the engineer sees), their patches (the unknowns) and
 //! obstructions (blockers only), with emissivities and boundary conditions.
 //!
-//! - this file: the in-memory model and [`SceneBuilder`] for programmatic scenes;
-//! - loading from TOML and glTF lives in the sibling modules.
+//! - this file: the in-memory model, [`SceneBuilder`] for programmatic scenes, [`load`] and
+//!   [`Scene::check_boundary_conditions`];
+//! - [`schema`]: the TOML format as serde types; [`toml_scene`]: the TOML loader;
+//!   [`toml_errors`]: TOML errors with line and surface;
+//! - [`gltf_scene`]: glTF 2.0 models as mesh surfaces;
+//! - [`props`]: property layers (surface → node extras → model → defaults) and their resolution;
+//! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
+//! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`].
+use crate::error::InputError;
 use crate::geometry::Polygon;
 use glam::DVec3;
 use std::ops::Range;
 use std::path::PathBuf;
+
+pub mod assemble;
+pub mod gltf_scene;
+pub mod patching;
+pub mod props;
+pub mod schema;
+pub mod toml_errors;
+pub mod toml_scene;
+pub mod validate;
 
 /// Boundary condition of an exchanging surface (used by `solve`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,7 +53,8 @@ pub enum Shape {
     Mesh,
 }
 
-/// An exact disk.
+/// An exact disk. Every method but the closed forms sees its regular `segments`-gon whose
+/// circumradius is r·√(2π / (n·sin(2π/n))), so the polygon keeps the disk's area πr².
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Disk {
     /// Centre.
@@ -109,6 +126,11 @@ pub struct Scene {
     pub patches: Vec<Patch>,
     /// Obstruction-only geometry.
     pub obstructions: Vec<Obstruction>,
+    /// Boundary-condition conflicts found at load time (both temperature and heat_flux);
+    /// reported by [`Scene::check_boundary_conditions`], ignored by `viewfactors`.
+    pub condition_errors: Vec<InputError>,
+    /// Notes for the user from loading (e.g. dropped degenerate glTF triangles).
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -128,6 +150,35 @@ impl Scene {
     /// Patch areas in patch order.
     pub fn patch_areas(&self) -> Vec<f64> {
         self.patches.iter().map(|p| p.polygon.area()).collect()
+    }
+    /// `solve`'s requirement: every exchanging surface has exactly one of temperature or
+    /// heat_flux. Errors name the file and the first offending surface.
+    pub fn check_boundary_conditions(&self) -> crate::Result<()> {
+        if let Some(e) = self.condition_errors.first() {
+            return Err(e.clone().into());
+        }
+        let missing: Vec<&Surface> = self.surfaces.iter().filter(|s| s.condition.is_none()).collect();
+        if let Some(first) = missing.first() {
+            let more = match missing.len() {
+                1 => String::new(),
+                n => format!(" ({} more surfaces lack one too)", n - 1),
+            };
+            let file = if self.source.as_os_str().is_empty() {
+                PathBuf::from("<scene>")
+            } else {
+                self.source.clone()
+            };
+            return Err(InputError::surface(
+                file,
+                &first.name,
+                format!(
+                    "no boundary condition: `solve` needs exactly one of temperature (K) or heat_flux \
+                     (W/m², 0 = adiabatic){more}"
+                ),
+            )
+            .into());
+        }
+        Ok(())
     }
     /// Index of the surface called `name`.
     pub fn surface_index(&self, name: &str) -> Option<usize> {
@@ -230,7 +281,21 @@ fn is_planar_set(polys: &[Polygon]) -> bool {
     })
 }
 
-/// Loads a scene file (.toml, .gltf, .glb) with strict validation.
+/// Loads a scene file (.toml, .gltf, .glb) with strict validation. A bare glTF file makes
+/// every mesh node a surface with the built-in defaults (emissivity 1, no boundary condition),
+/// its node `extras` applied.
 pub fn load(path: &std::path::Path) -> crate::Result<Scene> {
-    Err(crate::error::InputError::file(path, "scene loading is not available in this build yet").into())
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("toml") => toml_scene::load(path),
+        Some("gltf" | "glb") => {
+            let model = gltf_scene::load_model(path)?;
+            let entry = assemble::ModelEntry { model, layer: props::Layer::new("the glTF file", path, None) };
+            assemble::assemble(path, None, None, &props::Layer::default(), Vec::new(), vec![entry])
+        }
+        _ => {
+            Err(InputError::file(path, "unknown scene file type; expected a .toml, .gltf or .glb file")
+                .into())
+        }
+    }
 }

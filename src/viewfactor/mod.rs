@@ -10,6 +10,8 @@ use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
 
+pub mod analytic;
+pub mod closed_form;
 pub mod engine;
 pub mod sink;
 

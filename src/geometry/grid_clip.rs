@@ -1,0 +1,334 @@
+//! Grid cells of a planar polygon: a nu×nv grid over its bounding box in a local frame
+//! aligned with its first edge, each cell clipped to the polygon.
+//!
+//! - convex polygons: each cell is the polygon clipped by the cell's four lines (one convex
+//!   piece per cell);
+//! - non-convex polygons: the polygon is triangulated first, every triangle is clipped per cell,
+//!   and the pieces of one cell are glued back along their shared edges. Intersection points
+//!   are computed from canonically ordered endpoints, so the two sides of a shared edge agree
+//!   bit for bit and gluing is exact. A cell may hold several disjoint pieces; each becomes a
+//!   patch. If a glued ring fails validation, its convex pieces are kept instead.
+use super::{Polygon, PolygonError};
+use glam::DVec3;
+
+type P = [f64; 2];
+
+/// The simple rings of one glued group, and the convex pieces it was glued from.
+type Group = (Vec<Vec<P>>, Vec<Vec<P>>);
+
+/// A local frame in a polygon's plane: origin, first-edge axis e1, e2 = n × e1.
+#[derive(Debug, Clone, Copy)]
+pub struct PlaneFrame {
+    /// Origin (the first vertex).
+    pub origin: DVec3,
+    /// Unit axis along the first edge.
+    pub e1: DVec3,
+    /// Unit axis n × e1.
+    pub e2: DVec3,
+}
+
+impl PlaneFrame {
+    /// The frame of `poly` aligned with its first edge.
+    pub fn of(poly: &Polygon) -> Self {
+        let v = poly.vertices();
+        let n = poly.normal();
+        let edge = v[1] - v[0];
+        let e1 = (edge - n * edge.dot(n)).normalize();
+        Self { origin: v[0], e1, e2: n.cross(e1) }
+    }
+    /// In-plane coordinates (s, t) of `p`.
+    pub fn to_2d(&self, p: DVec3) -> P {
+        let d = p - self.origin;
+        [d.dot(self.e1), d.dot(self.e2)]
+    }
+    /// The point o + s·e1 + t·e2.
+    pub fn to_3d(&self, p: P) -> DVec3 {
+        self.origin + self.e1 * p[0] + self.e2 * p[1]
+    }
+    /// Bounding box [min, max] of the polygon's vertices in this frame.
+    pub fn bounds(&self, poly: &Polygon) -> (P, P) {
+        poly.vertices()
+            .iter()
+            .map(|v| self.to_2d(*v))
+            .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+                ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+            })
+    }
+}
+
+/// Grid line k of n over [lo, hi]; the last one is `hi` exactly.
+fn line(lo: f64, hi: f64, k: usize, n: usize) -> f64 {
+    if k == n {
+        hi
+    } else {
+        lo + (hi - lo) * (k as f64 / n as f64)
+    }
+}
+
+/// Keeps the part of `ring` with sign·(p[axis] − c) ≥ 0 (Sutherland–Hodgman, canonical
+/// intersections; points on the line get p[axis] = c exactly).
+fn clip(ring: &[P], axis: usize, c: f64, sign: f64) -> Vec<P> {
+    let n = ring.len();
+    let d: Vec<f64> = ring.iter().map(|p| sign * (p[axis] - c)).collect();
+    let mut out = Vec::with_capacity(n + 2);
+    for k in 0..n {
+        let (a, b, da, db) = (ring[k], ring[(k + 1) % n], d[k], d[(k + 1) % n]);
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
+            let (p, q) = if (a[0], a[1]) < (b[0], b[1]) { (a, b) } else { (b, a) };
+            let f = (c - p[axis]) / (q[axis] - p[axis]);
+            let other = 1 - axis;
+            let mut r = [0.0; 2];
+            r[axis] = c;
+            r[other] = p[other] + f * (q[other] - p[other]);
+            out.push(r);
+        }
+    }
+    out.dedup();
+    while out.len() > 1 && out.first() == out.last() {
+        out.pop();
+    }
+    if out.len() < 3 {
+        out.clear();
+    }
+    out
+}
+
+/// Twice the signed area of a 2-D ring.
+fn area2(r: &[P]) -> f64 {
+    (0..r.len())
+        .map(|k| {
+            let (a, b) = (r[k], r[(k + 1) % r.len()]);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum()
+}
+
+/// Splits the polygon into grid cells (see the module docs); cells run row by row along e1.
+pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>, PolygonError> {
+    let frame = PlaneFrame::of(poly);
+    let (lo, hi) = frame.bounds(poly);
+    let xs: Vec<f64> = (0..=nu).map(|i| line(lo[0], hi[0], i, nu)).collect();
+    let ys: Vec<f64> = (0..=nv).map(|j| line(lo[1], hi[1], j, nv)).collect();
+    let sources: Vec<Vec<P>> = if poly.is_convex() {
+        vec![poly.vertices().iter().map(|v| frame.to_2d(*v)).collect()]
+    } else {
+        poly.triangulate().iter().map(|t| t.iter().map(|v| frame.to_2d(*v)).collect()).collect()
+    };
+    let mut cells: Vec<Vec<Vec<P>>> = vec![Vec::new(); nu * nv];
+    for src in &sources {
+        let (smin, smax) =
+            src.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[0]), a.1.max(p[0])));
+        for i in span(&xs, smin, smax) {
+            let col = clip(&clip(src, 0, xs[i], 1.0), 0, xs[i + 1], -1.0);
+            if col.is_empty() {
+                continue;
+            }
+            let (tmin, tmax) =
+                col.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[1]), a.1.max(p[1])));
+            for j in span(&ys, tmin, tmax) {
+                let piece = clip(&clip(&col, 1, ys[j], 1.0), 1, ys[j + 1], -1.0);
+                if !piece.is_empty() && area2(&piece) > 0.0 {
+                    cells[j * nu + i].push(piece);
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for pieces in cells {
+        for (rings, parts) in glue_all(pieces) {
+            match rings.iter().map(|r| to_polygon(&frame, r)).collect::<Result<Vec<_>, _>>() {
+                Ok(polys) => out.extend(polys.into_iter().flatten()),
+                // A glued ring that is not simple after all: keep its convex parts instead.
+                Err(_) => {
+                    for part in &parts {
+                        out.extend(to_polygon(&frame, part)?);
+                    }
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Indices k with [lines[k], lines[k+1]] overlapping [lo, hi].
+fn span(lines: &[f64], lo: f64, hi: f64) -> std::ops::Range<usize> {
+    let n = lines.len() - 1;
+    let first = lines[1..n].partition_point(|&x| x <= lo);
+    let last = lines[1..n].partition_point(|&x| x < hi);
+    first..(last + 1).min(n)
+}
+
+/// The ring as a 3-D polygon; `None` for a sliver too thin to be a polygon.
+fn to_polygon(frame: &PlaneFrame, ring: &[P]) -> Result<Option<Polygon>, PolygonError> {
+    match Polygon::new(ring.iter().map(|p| frame.to_3d(*p)).collect()) {
+        Ok(p) => Ok(Some(p)),
+        Err(PolygonError::Degenerate | PolygonError::TooFewVertices(_)) => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// Glues the pieces of one cell along exactly shared edges; returns the simple rings of each
+/// glued group with the pieces the group came from.
+fn glue_all(pieces: Vec<Vec<P>>) -> Vec<Group> {
+    let mut groups: Vec<(Vec<P>, Vec<Vec<P>>)> = pieces.into_iter().map(|p| (p.clone(), vec![p])).collect();
+    'again: loop {
+        for a in 0..groups.len() {
+            for b in a + 1..groups.len() {
+                if let Some(r) = glue(&groups[a].0, &groups[b].0) {
+                    let (_, parts) = groups.swap_remove(b);
+                    groups[a].0 = clean(r, false);
+                    groups[a].1.extend(parts);
+                    continue 'again;
+                }
+            }
+        }
+        break;
+    }
+    groups
+        .into_iter()
+        .map(|(ring, parts)| {
+            let rings = split_pinches(clean(ring, true)).into_iter().filter(|r| r.len() >= 3).collect();
+            (rings, parts)
+        })
+        .collect()
+}
+
+/// Union of two rings sharing edge u→v (in `a`) / v→u (in `b`).
+fn glue(a: &[P], b: &[P]) -> Option<Vec<P>> {
+    let (na, nb) = (a.len(), b.len());
+    for i in 0..na {
+        let (u, v) = (a[i], a[(i + 1) % na]);
+        for j in 0..nb {
+            if b[j] == v && b[(j + 1) % nb] == u {
+                let mut r: Vec<P> = (0..na).map(|k| a[(i + 1 + k) % na]).collect();
+                r.extend((2..nb).map(|k| b[(j + k) % nb]));
+                return Some(r);
+            }
+        }
+    }
+    None
+}
+
+/// Removes duplicates and spikes (x, y, x), and with `straight` also points strictly inside an
+/// axis-parallel straight run (left where glued edges met a cell line), until nothing changes.
+fn clean(mut r: Vec<P>, straight: bool) -> Vec<P> {
+    loop {
+        let n = r.len();
+        if n < 3 {
+            return r;
+        }
+        let mut removed = false;
+        for k in 0..n {
+            let (a, b, c) = (r[(k + n - 1) % n], r[k], r[(k + 1) % n]);
+            if a == b {
+                r.remove(k);
+                removed = true;
+                break;
+            }
+            if a == c {
+                // Spike a → b → a: drop b and the repeated a.
+                let (hi, lo) = (k.max((k + 1) % n), k.min((k + 1) % n));
+                r.remove(hi);
+                r.remove(lo);
+                removed = true;
+                break;
+            }
+            let between = |ax: usize| {
+                a[ax] == b[ax] && b[ax] == c[ax] && {
+                    let o = 1 - ax;
+                    (a[o] < b[o] && b[o] < c[o]) || (a[o] > b[o] && b[o] > c[o])
+                }
+            };
+            if straight && (between(0) || between(1)) {
+                r.remove(k);
+                removed = true;
+                break;
+            }
+        }
+        if !removed {
+            return r;
+        }
+    }
+}
+
+/// Splits a ring that visits the same point twice into simple sub-rings.
+fn split_pinches(r: Vec<P>) -> Vec<Vec<P>> {
+    for p in 0..r.len() {
+        for q in p + 1..r.len() {
+            if r[p] == r[q] {
+                let first: Vec<P> = r[p..q].to_vec();
+                let second: Vec<P> = r[q..].iter().chain(&r[..p]).copied().collect();
+                let mut out = split_pinches(clean(first, true));
+                out.extend(split_pinches(clean(second, true)));
+                return out;
+            }
+        }
+    }
+    vec![r]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Area conservation required by the scene format (relative).
+    const AREA_TOL: f64 = 1e-12;
+
+    fn poly(pts: &[(f64, f64)]) -> Polygon {
+        Polygon::new(pts.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect()).unwrap()
+    }
+
+    fn check(p: &Polygon, nu: usize, nv: usize) -> Vec<Polygon> {
+        let cells = polygon_grid(p, nu, nv).unwrap();
+        let sum: f64 = cells.iter().map(Polygon::area).sum();
+        assert!((sum - p.area()).abs() <= AREA_TOL * p.area(), "{nu}x{nv}: {sum} vs {}", p.area());
+        assert!(cells.iter().all(|c| c.normal().dot(p.normal()) > 1.0 - 1e-12));
+        cells
+    }
+
+    #[test]
+    fn convex_square_gives_one_patch_per_cell() {
+        let cells = check(&poly(&[(0., 0.), (2., 0.), (2., 1.), (0., 1.)]), 4, 2);
+        assert_eq!(cells.len(), 8);
+        assert!(cells.iter().all(|c| (c.area() - 0.25).abs() < 1e-15));
+    }
+
+    #[test]
+    fn l_shape_cells_are_glued() {
+        let l = poly(&[(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]);
+        // Cells of 1×1 cover the three squares of the L exactly: three patches, not triangles.
+        let cells = check(&l, 2, 2);
+        assert_eq!(cells.len(), 3, "{cells:?}");
+        let cells = check(&l, 5, 3);
+        assert!(cells.len() <= 15);
+    }
+
+    #[test]
+    fn comb_cell_keeps_disjoint_pieces_apart() {
+        // A U shape: one cell over the whole box holds the polygon as one glued piece; a
+        // horizontal band through the prongs holds two disjoint pieces.
+        let u = poly(&[(0., 0.), (3., 0.), (3., 3.), (2., 3.), (2., 1.), (1., 1.), (1., 3.), (0., 3.)]);
+        assert_eq!(check(&u, 1, 1).len(), 1);
+        let cells = check(&u, 1, 3);
+        assert_eq!(cells.len(), 5, "bottom band, then the two prongs in each upper band: {cells:?}");
+    }
+
+    #[test]
+    fn rotated_star_conserves_area() {
+        let pts: Vec<(f64, f64)> = (0..14)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 14.0 + 0.3;
+                let r = if k % 2 == 0 { 1.0 } else { 0.37 };
+                (r * a.cos(), r * a.sin())
+            })
+            .collect();
+        let star = poly(&pts);
+        assert_eq!(check(&star, 1, 1).len(), 1, "one cell over the whole star glues back to the star");
+        for (nu, nv) in [(1, 1), (2, 2), (3, 7), (10, 10)] {
+            check(&star, nu, nv);
+        }
+    }
+}

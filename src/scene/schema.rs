@@ -1,0 +1,118 @@
+//! The TOML scene schema of SPEC.md as serde types. Every table denies unknown keys; values
+//! carry their byte span so later checks can name the line. Numbers are read as f64 / i64 and
+//! range-checked afterwards (validate.rs), so messages say what is wrong in words.
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A number with its span.
+pub type Num = Option<Spanned<f64>>;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScene {
+    /// Optional title.
+    pub title: Option<Spanned<String>>,
+    /// Present = open scene.
+    pub ambient: Option<Spanned<RawAmbient>>,
+    /// Defaults for every surface and model.
+    pub defaults: Option<Spanned<RawDefaults>>,
+    /// `[[surface]]` entries in file order.
+    #[serde(default)]
+    pub surface: Vec<Spanned<RawSurface>>,
+    /// `[[model]]` glTF references.
+    #[serde(default)]
+    pub model: Vec<Spanned<RawModel>>,
+}
+
+/// `[ambient]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawAmbient {
+    /// Black environment temperature, K.
+    pub temperature: Spanned<f64>,
+}
+
+/// `[defaults]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDefaults {
+    /// Gray emissivity.
+    pub emissivity: Num,
+    /// Temperature, K.
+    pub temperature: Num,
+    /// Net outgoing flux, W/m².
+    pub heat_flux: Num,
+    /// Largest patch width, m.
+    pub max_patch_size: Num,
+}
+
+/// One `[[surface]]`: a shaped surface, or (without a shape key) an override of a model surface.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSurface {
+    /// Unique, non-empty name.
+    pub name: Option<Spanned<String>>,
+    /// Planar simple polygon, ≥ 3 vertices.
+    pub polygon: Option<Spanned<Vec<[f64; 3]>>>,
+    /// Parallelogram o, o+u, o+u+v, o+v.
+    pub rectangle: Option<Spanned<RawRectangle>>,
+    /// Disk.
+    pub disk: Option<Spanned<RawDisk>>,
+    /// Gray emissivity.
+    pub emissivity: Num,
+    /// Temperature, K.
+    pub temperature: Num,
+    /// Net outgoing flux, W/m².
+    pub heat_flux: Num,
+    /// `"surface"` (default) or `"obstruction"`.
+    pub role: Option<Spanned<String>>,
+    /// `[nu, nv]`, or `[rings, sectors]` for a disk.
+    pub subdivide: Option<Spanned<[i64; 2]>>,
+    /// Largest patch width, m.
+    pub max_patch_size: Num,
+}
+
+/// `rectangle = { origin, u, v }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRectangle {
+    /// Corner.
+    pub origin: [f64; 3],
+    /// First edge.
+    pub u: [f64; 3],
+    /// Second edge.
+    pub v: [f64; 3],
+}
+
+/// `disk = { center, normal, radius, segments }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDisk {
+    /// Centre.
+    pub center: [f64; 3],
+    /// Normal of the emitting side (any length > 0).
+    pub normal: [f64; 3],
+    /// Radius, m.
+    pub radius: f64,
+    /// Polygon segments (default 64).
+    pub segments: Option<i64>,
+}
+
+/// One `[[model]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawModel {
+    /// glTF file, relative to the scene file.
+    pub file: Spanned<String>,
+    /// Default emissivity for its surfaces.
+    pub emissivity: Num,
+    /// Default temperature, K.
+    pub temperature: Num,
+    /// Default net outgoing flux, W/m².
+    pub heat_flux: Num,
+    /// Default role of its surfaces.
+    pub role: Option<Spanned<String>>,
+    /// Largest patch width for its surfaces, m.
+    pub max_patch_size: Num,
+}

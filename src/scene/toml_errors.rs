@@ -1,0 +1,93 @@
+//! TOML and serde errors as [`InputError`]s: the span becomes a 1-based line, and the
+//! `[[surface]]` entry that holds it gives the surface name.
+use crate::error::InputError;
+use std::path::Path;
+
+/// 1-based line of byte `offset` in `text`.
+pub fn line_of(text: &str, offset: usize) -> usize {
+    let end = offset.min(text.len());
+    text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+}
+
+/// Which `[[surface]]` holds byte `offset`: its name, or its 1-based position when unnamed.
+pub enum SurfaceAt {
+    /// A named surface.
+    Named(String),
+    /// The k-th `[[surface]]`, without a usable name.
+    Unnamed(usize),
+}
+
+/// The `[[surface]]` entry whose section holds `offset`, if any (needs syntactically valid TOML).
+pub fn surface_at(text: &str, offset: usize) -> Option<SurfaceAt> {
+    let table = toml::de::DeTable::parse(text).ok()?;
+    // Every top-level section start; array-of-tables entries start at their header.
+    let mut best: Option<(usize, Option<SurfaceAt>)> = None;
+    let mut consider = |start: usize, what: Option<SurfaceAt>| {
+        if start <= offset && best.as_ref().is_none_or(|b| start >= b.0) {
+            best = Some((start, what));
+        }
+    };
+    for (key, value) in table.get_ref().iter() {
+        if key.get_ref() == "surface" {
+            if let Some(entries) = value.get_ref().as_array() {
+                for (k, e) in entries.iter().enumerate() {
+                    let name = e
+                        .get_ref()
+                        .as_table()
+                        .and_then(|t| t.iter().find(|(k, _)| k.get_ref() == "name"))
+                        .and_then(|(_, v)| v.get_ref().as_str().map(str::to_string))
+                        .filter(|n| !n.trim().is_empty());
+                    let what = match name {
+                        Some(n) => SurfaceAt::Named(n),
+                        None => SurfaceAt::Unnamed(k + 1),
+                    };
+                    consider(e.span().start, Some(what));
+                }
+                continue;
+            }
+        }
+        consider(key.span().start.min(value.span().start), None);
+    }
+    best.and_then(|b| b.1)
+}
+
+/// serde's wording, made plainer.
+fn plain(message: &str) -> String {
+    message
+        .replace("expected i64", "expected an integer")
+        .replace("expected f64", "expected a number")
+        .replace("expected a sequence", "expected an array")
+        .replace("expected u64", "expected a non-negative integer")
+}
+
+/// A TOML syntax or schema error located by line and surface.
+pub fn from_toml(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
+    let mut err = InputError::file(path, plain(e.message().trim()));
+    if let Some(span) = e.span() {
+        err.line = Some(line_of(text, span.start));
+        match surface_at(text, span.start) {
+            Some(SurfaceAt::Named(n)) => err.surface = Some(n),
+            Some(SurfaceAt::Unnamed(k)) => {
+                err.problem = format!("in [[surface]] number {k}: {}", err.problem)
+            }
+            None => {}
+        }
+    }
+    err
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locates_surface_sections() {
+        let text =
+            "title = \"x\"\n[[surface]]\nname = \"a\"\nfoo = 1\n[[surface]]\nbar = 2\n[ambient]\nt = 1\n";
+        assert!(matches!(surface_at(text, text.find("foo").unwrap()), Some(SurfaceAt::Named(n)) if n == "a"));
+        assert!(matches!(surface_at(text, text.find("bar").unwrap()), Some(SurfaceAt::Unnamed(2))));
+        assert!(surface_at(text, text.find("t = 1").unwrap()).is_none());
+        assert!(surface_at(text, 0).is_none());
+        assert_eq!(line_of(text, text.find("bar").unwrap()), 6);
+    }
+}

@@ -1,0 +1,122 @@
+//! Value checks shared by the TOML and glTF loaders. Each check returns the problem in plain
+//! words; the caller adds file, surface and line.
+use crate::geometry::{DVec3, PolygonError};
+
+/// Largest coordinate or length accepted, m: beyond any engineering scene, and it keeps squared
+/// distances and areas (≤ 1e24) far from f64 overflow.
+pub const MAX_COORD: f64 = 1e12;
+
+/// Highest temperature accepted, K: σT⁴ is then 5.7e16 W/m², far past any gray-body model;
+/// larger values are typos (or overflow σT⁴ altogether).
+pub const MAX_TEMPERATURE: f64 = 1e6;
+
+/// Largest `subdivide` count per direction: 1e4 × 1e4 already exceeds the patch limit.
+pub const MAX_SUBDIVISION: i64 = 10_000;
+
+/// Most patches one surface may be split into: the N² view-factor pass cannot finish beyond
+/// this; it catches typos such as a `max_patch_size` in millimetres.
+pub const MAX_PATCHES_PER_SURFACE: usize = 1 << 18;
+
+/// Most polygon segments for a disk.
+pub const MAX_SEGMENTS: i64 = 1 << 16;
+
+/// Default number of segments of a disk's regular polygon (SPEC.md: `segments = 64`); its
+/// circumradius is chosen so the polygon has the disk's area.
+pub const DEFAULT_SEGMENTS: usize = 64;
+
+/// Default emissivity when neither the surface, its model nor `[defaults]` gives one: black.
+pub const DEFAULT_EMISSIVITY: f64 = 1.0;
+
+/// A finite number.
+pub fn finite(x: f64, what: &str) -> Result<f64, String> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!("{what} is {x}; it must be a finite number"))
+    }
+}
+
+/// A finite point or vector with every coordinate within ±[`MAX_COORD`].
+pub fn vector(p: [f64; 3], what: &str) -> Result<DVec3, String> {
+    for x in p {
+        finite(x, what)?;
+        if x.abs() > MAX_COORD {
+            return Err(format!("{what} has coordinate {x:e}, beyond ±{MAX_COORD:e} m"));
+        }
+    }
+    Ok(DVec3::from_array(p))
+}
+
+/// A length in (0, [`MAX_COORD`]].
+pub fn length(x: f64, what: &str) -> Result<f64, String> {
+    finite(x, what)?;
+    if x > 0.0 && x <= MAX_COORD {
+        Ok(x)
+    } else {
+        Err(format!("{what} is {x}; it must be positive and at most {MAX_COORD:e} m"))
+    }
+}
+
+/// Gray emissivity in (0, 1].
+pub fn emissivity(e: f64) -> Result<f64, String> {
+    finite(e, "emissivity")?;
+    if e > 0.0 && e <= 1.0 {
+        Ok(e)
+    } else {
+        Err(format!("emissivity is {e}; it must be in (0, 1] (0 < ε ≤ 1)"))
+    }
+}
+
+/// Absolute temperature in (0, [`MAX_TEMPERATURE`]] K.
+pub fn temperature(t: f64, what: &str) -> Result<f64, String> {
+    finite(t, what)?;
+    if t > 0.0 && t <= MAX_TEMPERATURE {
+        Ok(t)
+    } else {
+        Err(format!("{what} is {t} K; it must be positive (kelvin) and at most {MAX_TEMPERATURE:e} K"))
+    }
+}
+
+/// Net outgoing flux, any finite value, W/m².
+pub fn heat_flux(q: f64) -> Result<f64, String> {
+    finite(q, "heat_flux")
+}
+
+/// An integer count in [min, max].
+pub fn count(n: i64, what: &str, min: i64, max: i64) -> Result<usize, String> {
+    if (min..=max).contains(&n) {
+        Ok(n as usize)
+    } else {
+        Err(format!("{what} is {n}; it must be between {min} and {max}"))
+    }
+}
+
+/// A polygon error in words.
+pub fn polygon_problem(e: &PolygonError) -> String {
+    match e {
+        PolygonError::TooFewVertices(n) => format!("a polygon needs at least 3 distinct vertices, got {n}"),
+        PolygonError::Degenerate => {
+            "the polygon has zero area (its vertices are collinear or coincide)".into()
+        }
+        other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges() {
+        assert!(emissivity(1.0).is_ok() && emissivity(1e-9).is_ok());
+        for bad in [0.0, -0.1, 1.0 + 1e-12, f64::NAN, f64::INFINITY] {
+            assert!(emissivity(bad).unwrap_err().contains("emissivity"), "{bad}");
+        }
+        assert!(temperature(0.0, "temperature").is_err() && temperature(-3.0, "t").is_err());
+        assert!(temperature(1e7, "temperature").is_err() && temperature(300.0, "t").is_ok());
+        assert!(vector([0.0, f64::NAN, 0.0], "origin").unwrap_err().contains("finite"));
+        assert!(vector([0.0, 1e308, 0.0], "origin").is_err());
+        assert!(count(0, "subdivide", 1, 10).unwrap_err().contains("between 1 and 10"));
+        assert!(length(-0.0, "radius").is_err());
+    }
+}
