@@ -189,3 +189,39 @@ pub fn discover(root: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     dirs.sort();
     Ok(dirs.into_iter().partition(|d| d.join(REFERENCE_FILE).exists()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write_case(text: &str) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("scene.toml"), "").unwrap();
+        std::fs::write(dir.path().join(REFERENCE_FILE), text).unwrap();
+        dir
+    }
+
+    const GOOD: &str = "title = \"t\"\ncitation = \"c\"\n[skip]\n\"mc-area\" = \"too slow\"\n\n[[viewfactor]]\nfrom = \"a\"\nto = \"b\"\nvalue = 0.2\nsource = \"C-11\"\n";
+
+    #[test]
+    fn loads_a_reference_and_finds_the_scene() {
+        let dir = write_case(GOOD);
+        let case = Case::load(dir.path()).unwrap();
+        assert_eq!(case.scene, dir.path().join("scene.toml"));
+        assert!(!case.runs(Method::McArea) && case.runs(Method::Analytic));
+        assert_eq!(case.reference.viewfactors[0].point_bias, 0.0);
+    }
+
+    #[test]
+    fn bad_references_name_the_file_line_and_problem() {
+        let dir = write_case(&format!("{GOOD}colour = 3\n"));
+        let e = Case::load(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("reference.toml:11") && e.contains("colour"), "{e}");
+        let dir = write_case(&GOOD.replace("mc-area", "mc-fast"));
+        let e = Case::load(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("unknown method 'mc-fast'"), "{e}");
+        let dir = write_case(&GOOD.replace("0.2", "nan"));
+        let e = Case::load(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("F(a → b)"), "{e}");
+    }
+}
