@@ -2,6 +2,7 @@
 //!
 //! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
+//! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
 //! - [`grid_clip`]: grid cells of any simple polygon, clipped and glued.
 //!
@@ -9,6 +10,7 @@
 pub mod grid_clip;
 pub mod polygon;
 pub mod quadrature;
+pub mod sampling;
 pub mod subdivide;
 
 pub use glam::DVec3;

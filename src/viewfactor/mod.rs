@@ -4,7 +4,7 @@
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
 //! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
 //!   diagnostics; never an N×N dense temporary;
-//! - the method modules each provide a kernel.
+//! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::fmt;
@@ -13,6 +13,7 @@ use std::str::FromStr;
 pub mod analytic;
 pub mod closed_form;
 pub mod engine;
+pub mod monte_carlo;
 pub mod sink;
 
 pub use sink::{Entry, Level, ViewFactors};
@@ -171,6 +172,9 @@ impl Default for Params {
 #[allow(unused_variables, unreachable_code)]
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        Method::McArea | Method::McUniform | Method::McCosine => {
+            return monte_carlo::compute(scene, params, level)
+        }
         m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
     };
     #[allow(unreachable_code)]

@@ -1,1 +1,265 @@
-//! Visibility: one BVH (obvhs CWBVH) over every triangle of every surface and obstruction.
+//! Visibility: one BVH (obvhs CWBVH) over every triangle of every patch and obstruction.
+//!
+//! - this file: [`Visibility`] (build, coordinate frame, occluder table) and the result types;
+//! - [`query`]: closest hit, occlusion between two points, blocker candidates of a patch pair;
+//! - [`triangle`]: the watertight ray–triangle test.
+//!
+//! Design (measured choices in research/crates.md §1 and validation/rays.md):
+//! - Traversal geometry is f32, in a *normalised frame*: the scene is centred and scaled by a
+//!   power of two (exact) so its half-diagonal lies in [512, 1024). obvhs clamps every node
+//!   interval to t ≥ 1e-4 in absolute units; in this frame that is below f32 resolution of the
+//!   scene and far below the box padding, so no node near a ray origin is ever culled, and the
+//!   results do not depend on the scene's units.
+//! - Every triangle box is padded by [`PAD_REL`] of the scene diagonal (the flat-box pathology).
+//! - Triangles are stored in BVH leaf order with their occluder id, so the callback is direct.
+//! - Self-hits are avoided by skipping the source patch's triangles, never by offsets.
+//!
+//! **Sidedness rule.** Every triangle is opaque from both sides: a ray that reaches the back of
+//! a one-sided surface stops there (it is absorbed by the plate's unmodelled back, or it is
+//! inside a closed solid) but, in the view-factor methods, contributes to no F, because only
+//! front sides exchange. This is what the analytic methods compute for front-to-front pairs
+//! with two-sided blockers, and it is View3D's rule (research/view3d.md §2: obstructions are
+//! opaque; keeping only those facing the receiver is exact for closed solids and plates).
+//! A ray leaving the front of a patch never meets anything behind or in that patch's plane, so
+//! such triangles (coplanar neighbours, the far face of a two-sided thin plate, the other faces
+//! of a convex solid) are skipped, whatever f32 rounding of the origin says; occlusion queries
+//! do the same for both end planes.
+//! Near the origin (|t| < [`NEAR_REL`] of the scene size, the f32 rounding scale) only
+//! front-side crossings of other surfaces count: the true origin lies in front of every
+//! surface that meets its patch at an edge, so such a crossing is a real contact seen from the
+//! front (a wall at a concave corner, a box standing on the floor) or rounding noise from
+//! behind. The same rule, mirrored, applies next to the target point of an occlusion query.
+//! Coincident surfaces facing the *same* way are ambiguous; model a covering as a solid.
+use crate::geometry::DVec3;
+use crate::scene::Scene;
+use glam::Vec3A;
+use obvhs::{aabb::Aabb, cwbvh::CwBvh, Boundable, BvhBuildParams};
+use std::time::{Duration, Instant};
+
+pub mod query;
+pub mod triangle;
+
+/// Box padding, as a fraction of the scene diagonal: 1e-6–1e-5 cures obvhs's degenerate trees
+/// for axis-aligned triangles (research/crates.md §1.3) at no measurable cost.
+pub const PAD_REL: f64 = 1e-5;
+/// Half-width of the "near the origin" band, as a fraction of the scene half-diagonal: about 32
+/// f32 ulps of the largest normalised coordinate (vertex rounding plus the test's own error).
+pub const NEAR_REL: f64 = 4e-6;
+/// The normalised scene's half-diagonal lies in [TARGET/2, TARGET).
+const TARGET_HALF_EXTENT: f64 = 1024.0;
+/// obvhs's own node-interval floor (cwbvh::node::EPSILON); the padding must dwarf it.
+const OBVHS_NODE_EPSILON: f32 = 1e-4;
+
+/// What a triangle belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Occluder {
+    /// An exchanging patch (index into `Scene::patches`).
+    Patch(usize),
+    /// Polygon `polygon` of obstruction `obstruction` (indices into `Scene::obstructions`).
+    Obstruction {
+        /// Obstruction index.
+        obstruction: usize,
+        /// Polygon index within it.
+        polygon: usize,
+    },
+}
+
+/// A closest hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// What was hit.
+    pub occluder: Occluder,
+    /// Distance along the (unit) direction, ≥ 0.
+    pub t: f64,
+    /// True when the ray met the front (emitting, receiving) side.
+    pub front_facing: bool,
+}
+
+/// Build statistics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BuildStats {
+    /// Triangles in the BVH.
+    pub triangles: usize,
+    /// CWBVH nodes.
+    pub nodes: usize,
+    /// Wall time of the build (triangulation included).
+    pub time: Duration,
+}
+
+/// A padded triangle box for the builder.
+struct PaddedBox(Aabb);
+impl Boundable for PaddedBox {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+/// The scene's triangles in one BVH; `Send + Sync`, shared by reference across threads.
+#[derive(Debug, Clone)]
+pub struct Visibility {
+    pub(crate) bvh: CwBvh,
+    /// Triangles in BVH leaf order, normalised frame.
+    pub(crate) tris: Vec<[Vec3A; 3]>,
+    /// Occluder id of each triangle (BVH order): patches are 0..n_patches.
+    pub(crate) owner: Vec<u32>,
+    /// Occluder id → owner.
+    occluders: Vec<Occluder>,
+    /// Per patch: padded box and plane (unit normal, offset n·x) in the normalised frame.
+    pub(crate) patch_box: Vec<Aabb>,
+    pub(crate) patch_plane: Vec<(Vec3A, f32)>,
+    center: DVec3,
+    scale: f64,
+    /// Near-origin band in normalised units.
+    pub(crate) near: f32,
+    stats: BuildStats,
+}
+
+/// Occluder id meaning "skip nothing".
+pub(crate) const NO_SKIP: u32 = u32::MAX;
+
+impl Visibility {
+    /// Builds the BVH of `scene` with the default quality (`medium_build`).
+    pub fn new(scene: &Scene) -> Self {
+        Self::with_params(scene, BvhBuildParams::medium_build())
+    }
+
+    /// Builds with an explicit obvhs preset (benchmarks compare them).
+    pub fn with_params(scene: &Scene, params: BvhBuildParams) -> Self {
+        let start = Instant::now();
+        // Occluder table: patches first (id = patch index), then obstruction polygons.
+        let mut polys: Vec<(&crate::geometry::Polygon, Occluder)> =
+            scene.patches.iter().enumerate().map(|(p, patch)| (&patch.polygon, Occluder::Patch(p))).collect();
+        for (o, obs) in scene.obstructions.iter().enumerate() {
+            for (k, poly) in obs.polygons.iter().enumerate() {
+                polys.push((poly, Occluder::Obstruction { obstruction: o, polygon: k }));
+            }
+        }
+        let (center, scale) = normalisation(polys.iter().flat_map(|(p, _)| p.vertices().iter().copied()));
+        let to_f32 = |x: DVec3| ((x - center) * scale).as_vec3a();
+        let mut tris = Vec::new();
+        let mut owner = Vec::new();
+        for (id, (poly, _)) in polys.iter().enumerate() {
+            for [a, b, c] in poly.triangulate() {
+                tris.push([to_f32(a), to_f32(b), to_f32(c)]);
+                owner.push(id as u32);
+            }
+        }
+        let half = scene_half_extent(&tris);
+        let pad = Vec3A::splat((PAD_REL * 2.0 * half) as f32);
+        let near = (NEAR_REL * half) as f32;
+        debug_assert!(tris.is_empty() || pad.x > near + OBVHS_NODE_EPSILON);
+        let boxes: Vec<PaddedBox> = tris
+            .iter()
+            .map(|t| {
+                let b = tri_aabb(t);
+                PaddedBox(Aabb::new(b.min - pad, b.max + pad))
+            })
+            .collect();
+        let bvh = if boxes.is_empty() {
+            CwBvh::default()
+        } else {
+            obvhs::cwbvh::builder::build_cwbvh(&boxes, params, &mut Duration::default())
+        };
+        // Reorder triangles into leaf order so the callback index is direct.
+        let (tris, owner): (Vec<_>, Vec<_>) =
+            bvh.primitive_indices.iter().map(|&k| (tris[k as usize], owner[k as usize])).unzip();
+        let (patch_box, patch_plane) = scene
+            .patches
+            .iter()
+            .map(|p| {
+                let v: Vec<Vec3A> = p.polygon.vertices().iter().map(|&x| to_f32(x)).collect();
+                let b = Aabb::from_points(&v);
+                let n = p.polygon.normal().as_vec3a();
+                (Aabb::new(b.min - pad, b.max + pad), (n, n.dot(to_f32(p.polygon.centroid()))))
+            })
+            .unzip();
+        let stats = BuildStats { triangles: tris.len(), nodes: bvh.nodes.len(), time: start.elapsed() };
+        Self {
+            bvh,
+            tris,
+            owner,
+            occluders: polys.into_iter().map(|(_, o)| o).collect(),
+            patch_box,
+            patch_plane,
+            center,
+            scale,
+            near,
+            stats,
+        }
+    }
+
+    /// Build statistics.
+    pub fn stats(&self) -> BuildStats {
+        self.stats
+    }
+    /// Owner of occluder id `id` (ids < patch count are patches).
+    pub fn occluder(&self, id: u32) -> Occluder {
+        self.occluders[id as usize]
+    }
+    /// Number of occluder polygons (patches plus obstruction polygons).
+    pub fn occluder_count(&self) -> usize {
+        self.occluders.len()
+    }
+    /// World point → normalised frame (f64).
+    pub(crate) fn to_frame(&self, x: DVec3) -> DVec3 {
+        (x - self.center) * self.scale
+    }
+    /// World distance → normalised distance.
+    pub(crate) fn scale(&self) -> f64 {
+        self.scale
+    }
+}
+
+/// Centre of the vertices' box and a power-of-two scale mapping its half-diagonal into
+/// [TARGET/2, TARGET); powers of two scale exactly.
+fn normalisation(points: impl Iterator<Item = DVec3>) -> (DVec3, f64) {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    if lo.x.partial_cmp(&hi.x).is_none_or(|o| o.is_gt()) {
+        return (DVec3::ZERO, 1.0);
+    }
+    let half = 0.5 * (hi - lo).length();
+    let scale = if half > 0.0 { ((TARGET_HALF_EXTENT / half).log2().ceil() - 1.0).exp2() } else { 1.0 };
+    (0.5 * (lo + hi), scale)
+}
+
+/// Half-diagonal of the normalised triangles' box (≈ 512–1024; 1 when empty).
+fn scene_half_extent(tris: &[[Vec3A; 3]]) -> f64 {
+    let b = tris.iter().fold(Aabb::empty(), |b, t| b.union(&tri_aabb(t)));
+    if b.valid() {
+        (0.5 * (b.max - b.min).length() as f64).max(1.0)
+    } else {
+        1.0
+    }
+}
+
+pub(crate) fn tri_aabb(t: &[Vec3A; 3]) -> Aabb {
+    Aabb::new(t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn assert_send_sync<T: Send + Sync>() {}
+
+    #[test]
+    fn visibility_is_send_and_sync() {
+        assert_send_sync::<Visibility>();
+    }
+
+    #[test]
+    fn normalisation_is_a_power_of_two_into_the_target_band() {
+        for half in [1e-6, 0.3, 1.0, 7.0, 1e5] {
+            let pts = [DVec3::new(-half, 0.0, 0.0) + 3.0, DVec3::new(half, 0.0, 0.0) + 3.0];
+            let (c, s) = normalisation(pts.into_iter());
+            assert!((c - DVec3::splat(3.0)).length() < 1e-9);
+            assert_eq!(s.log2().fract(), 0.0, "{s}");
+            let h = half * s;
+            assert!((TARGET_HALF_EXTENT / 2.0..TARGET_HALF_EXTENT).contains(&h), "half {half} -> {h}");
+        }
+    }
+}

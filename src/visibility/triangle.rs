@@ -1,0 +1,150 @@
+//! Watertight ray–triangle intersection (Woop, Benthin & Wald 2013, JCGT 2(1)).
+//!
+//! The ray is translated to the origin and sheared so that it runs along +z; the three edge
+//! functions are then 2-D cross products of the projected vertices. An edge shared by two
+//! triangles gives the same function with opposite sign, bit for bit, so a ray through a
+//! shared edge or vertex hits at least one of them: no leaks through a watertight mesh.
+//! Exact zeros are re-evaluated in f64, as the paper prescribes.
+use glam::Vec3A;
+
+/// One ray prepared for many triangle tests: origin, axis permutation and shear.
+#[derive(Debug, Clone, Copy)]
+pub struct ShearedRay {
+    origin: Vec3A,
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+/// A hit: parameter t along the (unit) ray direction and the side that was hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TriHit {
+    /// Ray parameter; may be slightly negative when the origin sits just past the triangle.
+    pub t: f32,
+    /// True when the ray meets the front side (counter-clockwise vertices seen from the origin).
+    pub front: bool,
+}
+
+impl ShearedRay {
+    /// Prepares a ray with a non-zero direction.
+    #[inline]
+    pub fn new(origin: Vec3A, dir: Vec3A) -> Self {
+        let a = dir.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                0
+            } else {
+                2
+            }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        // Swapping keeps the winding of the projected triangle when the ray points down kz.
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        Self { origin, kx, ky, kz, sx: dir[kx] / dir[kz], sy: dir[ky] / dir[kz], sz: 1.0 / dir[kz] }
+    }
+
+    /// Intersects triangle (v0, v1, v2); `None` when the ray's line misses it.
+    #[inline(always)]
+    pub fn intersect(&self, v: &[Vec3A; 3]) -> Option<TriHit> {
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let a = v[0] - self.origin;
+        let b = v[1] - self.origin;
+        let c = v[2] - self.origin;
+        // Shear and scale the vertices into ray space.
+        let ax = a[kx] - self.sx * a[kz];
+        let ay = a[ky] - self.sy * a[kz];
+        let bx = b[kx] - self.sx * b[kz];
+        let by = b[ky] - self.sy * b[kz];
+        let cx = c[kx] - self.sx * c[kz];
+        let cy = c[ky] - self.sy * c[kz];
+        // Scaled barycentric edge functions.
+        let mut u = cx * by - cy * bx;
+        let mut w_ = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        if u == 0.0 || w_ == 0.0 || w == 0.0 {
+            // Fall back to f64 on exact zeros (edge or vertex hits).
+            let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
+            u = (cx * by - cy * bx) as f32;
+            w_ = (ax * cy - ay * cx) as f32;
+            w = (bx * ay - by * ax) as f32;
+        }
+        if (u < 0.0 || w_ < 0.0 || w < 0.0) && (u > 0.0 || w_ > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + w_ + w;
+        if det == 0.0 {
+            return None;
+        }
+        // Scaled hit distance, then divide once.
+        let t = (u * (self.sz * a[kz]) + w_ * (self.sz * b[kz]) + w * (self.sz * c[kz])) / det;
+        // With this shear, counter-clockwise triangles seen from the origin give det > 0.
+        Some(TriHit { t, front: det > 0.0 })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::vec3a;
+
+    const TRI: [Vec3A; 3] = [Vec3A::new(0.0, 0.0, 0.0), Vec3A::new(1.0, 0.0, 0.0), Vec3A::new(0.0, 1.0, 0.0)];
+
+    #[test]
+    fn front_and_back_hits_have_the_right_side_and_distance() {
+        // Normal +z: a ray from above going down meets the front side.
+        let down = ShearedRay::new(vec3a(0.2, 0.2, 2.0), vec3a(0.0, 0.0, -1.0)).intersect(&TRI).unwrap();
+        assert!(down.front && (down.t - 2.0).abs() < 1e-6, "{down:?}");
+        let up = ShearedRay::new(vec3a(0.2, 0.2, -3.0), vec3a(0.0, 0.0, 1.0)).intersect(&TRI).unwrap();
+        assert!(!up.front && (up.t - 3.0).abs() < 1e-6, "{up:?}");
+        // Oblique, every dominant axis and sign.
+        for d in
+            [vec3a(0.3, -0.2, -1.0), vec3a(-2.0, 0.1, -1.0), vec3a(0.1, 3.0, -1.0), vec3a(-0.5, -4.0, -1.0)]
+        {
+            let d = d.normalize();
+            let target = vec3a(0.25, 0.25, 0.0);
+            let o = target - d * 1.5;
+            let h = ShearedRay::new(o, d).intersect(&TRI).unwrap();
+            assert!(h.front && (h.t - 1.5).abs() < 1e-5, "{d}: {h:?}");
+            let h = ShearedRay::new(target + d * 1.5, -d).intersect(&TRI).unwrap();
+            assert!(!h.front && (h.t - 1.5).abs() < 1e-5, "{d}: {h:?}");
+        }
+        assert!(ShearedRay::new(vec3a(0.8, 0.8, 1.0), vec3a(0.0, 0.0, -1.0)).intersect(&TRI).is_none());
+    }
+
+    #[test]
+    fn shared_edges_and_vertices_never_leak() {
+        // A fan of 8 triangles around the origin; rays straight through its edges and centre.
+        let fan: Vec<[Vec3A; 3]> = (0..8)
+            .map(|k| {
+                let a0 = k as f32 * std::f32::consts::FRAC_PI_4;
+                let a1 = (k + 1) as f32 * std::f32::consts::FRAC_PI_4;
+                [Vec3A::ZERO, vec3a(a0.cos(), a0.sin(), 0.0), vec3a(a1.cos(), a1.sin(), 0.0)]
+            })
+            .collect();
+        let mut targets = vec![Vec3A::ZERO];
+        for k in 0..8 {
+            let a = k as f32 * std::f32::consts::FRAC_PI_4;
+            for r in [0.1f32, 0.37, 0.9] {
+                targets.push(vec3a(r * a.cos(), r * a.sin(), 0.0));
+            }
+        }
+        for t in targets {
+            for d in [vec3a(0.0, 0.0, -1.0), vec3a(0.3, 0.7, -1.0), vec3a(-0.9, 0.2, -0.3)] {
+                let d = d.normalize();
+                let ray = ShearedRay::new(t - d * 2.0, d);
+                let hits = fan.iter().filter(|tri| ray.intersect(tri).is_some()).count();
+                assert!(hits >= 1, "ray towards {t} along {d} leaked through the fan");
+            }
+        }
+    }
+}
