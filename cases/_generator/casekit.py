@@ -127,6 +127,8 @@ class Case:
         self.vf_file = None
         self.defaults = None
         self.keep_scene = False
+        self.quick = True
+        self.known = {}
 
     def surface(self, name):
         return next(s for s in self.surfaces if s.name == name)
@@ -216,6 +218,10 @@ class Case:
                     f.write(f"{a},{b},{x!r}\n")
         if self.note:
             r.insert(1, "".join(f"# {line}\n" for line in self.note.strip().splitlines()))
+        if not self.quick:
+            r.append("quick = false\n")
+        if self.known:
+            r.append("\n[known_issue]\n" + "".join(f"{fmt(k)} = {fmt(v)}\n" for k, v in self.known.items()))
         if self.skips:
             r.append("\n[skip]\n" + "".join(f"{fmt(k)} = {fmt(v)}\n" for k, v in self.skips.items()))
         if self.overrides:

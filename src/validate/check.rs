@@ -11,8 +11,10 @@ pub enum Status {
     Fail(String),
     /// The method refused the case (`Unsupported`): reported, never counted as a pass.
     NotApplicable(String),
-    /// Deliberately not run (`[skip]` in reference.toml), with the reason.
+    /// Deliberately not run (`[skip]` in reference.toml, or not in `--quick`), with the reason.
     Skipped(String),
+    /// Out of tolerance with a known, reported defect (`[known_issue]`): listed, not counted.
+    Known(String),
 }
 
 impl Status {
@@ -23,13 +25,14 @@ impl Status {
             Status::Fail(_) => "FAIL",
             Status::NotApplicable(_) => "n/a",
             Status::Skipped(_) => "skip",
+            Status::Known(_) => "known",
         }
     }
     /// The reason attached to a non-pass status.
     pub fn reason(&self) -> Option<&str> {
         match self {
             Status::Pass => None,
-            Status::Fail(r) | Status::NotApplicable(r) | Status::Skipped(r) => Some(r),
+            Status::Fail(r) | Status::NotApplicable(r) | Status::Skipped(r) | Status::Known(r) => Some(r),
         }
     }
 }
@@ -92,6 +95,13 @@ impl Check {
             time: Some(time),
             status,
         }
+    }
+    /// Marks a failure as a known issue.
+    pub fn with_known_issue(mut self, why: &str) -> Check {
+        if let Status::Fail(r) = self.status {
+            self.status = Status::Known(format!("{r}; known issue: {why}"));
+        }
+        self
     }
     /// A row without a value (failure, n/a or skip).
     pub fn without_value(case: &str, quantity: &str, method: &str, status: Status) -> Check {

@@ -40,6 +40,8 @@ pub struct MethodSummary {
     pub not_applicable: usize,
     /// Rows deliberately skipped.
     pub skipped: usize,
+    /// Failures with a known, reported defect.
+    pub known: usize,
     /// Relative errors of the compared checks.
     pub rel_errors: Vec<f64>,
     /// Summed wall time over cases (each case counted once).
@@ -74,6 +76,7 @@ pub fn summarize(checks: &[Check]) -> Vec<(String, MethodSummary)> {
             Status::Fail(_) => s.fail += 1,
             Status::NotApplicable(_) => s.not_applicable += 1,
             Status::Skipped(_) => s.skipped += 1,
+            Status::Known(_) => s.known += 1,
         }
         if let Some(e) = c.relative_error() {
             s.rel_errors.push(e);
@@ -91,14 +94,15 @@ pub fn summarize(checks: &[Check]) -> Vec<(String, MethodSummary)> {
 /// The summary table (markdown), also used in README.
 pub fn summary_table(checks: &[Check]) -> String {
     let mut s = String::new();
-    s.push_str("| method | pass | fail | n/a | skipped | median rel. error | max rel. error | time [s] |\n");
-    s.push_str("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+    s.push_str("| method | pass | fail | known issue | n/a | skipped | median rel. error | max rel. error | time [s] |\n");
+    s.push_str("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (m, x) in summarize(checks) {
         let _ = writeln!(
             s,
-            "| {m} | {} | {} | {} | {} | {} | {} | {:.2} |",
+            "| {m} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
             x.pass,
             x.fail,
+            x.known,
             x.not_applicable,
             x.skipped,
             sci(x.median_error()),
@@ -126,7 +130,7 @@ pub fn markdown(suite: &Suite) -> String {
         failed
     );
     let _ = writeln!(s, "Budget: {}.\n", suite.budget_note);
-    s.push_str("Tolerances come from each method's error model (`src/validate/tolerance.rs`): analytic 1e-9 relative; `auto` its accuracy goal; Monte Carlo 4 reported standard errors; hemicube and single plane the point-sampling bias of the case plus 2·√F/R, and for the single plane the missed grazing fraction. `n/a` means the method refused the case (never a pass); `skip` means the case excludes it, with the reason.\n\n");
+    s.push_str("Tolerances come from each method's error model (`src/validate/tolerance.rs`): analytic 1e-9 relative; `auto` its accuracy goal; Monte Carlo 4 reported standard errors; hemicube and single plane the point-sampling bias of the case plus 2·√F/R, and for the single plane the missed grazing fraction. `n/a` means the method refused the case (never a pass); `skip` means the case excludes it, with the reason; `known` is a failure with a known, reported defect, listed but not counted (it turns into a failure once it passes, so the marker gets removed).\n\n");
     s.push_str("## Summary\n\n");
     s.push_str(&summary_table(&suite.checks));
     s.push_str("\n## Cases\n\n| case | title | citation |\n|---|---|---|\n");

@@ -44,21 +44,31 @@ pub struct Budget {
     pub auto_tolerance: f64,
     /// Random seed.
     pub seed: u64,
+    /// The `--quick` subset: cases marked `quick = false` are skipped.
+    pub quick: bool,
 }
 
 impl Budget {
     /// The CI subset: a few hundred thousand rays per case, R = 128.
     pub fn quick() -> Budget {
-        Budget { rays_per_case: 400_000, min_samples: 2_000, resolution: 128, auto_tolerance: 1e-4, seed: 1 }
+        Budget {
+            rays_per_case: 400_000,
+            min_samples: 2_000,
+            resolution: 128,
+            auto_tolerance: 1e-4,
+            seed: 1,
+            quick: true,
+        }
     }
-    /// The full suite: 2·10⁷ rays per case, R = 512.
+    /// The full suite: 4·10⁶ rays per case (at least 10⁴ per patch), R = 512.
     pub fn full() -> Budget {
         Budget {
-            rays_per_case: 20_000_000,
-            min_samples: 20_000,
+            rays_per_case: 4_000_000,
+            min_samples: 10_000,
             resolution: 512,
             auto_tolerance: 1e-6,
             seed: 1,
+            quick: false,
         }
     }
     /// Parameters for `method` on a scene of `patches` patches.
