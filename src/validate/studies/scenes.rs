@@ -141,8 +141,8 @@ pub fn room(nr: usize, nb: usize) -> Scene {
 /// onto the floor's).
 pub fn room_error(vf: &ViewFactors) -> f64 {
     let mut worst: f64 = 0.0;
-    for i in 0..6 {
-        let ni = DVec3::from(ROOM_FACES[i].1);
+    for (i, (_, n)) in ROOM_FACES.iter().enumerate().take(6) {
+        let ni = DVec3::from(*n);
         for (j, (_, nj)) in ROOM_FACES.iter().enumerate() {
             let d = ni.dot(DVec3::from(*nj));
             let exact = match (j < 6, d.round() as i32) {

@@ -13,6 +13,9 @@ use std::path::Path;
 /// A run longer than this stops the sweep of that method (larger knobs only cost more).
 const TIME_CAP_S: f64 = 60.0;
 
+/// A study scene: file stem, title, scene, error measure.
+type Study = (&'static str, String, Scene, Box<dyn Fn(&ViewFactors) -> f64>);
+
 /// Knob values per method family.
 struct Knobs {
     samples: Vec<usize>,
@@ -77,7 +80,7 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
     };
     let (cube_n, room_n) = if quick { (4, None) } else { (8, Some((12, 6))) };
     let blocked = |vf: &ViewFactors| (vf.get(0, 1) - scenes::BLOCKED_SQUARES).abs();
-    let mut studies: Vec<(&str, String, Scene, Box<dyn Fn(&ViewFactors) -> f64>)> = vec![
+    let mut studies: Vec<Study> = vec![
         (
             "cube",
             format!("unit cube interior, {cube_n}×{cube_n} patches per face"),
