@@ -49,11 +49,11 @@ pub struct Budget {
 }
 
 impl Budget {
-    /// The CI subset: a few hundred thousand rays per case, R = 128.
+    /// The CI subset: 10⁵ rays per case (at least 500 per patch), R = 128.
     pub fn quick() -> Budget {
         Budget {
-            rays_per_case: 400_000,
-            min_samples: 2_000,
+            rays_per_case: 100_000,
+            min_samples: 500,
             resolution: 128,
             auto_tolerance: 1e-4,
             seed: 1,
