@@ -48,6 +48,9 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let scene = scene::load(&cfg.scene)?;
+    for w in &scene.warnings {
+        eprintln!("lambert: warning: {w}");
+    }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let vf = viewfactor::compute(&scene, &cfg.params, level)?;
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;

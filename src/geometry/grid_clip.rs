@@ -5,16 +5,13 @@
 //!   piece per cell);
 //! - non-convex polygons: the polygon is triangulated first, every triangle is clipped per cell,
 //!   and the pieces of one cell are glued back along their shared edges. Intersection points
-//!   are computed from canonically ordered endpoints, so the two sides of a shared edge agree
-//!   bit for bit and gluing is exact. A cell may hold several disjoint pieces; each becomes a
+//!   are computed from canonically ordered endpoints, and points within a few ulps of a grid
+//!   line are put on it, so the two sides of a shared edge agree bit for bit and gluing is
+//!   exact. A cell may hold several disjoint pieces; each becomes a
 //!   patch. If a glued ring fails validation, its convex pieces are kept instead.
+use super::glue::{area2, glue_all, P};
 use super::{Polygon, PolygonError};
 use glam::DVec3;
-
-type P = [f64; 2];
-
-/// The simple rings of one glued group, and the convex pieces it was glued from.
-type Group = (Vec<Vec<P>>, Vec<Vec<P>>);
 
 /// A local frame in a polygon's plane: origin, first-edge axis e1, e2 = n × e1.
 #[derive(Debug, Clone, Copy)]
@@ -65,9 +62,24 @@ fn line(lo: f64, hi: f64, k: usize, n: usize) -> f64 {
     }
 }
 
+/// Snapping distance to a grid line, relative to the polygon's extent: a few ulps, so points
+/// that round-off puts beside a line (a diagonal through a cell corner) land on it exactly,
+/// while the area moves by far less than 1e-12.
+const SNAP_TOL: f64 = 1e-14;
+
 /// Keeps the part of `ring` with sign·(p[axis] − c) ≥ 0 (Sutherland–Hodgman, canonical
-/// intersections; points on the line get p[axis] = c exactly).
-fn clip(ring: &[P], axis: usize, c: f64, sign: f64) -> Vec<P> {
+/// intersections; points within `snap` of the line are put on it, p[axis] = c exactly).
+fn clip(ring: &[P], axis: usize, c: f64, sign: f64, snap: f64) -> Vec<P> {
+    let ring: Vec<P> = ring
+        .iter()
+        .map(|&p| {
+            let mut q = p;
+            if (q[axis] - c).abs() <= snap {
+                q[axis] = c;
+            }
+            q
+        })
+        .collect();
     let n = ring.len();
     let d: Vec<f64> = ring.iter().map(|p| sign * (p[axis] - c)).collect();
     let mut out = Vec::with_capacity(n + 2);
@@ -96,20 +108,11 @@ fn clip(ring: &[P], axis: usize, c: f64, sign: f64) -> Vec<P> {
     out
 }
 
-/// Twice the signed area of a 2-D ring.
-fn area2(r: &[P]) -> f64 {
-    (0..r.len())
-        .map(|k| {
-            let (a, b) = (r[k], r[(k + 1) % r.len()]);
-            a[0] * b[1] - a[1] * b[0]
-        })
-        .sum()
-}
-
 /// Splits the polygon into grid cells (see the module docs); cells run row by row along e1.
 pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>, PolygonError> {
     let frame = PlaneFrame::of(poly);
     let (lo, hi) = frame.bounds(poly);
+    let snap = SNAP_TOL * (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let xs: Vec<f64> = (0..=nu).map(|i| line(lo[0], hi[0], i, nu)).collect();
     let ys: Vec<f64> = (0..=nv).map(|j| line(lo[1], hi[1], j, nv)).collect();
     let sources: Vec<Vec<P>> = if poly.is_convex() {
@@ -122,14 +125,14 @@ pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>
         let (smin, smax) =
             src.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[0]), a.1.max(p[0])));
         for i in span(&xs, smin, smax) {
-            let col = clip(&clip(src, 0, xs[i], 1.0), 0, xs[i + 1], -1.0);
+            let col = clip(&clip(src, 0, xs[i], 1.0, snap), 0, xs[i + 1], -1.0, snap);
             if col.is_empty() {
                 continue;
             }
             let (tmin, tmax) =
                 col.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[1]), a.1.max(p[1])));
             for j in span(&ys, tmin, tmax) {
-                let piece = clip(&clip(&col, 1, ys[j], 1.0), 1, ys[j + 1], -1.0);
+                let piece = clip(&clip(&col, 1, ys[j], 1.0, snap), 1, ys[j + 1], -1.0, snap);
                 if !piece.is_empty() && area2(&piece) > 0.0 {
                     cells[j * nu + i].push(piece);
                 }
@@ -139,10 +142,12 @@ pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>
     let mut out = Vec::new();
     for pieces in cells {
         for (rings, parts) in glue_all(pieces) {
-            match rings.iter().map(|r| to_polygon(&frame, r)).collect::<Result<Vec<_>, _>>() {
-                Ok(polys) => out.extend(polys.into_iter().flatten()),
-                // A glued ring that is not simple after all: keep its convex parts instead.
-                Err(_) => {
+            let glued =
+                rings.map(|rs| rs.iter().map(|r| to_polygon(&frame, r)).collect::<Result<Vec<_>, _>>());
+            match glued {
+                Some(Ok(polys)) => out.extend(polys.into_iter().flatten()),
+                // Tracing failed or a glued ring is not simple: keep the convex parts instead.
+                _ => {
                     for part in &parts {
                         out.extend(to_polygon(&frame, part)?);
                     }
@@ -168,106 +173,6 @@ fn to_polygon(frame: &PlaneFrame, ring: &[P]) -> Result<Option<Polygon>, Polygon
         Err(PolygonError::Degenerate | PolygonError::TooFewVertices(_)) => Ok(None),
         Err(e) => Err(e),
     }
-}
-
-/// Glues the pieces of one cell along exactly shared edges; returns the simple rings of each
-/// glued group with the pieces the group came from.
-fn glue_all(pieces: Vec<Vec<P>>) -> Vec<Group> {
-    let mut groups: Vec<(Vec<P>, Vec<Vec<P>>)> = pieces.into_iter().map(|p| (p.clone(), vec![p])).collect();
-    'again: loop {
-        for a in 0..groups.len() {
-            for b in a + 1..groups.len() {
-                if let Some(r) = glue(&groups[a].0, &groups[b].0) {
-                    let (_, parts) = groups.swap_remove(b);
-                    groups[a].0 = clean(r, false);
-                    groups[a].1.extend(parts);
-                    continue 'again;
-                }
-            }
-        }
-        break;
-    }
-    groups
-        .into_iter()
-        .map(|(ring, parts)| {
-            let rings = split_pinches(clean(ring, true)).into_iter().filter(|r| r.len() >= 3).collect();
-            (rings, parts)
-        })
-        .collect()
-}
-
-/// Union of two rings sharing edge u→v (in `a`) / v→u (in `b`).
-fn glue(a: &[P], b: &[P]) -> Option<Vec<P>> {
-    let (na, nb) = (a.len(), b.len());
-    for i in 0..na {
-        let (u, v) = (a[i], a[(i + 1) % na]);
-        for j in 0..nb {
-            if b[j] == v && b[(j + 1) % nb] == u {
-                let mut r: Vec<P> = (0..na).map(|k| a[(i + 1 + k) % na]).collect();
-                r.extend((2..nb).map(|k| b[(j + k) % nb]));
-                return Some(r);
-            }
-        }
-    }
-    None
-}
-
-/// Removes duplicates and spikes (x, y, x), and with `straight` also points strictly inside an
-/// axis-parallel straight run (left where glued edges met a cell line), until nothing changes.
-fn clean(mut r: Vec<P>, straight: bool) -> Vec<P> {
-    loop {
-        let n = r.len();
-        if n < 3 {
-            return r;
-        }
-        let mut removed = false;
-        for k in 0..n {
-            let (a, b, c) = (r[(k + n - 1) % n], r[k], r[(k + 1) % n]);
-            if a == b {
-                r.remove(k);
-                removed = true;
-                break;
-            }
-            if a == c {
-                // Spike a → b → a: drop b and the repeated a.
-                let (hi, lo) = (k.max((k + 1) % n), k.min((k + 1) % n));
-                r.remove(hi);
-                r.remove(lo);
-                removed = true;
-                break;
-            }
-            let between = |ax: usize| {
-                a[ax] == b[ax] && b[ax] == c[ax] && {
-                    let o = 1 - ax;
-                    (a[o] < b[o] && b[o] < c[o]) || (a[o] > b[o] && b[o] > c[o])
-                }
-            };
-            if straight && (between(0) || between(1)) {
-                r.remove(k);
-                removed = true;
-                break;
-            }
-        }
-        if !removed {
-            return r;
-        }
-    }
-}
-
-/// Splits a ring that visits the same point twice into simple sub-rings.
-fn split_pinches(r: Vec<P>) -> Vec<Vec<P>> {
-    for p in 0..r.len() {
-        for q in p + 1..r.len() {
-            if r[p] == r[q] {
-                let first: Vec<P> = r[p..q].to_vec();
-                let second: Vec<P> = r[q..].iter().chain(&r[..p]).copied().collect();
-                let mut out = split_pinches(clean(first, true));
-                out.extend(split_pinches(clean(second, true)));
-                return out;
-            }
-        }
-    }
-    vec![r]
 }
 
 #[cfg(test)]
@@ -314,6 +219,16 @@ mod tests {
         assert_eq!(check(&u, 1, 1).len(), 1);
         let cells = check(&u, 1, 3);
         assert_eq!(cells.len(), 5, "bottom band, then the two prongs in each upper band: {cells:?}");
+    }
+
+    #[test]
+    fn pinched_cell_gives_two_simple_patches() {
+        // A notch from the top edge down to (1, 1): the upper cell's part of the polygon is two
+        // regions that touch only at the notch tip.
+        let notch = poly(&[(0., 0.), (2., 0.), (2., 2.), (1.2, 2.), (1., 1.), (0.8, 2.), (0., 2.)]);
+        let cells = check(&notch, 1, 2);
+        assert_eq!(cells.len(), 3, "{cells:?}");
+        assert!((cells[0].area() - 2.0).abs() < 1e-15);
     }
 
     #[test]

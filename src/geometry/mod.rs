@@ -4,9 +4,10 @@
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
 //! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
-//! - [`grid_clip`]: grid cells of any simple polygon, clipped and glued.
+//! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
+mod glue;
 pub mod grid_clip;
 pub mod polygon;
 pub mod quadrature;

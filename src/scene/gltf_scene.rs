@@ -108,7 +108,7 @@ fn parse(path: &Path, bytes: Vec<u8>) -> Result<Model, InputError> {
         let (triangles, dropped) = mesh_triangles(&mesh, world, &buffers).map_err(at)?;
         if triangles.is_empty() {
             return Err(at(format!(
-                "the mesh has no usable triangles ({dropped} degenerate ones dropped); a surface needs area"
+                "the mesh has no usable triangles ({dropped} degenerate triangle(s) dropped); a surface needs area"
             )));
         }
         let extras = extras_layer(node, path).map_err(|p| at(format!("node extras: {p}")))?;

@@ -23,6 +23,10 @@ pub const SIZE_SLACK: f64 = 1e-12;
 /// Relative area a polygon's grid cells may lose to dropped slivers; SPEC asks for 1e-12.
 pub const AREA_CONSERVATION_TOL: f64 = 1e-12;
 
+/// Most validation work (Σ vertices² over the patches) a disk split may take, about 0.5 s:
+/// ring patches of a many-segment disk cut into few sectors have thousands of vertices.
+pub const MAX_DISK_WORK: f64 = 1e8;
+
 /// How to split one surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Split {
@@ -124,6 +128,16 @@ pub fn disk(d: &Disk, split: Split) -> Result<Vec<Polygon>, String> {
                 ));
             }
             check_count(rings, sectors)?;
+            // Boundary points lcm(segments, sectors); each patch has about 2·(points/sectors + 1).
+            let lcm = d.segments as f64 * (sectors / gcd(d.segments, sectors)) as f64;
+            let each = 2.0 * (lcm / sectors as f64 + 1.0);
+            if rings as f64 * sectors as f64 * each * each > MAX_DISK_WORK {
+                return Err(format!(
+                    "splitting this {}-segment disk into {rings}×{sectors} would make patches of {each:.0} vertices \
+                     each; use fewer segments, or a sector count that divides them",
+                    d.segments
+                ));
+            }
             disk_patches(d.center, d.normal, d.radius, d.segments, rings, sectors)
                 .map_err(|e| super::validate::polygon_problem(&e))
         }
@@ -132,6 +146,14 @@ pub fn disk(d: &Disk, split: Split) -> Result<Vec<Polygon>, String> {
                 .map_err(|e| super::validate::polygon_problem(&e))?;
             polygon(&whole, split)
         }
+    }
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
     }
 }
 

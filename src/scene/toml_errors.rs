@@ -9,17 +9,20 @@ pub fn line_of(text: &str, offset: usize) -> usize {
     text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
-/// Which `[[surface]]` holds byte `offset`: its name, or its 1-based position when unnamed.
+/// Which section holds byte `offset`.
 pub enum SurfaceAt {
     /// A named surface.
     Named(String),
     /// The k-th `[[surface]]`, without a usable name.
     Unnamed(usize),
+    /// Another top-level table, e.g. `[ambient]` or `[[model]] number 2`.
+    Section(String),
 }
 
-/// The `[[surface]]` entry whose section holds `offset`, if any (needs syntactically valid TOML).
+/// The `[[surface]]` entry whose section holds `offset`, if any. Recovers from syntax errors
+/// elsewhere in the file (duplicate keys, say) as far as the TOML parser can.
 pub fn surface_at(text: &str, offset: usize) -> Option<SurfaceAt> {
-    let table = toml::de::DeTable::parse(text).ok()?;
+    let (table, _) = toml::de::DeTable::parse_recoverable(text);
     // Every top-level section start; array-of-tables entries start at their header.
     let mut best: Option<(usize, Option<SurfaceAt>)> = None;
     let mut consider = |start: usize, what: Option<SurfaceAt>| {
@@ -28,27 +31,33 @@ pub fn surface_at(text: &str, offset: usize) -> Option<SurfaceAt> {
         }
     };
     for (key, value) in table.get_ref().iter() {
-        if key.get_ref() == "surface" {
-            if let Some(entries) = value.get_ref().as_array() {
+        let name = key.get_ref();
+        let start = key.span().start.min(value.span().start);
+        match value.get_ref().as_array() {
+            Some(entries) if entries.iter().all(|e| e.get_ref().is_table()) => {
                 for (k, e) in entries.iter().enumerate() {
-                    let name = e
-                        .get_ref()
-                        .as_table()
-                        .and_then(|t| t.iter().find(|(k, _)| k.get_ref() == "name"))
-                        .and_then(|(_, v)| v.get_ref().as_str().map(str::to_string))
-                        .filter(|n| !n.trim().is_empty());
-                    let what = match name {
-                        Some(n) => SurfaceAt::Named(n),
-                        None => SurfaceAt::Unnamed(k + 1),
+                    let what = match name.as_ref() {
+                        "surface" => describe(e.get_ref(), k),
+                        _ => SurfaceAt::Section(format!("[[{name}]] number {}", k + 1)),
                     };
                     consider(e.span().start, Some(what));
                 }
-                continue;
             }
+            _ if value.get_ref().is_table() => consider(start, Some(SurfaceAt::Section(format!("[{name}]")))),
+            _ => consider(start, None),
         }
-        consider(key.span().start.min(value.span().start), None);
     }
     best.and_then(|b| b.1)
+}
+
+/// A `[[surface]]` entry by name, or by position when it has no usable name.
+fn describe(entry: &toml::de::DeValue<'_>, k: usize) -> SurfaceAt {
+    entry
+        .as_table()
+        .and_then(|t| t.iter().find(|(key, _)| key.get_ref() == "name"))
+        .and_then(|(_, v)| v.get_ref().as_str().map(str::to_string))
+        .filter(|n| !n.trim().is_empty())
+        .map_or(SurfaceAt::Unnamed(k + 1), SurfaceAt::Named)
 }
 
 /// serde's wording, made plainer.
@@ -70,6 +79,7 @@ pub fn from_toml(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
             Some(SurfaceAt::Unnamed(k)) => {
                 err.problem = format!("in [[surface]] number {k}: {}", err.problem)
             }
+            Some(SurfaceAt::Section(s)) => err.problem = format!("in {s}: {}", err.problem),
             None => {}
         }
     }
@@ -86,7 +96,9 @@ mod tests {
             "title = \"x\"\n[[surface]]\nname = \"a\"\nfoo = 1\n[[surface]]\nbar = 2\n[ambient]\nt = 1\n";
         assert!(matches!(surface_at(text, text.find("foo").unwrap()), Some(SurfaceAt::Named(n)) if n == "a"));
         assert!(matches!(surface_at(text, text.find("bar").unwrap()), Some(SurfaceAt::Unnamed(2))));
-        assert!(surface_at(text, text.find("t = 1").unwrap()).is_none());
+        assert!(
+            matches!(surface_at(text, text.find("t = 1").unwrap()), Some(SurfaceAt::Section(s)) if s == "[ambient]")
+        );
         assert!(surface_at(text, 0).is_none());
         assert_eq!(line_of(text, text.find("bar").unwrap()), 6);
     }

@@ -28,7 +28,12 @@ pub fn read_text(path: &Path) -> Result<String, InputError> {
 
 /// Loads and validates a TOML scene.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = read_text(path)?;
+    from_str(path, &read_text(path)?)
+}
+
+/// Validates TOML scene `text` as if read from `path` (model files resolve beside `path`).
+pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
+    let text = text.to_string();
     let raw: RawScene = toml::from_str(&text).map_err(|e| from_toml(path, &text, &e))?;
     let at = |offset: usize| line_of(&text, offset);
     let err = |surface: Option<&str>, offset: usize, problem: String| {
@@ -199,6 +204,13 @@ fn surface(path: &Path, text: &str, k: usize, s: &Spanned<RawSurface>) -> Result
 }
 
 fn polygon(pts: &[[f64; 3]]) -> Result<ShapeSpec, String> {
+    if pts.len() > v::MAX_POLYGON_VERTICES {
+        return Err(format!(
+            "the polygon has {} vertices, more than the limit of {}; bring large outlines in as a glTF mesh",
+            pts.len(),
+            v::MAX_POLYGON_VERTICES
+        ));
+    }
     let vs = pts
         .iter()
         .enumerate()

@@ -17,8 +17,13 @@ pub const MAX_SUBDIVISION: i64 = 10_000;
 /// this; it catches typos such as a `max_patch_size` in millimetres.
 pub const MAX_PATCHES_PER_SURFACE: usize = 1 << 18;
 
-/// Most polygon segments for a disk.
-pub const MAX_SEGMENTS: i64 = 1 << 16;
+/// Most polygon segments for a disk: the equal-area 4096-gon is already within 1e-6 of the
+/// circle everywhere, and validation stays O(n²)-cheap.
+pub const MAX_SEGMENTS: i64 = 4096;
+
+/// Most vertices of a TOML polygon: beyond hand-written outlines (use a glTF mesh), and it
+/// bounds the O(n²) simplicity check and ear clipping.
+pub const MAX_POLYGON_VERTICES: usize = 1024;
 
 /// Default number of segments of a disk's regular polygon (SPEC.md: `segments = 64`); its
 /// circumradius is chosen so the polygon has the disk's area.

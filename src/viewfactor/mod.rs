@@ -13,7 +13,9 @@ use std::str::FromStr;
 pub mod analytic;
 pub mod closed_form;
 pub mod engine;
+pub mod hemicube;
 pub mod monte_carlo;
+pub mod single_plane;
 pub mod sink;
 
 pub use sink::{Entry, Level, ViewFactors};
@@ -169,14 +171,20 @@ impl Default for Params {
 }
 
 /// Computes the view factors of `scene` at the requested level with the chosen method.
-#[allow(unused_variables, unreachable_code)]
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
         Method::McArea | Method::McUniform | Method::McCosine => {
             return monte_carlo::compute(scene, params, level)
         }
+        Method::Hemicube => {
+            Box::new(hemicube::HemicubeKernel::new(scene, params.resolution, hemicube::Positions::Adaptive)?)
+        }
+        Method::SinglePlane => Box::new(single_plane::SinglePlaneKernel::new(
+            scene,
+            params.resolution,
+            single_plane::SinglePlaneOptions::default(),
+        )?),
         m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
     };
-    #[allow(unreachable_code)]
     engine::run(scene, kernel.as_ref(), params, level)
 }

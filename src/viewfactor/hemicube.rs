@@ -1,0 +1,210 @@
+//! The hemicube method (Cohen & Greenberg 1985): per patch, the scene is projected onto the
+//! five faces of a unit half-cube over the patch (the top face z = 1 and four half side
+//! faces) with an item buffer of patch ids, and each patch collects the precomputed delta
+//! form factors of the pixels it wins.
+//!
+//! - [`prepare`](self::prepare): the flattened scene and the per-eye gather (receiver /
+//!   blocker rules: front faces receive; back faces and obstructions only block);
+//! - [`clip`](self::clip): homogeneous clipping to each face's pyramid before the divide;
+//! - [`raster`](self::raster): scanline item buffer, point sampled at pixel centres;
+//! - [`delta`](self::delta): the delta form factor tables, one per resolution;
+//! - [`positions`](self::positions): one or several projection positions per patch.
+//!
+//! Error behaviour (literature.md §4, measured in tests/hemicube.rs): the delta factors are
+//! a midpoint rule, O(h²) for a receiver whose projection edges align with pixels; edges
+//! crossing pixels cost O(h) (an edge on the hemicube horizon worst of all); receivers that
+//! project to a few pixels alias (a 0.05×0.05 target at unit distance: −100 % at R = 32,
+//! +56 % at 64); a single centroid projection has the proximity error, which
+//! [`Positions`] trades against cost. The row is not symmetric: row i is patch i's view.
+//!
+//! Resolution: R pixels along the top face (R/2 rows on each side face); an odd R is rounded
+//! up to the next even number, and R is capped at [`MAX_RESOLUTION`].
+use super::engine::{RawEntry, Row, RowKernel};
+use super::MethodSet;
+use crate::scene::Scene;
+use crate::{Error, Result};
+use glam::{DVec2, DVec3, DVec4};
+use std::sync::Mutex;
+
+pub(crate) mod clip;
+pub(crate) mod delta;
+pub(crate) mod positions;
+pub(crate) mod prepare;
+pub(crate) mod raster;
+
+pub use positions::Positions;
+use prepare::{Eye, Gathered, Prepared, NO_RECEIVER};
+use raster::{DepthPlane, ItemBuffer};
+
+/// Largest accepted resolution: one face buffer is 8R² bytes per thread (134 MB at 4096).
+pub const MAX_RESOLUTION: usize = 4096;
+
+/// Near plane w ≥ ε as a fraction of the scene size: only guards the perspective divide (the
+/// side planes of each face pyramid pass through the eye, so nothing else is cut).
+pub(crate) const NEAR_REL: f64 = 1e-9;
+
+/// Receivers' inverse depth is scaled by 1 + this, so a front face beats a coincident
+/// blocker (a plate modelled as two back-to-back surfaces) despite round-off; it exceeds the
+/// f32 depth precision (6e-8) and is far below any real depth gap.
+pub(crate) const RECEIVER_DEPTH_BIAS: f64 = 1e-6;
+
+/// Validates and evens a requested resolution.
+pub(crate) fn checked_resolution(method: &str, r: usize) -> Result<usize> {
+    if !(2..=MAX_RESOLUTION).contains(&r) {
+        return Err(Error::Usage(format!(
+            "{method} resolution must be between 2 and {MAX_RESOLUTION}, got {r}"
+        )));
+    }
+    Ok(r + r % 2)
+}
+
+/// One hemicube face: local axes (u, v, w), its clipping pyramid and its pixel grid.
+struct Face {
+    eu: DVec3,
+    ev: DVec3,
+    ew: DVec3,
+    /// Lowest v of the window (−1 on top, 0 on the sides).
+    v0: f64,
+    rows: usize,
+    planes: [DVec4; 5],
+    top: bool,
+}
+
+impl Face {
+    fn new(eu: DVec3, ev: DVec3, ew: DVec3, top: bool, r: usize, near: f64) -> Self {
+        let h = |a: DVec3, d: f64| DVec4::new(a.x, a.y, a.z, d);
+        let bottom = if top { h(ew + ev, 0.0) } else { h(ev, 0.0) };
+        let planes = [h(ew - eu, 0.0), h(ew + eu, 0.0), h(ew - ev, 0.0), bottom, h(ew, -near)];
+        Self { eu, ev, ew, v0: if top { -1.0 } else { 0.0 }, rows: if top { r } else { r / 2 }, planes, top }
+    }
+}
+
+/// Per-thread scratch, reused across rows.
+#[derive(Default)]
+struct Workspace {
+    gathered: Gathered,
+    buffer: ItemBuffer,
+    clipped: Vec<DVec3>,
+    tmp: Vec<DVec3>,
+    pts: Vec<DVec2>,
+    acc: Vec<f64>,
+    touched: Vec<u32>,
+}
+
+/// The hemicube as a (non-symmetric) row kernel.
+pub struct HemicubeKernel<'a> {
+    scene: &'a Scene,
+    prep: Prepared,
+    deltas: delta::DeltaTables,
+    positions: Positions,
+    faces: [Face; 5],
+    pool: Mutex<Vec<Workspace>>,
+}
+
+impl<'a> HemicubeKernel<'a> {
+    /// A kernel at `resolution` pixels along the top face.
+    pub fn new(scene: &'a Scene, resolution: usize, positions: Positions) -> Result<Self> {
+        let r = checked_resolution("hemicube", resolution)?;
+        let prep = Prepared::new(scene);
+        let near = NEAR_REL * prep.scale;
+        let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
+        let faces = [
+            Face::new(x, y, z, true, r, near),
+            Face::new(y, z, x, false, r, near),
+            Face::new(y, z, -x, false, r, near),
+            Face::new(x, z, y, false, r, near),
+            Face::new(x, z, -y, false, r, near),
+        ];
+        Ok(Self {
+            scene,
+            prep,
+            deltas: delta::DeltaTables::new(r),
+            positions,
+            faces,
+            pool: Mutex::new(Vec::new()),
+        })
+    }
+
+    /// The resolution in use (the requested one, evened).
+    pub fn resolution(&self) -> usize {
+        self.deltas.resolution
+    }
+
+    /// Σ of the delta factors over the five faces (1 + O(h²)): the row sum of a closed scene.
+    pub fn delta_total(&self) -> f64 {
+        self.deltas.total()
+    }
+
+    /// Renders one face for the gathered scene and adds weight × its delta factors to `acc`.
+    fn render_face(&self, face: &Face, ws: &mut Workspace, weight: f64) {
+        let r = self.deltas.resolution;
+        let h = 2.0 / r as f64;
+        ws.buffer.reset(r, face.rows);
+        for p in &ws.gathered.polys {
+            if clip::sphere_outside(&face.planes, p.centre, p.radius) {
+                continue;
+            }
+            clip::clip_polygon(ws.gathered.vertices(p), &face.planes, &mut ws.clipped, &mut ws.tmp);
+            if ws.clipped.is_empty() {
+                continue;
+            }
+            ws.pts.clear();
+            ws.pts.extend(ws.clipped.iter().map(|q| {
+                let w = q.dot(face.ew);
+                DVec2::new((q.dot(face.eu) / w + 1.0) / h, (q.dot(face.ev) / w - face.v0) / h)
+            }));
+            // Inverse depth (m·D)/c along D = u'·eu + v'·ev + ew, rewritten in pixel units.
+            let s = (if p.id == NO_RECEIVER { 1.0 } else { 1.0 + RECEIVER_DEPTH_BIAS }) / p.c;
+            let (mu, mv, mw) = (p.m.dot(face.eu) * s, p.m.dot(face.ev) * s, p.m.dot(face.ew) * s);
+            let depth = DepthPlane { a: mu * h, b: mv * h, c: mw - mu + mv * face.v0 };
+            ws.buffer.draw(&ws.pts, depth, p.id);
+        }
+        let deltas = if face.top { &self.deltas.top } else { &self.deltas.side };
+        for (&id, &d) in ws.buffer.ids().iter().zip(deltas) {
+            if id != NO_RECEIVER {
+                let a = &mut ws.acc[id as usize];
+                if *a == 0.0 {
+                    ws.touched.push(id);
+                }
+                *a += weight * d;
+            }
+        }
+    }
+}
+
+impl RowKernel for HemicubeKernel<'_> {
+    fn symmetric(&self) -> bool {
+        false
+    }
+
+    fn row(&self, i: usize, out: &mut Row) -> Result<()> {
+        let mut ws = self.pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_default();
+        ws.acc.resize(self.scene.patches.len(), 0.0);
+        let poly = &self.scene.patches[i].polygon;
+        let rule = positions::rule(poly, self.positions.order(&self.prep, poly, i));
+        let v = poly.vertices();
+        for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
+            let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.positions.turn(k));
+            ws.gathered.gather(&self.prep, &eye, i);
+            for face in &self.faces {
+                self.render_face(face, &mut ws, w);
+            }
+        }
+        emit(&mut ws.acc, &mut ws.touched, MethodSet::HEMICUBE, out);
+        out.pairs = self.scene.patches.len().saturating_sub(1) as u64;
+        self.pool.lock().unwrap_or_else(|e| e.into_inner()).push(ws);
+        Ok(())
+    }
+}
+
+/// Moves the accumulated exchange areas into `out` (sorted by column) and clears `acc`.
+pub(crate) fn emit(acc: &mut [f64], touched: &mut Vec<u32>, method: MethodSet, out: &mut Row) {
+    touched.sort_unstable();
+    out.entries.clear();
+    out.entries.extend(touched.iter().map(|&j| RawEntry { j, method, s: acc[j as usize], var: 0.0 }));
+    for &j in touched.iter() {
+        acc[j as usize] = 0.0;
+    }
+    touched.clear();
+    out.shared_samples = 0;
+}

@@ -1,0 +1,66 @@
+//! Delta form factors of the hemicube pixels (Cohen & Greenberg 1985), computed once per
+//! resolution: ΔF = ΔA/[π(x² + y² + 1)²] on the top face (z = 1) and
+//! ΔF = z·ΔA/[π(u² + z² + 1)²] on the four half side faces, at the pixel centres.
+//!
+//! They are the midpoint rule of the exact pixel factors, so their total is 1 + O(h²)
+//! (1 + 8e-6 at R = 256, literature.md §4).
+use std::f64::consts::PI;
+
+/// Delta factors for one resolution, shared by every eye.
+#[derive(Debug, Clone)]
+pub(crate) struct DeltaTables {
+    /// Pixels along the top face (even).
+    pub resolution: usize,
+    /// Top face, R × R, row-major from y = −1.
+    pub top: Vec<f64>,
+    /// One side face, R columns × R/2 rows, row-major from z = 0 (all four sides share it).
+    pub side: Vec<f64>,
+}
+
+impl DeltaTables {
+    /// Tables for an even resolution `r`.
+    pub fn new(r: usize) -> Self {
+        debug_assert!(r >= 2 && r.is_multiple_of(2));
+        let h = 2.0 / r as f64;
+        let centre = |k: usize| -1.0 + (k as f64 + 0.5) * h;
+        let mut top = Vec::with_capacity(r * r);
+        for row in 0..r {
+            let y = centre(row);
+            for col in 0..r {
+                let x = centre(col);
+                let d = x * x + y * y + 1.0;
+                top.push(h * h / (PI * d * d));
+            }
+        }
+        let mut side = Vec::with_capacity(r * r / 2);
+        for row in 0..r / 2 {
+            let z = (row as f64 + 0.5) * h;
+            for col in 0..r {
+                let u = centre(col);
+                let d = u * u + z * z + 1.0;
+                side.push(z * h * h / (PI * d * d));
+            }
+        }
+        Self { resolution: r, top, side }
+    }
+
+    /// Σ of all five faces' delta factors (1 + O(h²)).
+    pub fn total(&self) -> f64 {
+        self.top.iter().sum::<f64>() + 4.0 * self.side.iter().sum::<f64>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn delta_factors_sum_to_one_with_midpoint_error() {
+        // literature.md §4: 1 + 8e-6 at 256²; the midpoint error scales as h².
+        let e256 = DeltaTables::new(256).total() - 1.0;
+        let e128 = DeltaTables::new(128).total() - 1.0;
+        assert!(e256 > 0.0 && e256 < 1e-5, "256: {e256:e}");
+        let order = (e128 / e256).log2();
+        assert!((order - 2.0).abs() < 0.05, "order {order}");
+    }
+}

@@ -1,0 +1,210 @@
+//! Scene geometry flattened once for the projection methods (hemicube, single plane), and the
+//! per-eye gather that culls it and moves it into the eye's local frame.
+//!
+//! Visibility rules, shared by both methods (surfaces are one-sided, SPEC.md):
+//! - a patch polygon whose front faces the eye is a *receiver*: it occludes and is counted;
+//! - a patch polygon seen from its back is a *blocker*: a ray that hits a receiver's back side
+//!   is stopped there but counts for nobody (it would be inside a solid in a closed model);
+//! - obstruction polygons are blockers from both sides (a lone shade plate must shade whichever
+//!   way its vertices run);
+//! - polygons whose plane holds the eye (coplanar neighbours, edge-on faces) project to zero
+//!   area and are skipped, as is the eye's own patch.
+use crate::scene::Scene;
+use glam::DVec3;
+
+/// Item-buffer id of a blocker: occludes, receives nothing.
+pub(crate) const NO_RECEIVER: u32 = u32::MAX;
+
+/// Relative distance (of the scene size) below which the eye counts as lying in a polygon's
+/// plane: subdivided coplanar patches differ from exactly coplanar by f64 round-off only.
+const IN_PLANE_TOL: f64 = 1e-9;
+
+/// One polygon of the flattened scene.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PolyRec {
+    /// First vertex in [`Prepared::verts`].
+    pub first: u32,
+    /// Vertex count.
+    pub len: u32,
+    /// Area centroid.
+    pub centroid: DVec3,
+    /// Unit normal of the front side.
+    pub normal: DVec3,
+    /// Largest centroid–vertex distance.
+    pub radius: f64,
+    /// Patch index, or [`NO_RECEIVER`] for obstructions.
+    pub patch: u32,
+}
+
+/// Every patch and obstruction polygon of a scene, flattened.
+#[derive(Debug, Clone)]
+pub(crate) struct Prepared {
+    /// Polygons: patches first (index = patch index), then obstructions.
+    pub polys: Vec<PolyRec>,
+    /// Their vertices, world coordinates.
+    pub verts: Vec<DVec3>,
+    /// Length scale of the scene (half its bounding-box diagonal), m.
+    pub scale: f64,
+}
+
+impl Prepared {
+    /// Flattens `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        let mut polys = Vec::with_capacity(scene.patches.len());
+        let mut verts = Vec::new();
+        let mut push = |poly: &crate::geometry::Polygon, patch: u32| {
+            polys.push(PolyRec {
+                first: verts.len() as u32,
+                len: poly.vertices().len() as u32,
+                centroid: poly.centroid(),
+                normal: poly.normal(),
+                radius: poly.bounding_radius(),
+                patch,
+            });
+            verts.extend_from_slice(poly.vertices());
+        };
+        for (k, p) in scene.patches.iter().enumerate() {
+            push(&p.polygon, k as u32);
+        }
+        for o in &scene.obstructions {
+            for poly in &o.polygons {
+                push(poly, NO_RECEIVER);
+            }
+        }
+        let (lo, hi) =
+            verts.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let scale = if verts.is_empty() { 1.0 } else { (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE) };
+        Self { polys, verts, scale }
+    }
+
+    /// Vertices of polygon `k`.
+    pub fn vertices(&self, k: usize) -> &[DVec3] {
+        let p = &self.polys[k];
+        &self.verts[p.first as usize..(p.first + p.len) as usize]
+    }
+
+    /// Lower bound on the distance from `eye` to the nearest polygon in front of the plane
+    /// (`eye`, `n`) other than `skip`; infinity when there is none.
+    pub fn nearest_in_front(&self, eye: DVec3, n: DVec3, skip: usize) -> f64 {
+        let tol = IN_PLANE_TOL * self.scale;
+        let mut best = f64::INFINITY;
+        for (k, p) in self.polys.iter().enumerate() {
+            let ahead = (p.centroid - eye).dot(n);
+            if k == skip || ahead + p.radius <= tol || p.normal.dot(eye - p.centroid).abs() <= tol {
+                continue;
+            }
+            // Sphere and plane bounds: both are below the true point–polygon distance.
+            let sphere = (p.centroid - eye).length() - p.radius;
+            let plane = p.normal.dot(eye - p.centroid).abs();
+            best = best.min(sphere.max(plane).max(0.0));
+        }
+        best
+    }
+}
+
+/// The eye: a point on a patch with an orthonormal frame (t, b, n), n the patch normal.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Eye {
+    /// Position.
+    pub origin: DVec3,
+    /// First tangent (along the patch's first edge, so rectangles align with the pixels).
+    pub t: DVec3,
+    /// Second tangent, n × t.
+    pub b: DVec3,
+    /// Patch normal.
+    pub n: DVec3,
+}
+
+impl Eye {
+    /// An eye at `origin` on a patch with normal `n` whose first edge runs along `edge`.
+    pub fn new(origin: DVec3, n: DVec3, edge: DVec3) -> Self {
+        let mut t = edge - n * edge.dot(n);
+        if t.length_squared() <= f64::MIN_POSITIVE {
+            t = n.any_orthonormal_vector();
+        }
+        let t = t.normalize();
+        Self { origin, t, b: n.cross(t), n }
+    }
+    /// The same eye with its tangents turned by `angle` about the normal.
+    pub fn turned(self, angle: f64) -> Self {
+        let (s, c) = angle.sin_cos();
+        let t = c * self.t + s * self.b;
+        Self { t, b: self.n.cross(t), ..self }
+    }
+    /// World direction → local (t, b, n) components.
+    pub fn dir(&self, d: DVec3) -> DVec3 {
+        DVec3::new(d.dot(self.t), d.dot(self.b), d.dot(self.n))
+    }
+    /// World point → local coordinates.
+    pub fn point(&self, p: DVec3) -> DVec3 {
+        self.dir(p - self.origin)
+    }
+}
+
+/// One gathered polygon in the eye's local frame.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LocalPoly {
+    /// First vertex in [`Gathered::verts`].
+    pub first: u32,
+    /// Vertex count.
+    pub len: u32,
+    /// Receiving patch, or [`NO_RECEIVER`].
+    pub id: u32,
+    /// Bounding-sphere centre, local.
+    pub centre: DVec3,
+    /// Bounding-sphere radius.
+    pub radius: f64,
+    /// Plane of the polygon, local: m·p = c with c ≠ 0 (the eye is off the plane).
+    pub m: DVec3,
+    /// Plane offset.
+    pub c: f64,
+}
+
+/// The polygons an eye may see, in its local frame (a reusable buffer).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Gathered {
+    /// Polygons.
+    pub polys: Vec<LocalPoly>,
+    /// Their vertices, local.
+    pub verts: Vec<DVec3>,
+}
+
+impl Gathered {
+    /// Vertices of gathered polygon `p`.
+    pub fn vertices(&self, p: &LocalPoly) -> &[DVec3] {
+        &self.verts[p.first as usize..(p.first + p.len) as usize]
+    }
+
+    /// Collects the polygons of `prep` that reach the eye's front half-space, skipping patch
+    /// `own` and classifying receivers and blockers (module rules).
+    pub fn gather(&mut self, prep: &Prepared, eye: &Eye, own: usize) {
+        self.polys.clear();
+        self.verts.clear();
+        let tol = IN_PLANE_TOL * prep.scale;
+        for (k, p) in prep.polys.iter().enumerate() {
+            if k == own {
+                continue;
+            }
+            let ahead = (p.centroid - eye.origin).dot(eye.n);
+            if ahead + p.radius <= tol {
+                continue; // entirely behind (or in) the eye's plane
+            }
+            let facing = p.normal.dot(eye.origin - p.centroid);
+            if facing.abs() <= tol {
+                continue; // the eye lies in this polygon's plane: zero projected area
+            }
+            let id = if facing > 0.0 { p.patch } else { NO_RECEIVER };
+            let first = self.verts.len() as u32;
+            self.verts.extend(prep.vertices(k).iter().map(|v| eye.point(*v)));
+            self.polys.push(LocalPoly {
+                first,
+                len: p.len,
+                id,
+                centre: eye.point(p.centroid),
+                radius: p.radius,
+                m: eye.dir(p.normal),
+                c: -facing,
+            });
+        }
+    }
+}
