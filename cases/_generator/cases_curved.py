@@ -13,6 +13,7 @@ from cases_view import CF, AMB, X, Y, Z, neg, fan
 def v13():
     c = Case("v13_concentric_spheres", "Concentric spheres r1/r2 = 0.5 (icospheres, 320 triangles each, glTF)", "Howell C-135 (cit.); literature.md V13",
              note="Exact for any convex inner body: F12 = 1, F21 = A1/A2, F22 = 1 − A1/A2 with the\nmeshes' own areas (float32 vertices as stored in the glTF).")
+    c.quick = False
     inner = gltf.icosphere((0, 0, 0), 0.5, 2)
     outer = gltf.icosphere((0, 0, 0), 1.0, 2, inward=True)
     c.model("spheres.gltf", [("inner", inner, {}), ("outer", outer, {})])
@@ -112,6 +113,7 @@ def v19():
     n, r1, r2, L = 32, 0.5, 1.0, 2.0
     c = Case("v19_coaxial_cylinders", f"Coaxial cylinders r1 = 0.5, r2 = 1, L = 2 with annular ends ({n}-facet prisms, glTF)", "Siegel & Howell p. 847 (EES); literature.md V19",
              note="Exact for the prisms: the inner body sees the ends unobstructed, so F(inner→outer) = 1 − 2·F(inner→end)\nby closure; the outer-to-outer factors need shadowing by the inner body and are not referenced here.")
+    c.quick = False
     inner = gltf.cylinder_mantle((0, 0, 0), L, r1, n)
     outer = gltf.cylinder_mantle((0, 0, 0), L, r2, n, inward=True)
     bottom = gltf.annulus(0.0, r1, r2, n, +1)

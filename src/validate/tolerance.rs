@@ -8,6 +8,9 @@
 //! | mc-* | `MC_SIGMAS`·max(σ̂, σ_binomial) + reference uncertainty |
 //! | hemicube | point-sampling bias + `RASTER_COEFF`·√F / R + uncertainty |
 //! | single-plane | the hemicube terms + min(F, missed hemisphere fraction) |
+//!
+//! The point-sampling bias bounds the hemicube's proximity error whether it projects from the
+//! centroid or from a few Gauss points per patch (its adaptive positions).
 use super::case::VfRef;
 use crate::viewfactor::{Method, Params};
 
@@ -24,9 +27,12 @@ pub const MC_SIGMAS: f64 = 4.0;
 /// spans θR/2 pixels and loses O(1) pixel per edge, so δF ∝ θ/R ∝ √F/R; literature §4 gives
 /// 0.42·√0.2 at the adjacent cube face and ≤ 0.95·√F for aliasing small targets; 2 bounds both.
 pub const RASTER_COEFF: f64 = 2.0;
-/// Single plane: hemisphere fraction outside a plane of half-width 10 at unit height,
-/// 1 − 4·F_corner(10, 10, 1) = 1 − 0.9919 (literature §4); the method's one-sided grazing bias.
-pub const SINGLE_PLANE_MISSED: f64 = 1.0 - 0.9919;
+/// Single plane: the hemisphere fraction outside its plane of half-width s at unit height,
+/// 1 − 4·F_corner(s, s, 1) (literature §4), the method's one-sided grazing bias.
+pub fn single_plane_missed() -> f64 {
+    let s = crate::viewfactor::single_plane::DEFAULT_HALF_WIDTH;
+    1.0 - 4.0 * super::oracle::closed::element_to_rectangle_corner(s, s, 1.0)
+}
 /// Heat quantities from exact factors: F exact to 1e-9, amplified by the enclosure's condition
 /// (λ_min(K) ≈ 0.29 in E3), plus the solver's round-off.
 pub const HEAT_EXACT_REL: f64 = 1e-7;
@@ -49,12 +55,12 @@ pub struct Budget {
 }
 
 impl Budget {
-    /// The CI subset: 10⁵ rays per case (at least 500 per patch), R = 128.
+    /// The CI subset: 10⁵ rays per case (at least 500 per patch), R = 64.
     pub fn quick() -> Budget {
         Budget {
             rays_per_case: 100_000,
             min_samples: 500,
-            resolution: 128,
+            resolution: 64,
             auto_tolerance: 1e-4,
             seed: 1,
             quick: true,
@@ -99,7 +105,7 @@ pub fn view_factor(method: Method, params: &Params, r: &VfRef, sigma: f64, rays:
             MC_SIGMAS * sigma.max(binomial)
         }
         Method::Hemicube => r.point_bias + raster(f, params.resolution),
-        Method::SinglePlane => r.point_bias + raster(f, params.resolution) + f.min(SINGLE_PLANE_MISSED),
+        Method::SinglePlane => r.point_bias + raster(f, params.resolution) + f.min(single_plane_missed()),
     };
     model + r.uncertainty + ABS_FLOOR
 }
@@ -126,7 +132,7 @@ mod tests {
     #[test]
     fn models_scale_as_documented() {
         let r = reference(0.2);
-        let p = Budget::quick().params(Method::Hemicube, 1);
+        let p = Params { resolution: 128, ..Budget::quick().params(Method::Hemicube, 1) };
         let t128 = view_factor(Method::Hemicube, &p, &r, 0.0, 0.0);
         let p512 = Params { resolution: 512, ..p };
         let t512 = view_factor(Method::Hemicube, &p512, &r, 0.0, 0.0);
