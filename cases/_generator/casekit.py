@@ -177,7 +177,9 @@ class Case:
         self.vfs.append({"from": frm, "to": to, "value": value, "source": source, "uncertainty": float(uncertainty), "point_bias": float(bias)})
         return bias
 
-    def heat(self, surface, source, heat_rate=None, temperature=None, uncertainty=0.0):
+    def heat(self, surface, source, heat_rate=None, temperature=None, uncertainty=0.0, sensitivity=None):
+        """A reference heat rate or temperature; `sensitivity` lists d(quantity)/dF_IJ per
+        surface pair (F_JI moved reciprocally), the error model for approximate factors."""
         h = {"surface": surface}
         if heat_rate is not None:
             h["heat_rate"] = float(heat_rate)
@@ -186,6 +188,8 @@ class Case:
         h["source"] = source
         if uncertainty:
             h["uncertainty"] = float(uncertainty)
+        if sensitivity:
+            h["sensitivity"] = sensitivity
         self.heats.append(h)
 
     def write(self, root):

@@ -123,22 +123,46 @@ def e3(open_top):
             c.rect(n, o, u, v, **props.get(n, {"emissivity": 0.5, "heat_flux": 0.0}))
     eps = [props.get(n, {"emissivity": 0.5})["emissivity"] for n in names]
     bc = [("T", props[n]["temperature"]) if n in props else ("q", 0) for n in names]
-    out, amb = radiation.solve([1] * len(names), eps, F, bc, t_amb=3 if open_top else None)
-    c.vf("floor", "wall_x0", float(fa), "C-14 " + CF)
+    t_amb = 3 if open_top else None
+    out, amb = radiation.solve([1] * len(names), eps, F, bc, t_amb=t_amb)
+    # Every surface pair is referenced: the heat tolerances of approximate methods propagate
+    # their view-factor tolerances through these pairs.
+    for i, a in enumerate(names):
+        for j, b in enumerate(names):
+            if i != j:
+                c.vf(a, b, float(F[i][j]), ("C-11 " if F[i][j] == fo else "C-14 ") + CF)
     if not open_top:
-        c.vf("floor", "ceiling", float(fo), "C-11 " + CF)
         assert abs(out[0]["heat_rate"] - mpf("21385.907")) < 1e-3
     else:
         assert abs(out[0]["heat_rate"] - mpf("29580.808")) < 1e-2, out[0]["heat_rate"]
+
+    def sensitivity(pick):
+        """d(quantity)/dF_IJ with F_JI moved reciprocally (equal areas), per surface pair."""
+        rows = []
+        h = mpf("1e-15")
+        for i in range(len(names)):
+            for j in range(i + 1, len(names)):
+                vals = []
+                for sgn in (1, -1):
+                    G = [row[:] for row in F]
+                    G[i][j] += sgn * h
+                    G[j][i] += sgn * h
+                    o, a = radiation.solve([1] * len(names), eps, G, bc, t_amb=t_amb)
+                    vals.append(pick(o, a))
+                d = (vals[0] - vals[1]) / (2 * h)
+                rows.append({"from": names[i], "to": names[j], "d": float(d)})
+        return rows
+
     lit = "29 580.808 W at 0 K" if open_top else "21 385.907 W"
-    c.heat("floor", NRM + f" with exact C-11/C-14 factors (literature: {lit})", heat_rate=out[0]["heat_rate"])
+    src = f" with exact C-11/C-14 factors (literature: {lit})"
+    c.heat("floor", NRM + src, heat_rate=out[0]["heat_rate"], sensitivity=sensitivity(lambda o, a: o[0]["heat_rate"]))
     for i, n in enumerate(names):
         if n.startswith("wall"):
-            c.heat(n, NRM, temperature=out[i]["temperature"])
+            c.heat(n, NRM, temperature=out[i]["temperature"], sensitivity=sensitivity(lambda o, a, i=i: o[i]["temperature"]))
     if open_top:
-        c.heat("ambient", NRM + ": net heat the environment gives the scene", heat_rate=amb)
+        c.heat("ambient", NRM + ": net heat the environment gives the scene", heat_rate=amb, sensitivity=sensitivity(lambda o, a: a))
     else:
-        c.heat("ceiling", NRM, heat_rate=out[1]["heat_rate"])
+        c.heat("ceiling", NRM, heat_rate=out[1]["heat_rate"], sensitivity=sensitivity(lambda o, a: o[1]["heat_rate"]))
     return c
 
 

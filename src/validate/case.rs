@@ -101,6 +101,22 @@ pub struct HeatRef {
     /// Relative error bound of the reference itself.
     #[serde(default)]
     pub uncertainty: f64,
+    /// d(quantity)/dF_IJ per surface pair (F_JI moved reciprocally): propagates an approximate
+    /// method's view-factor tolerances into a heat tolerance.
+    #[serde(default)]
+    pub sensitivity: Vec<Sensitivity>,
+}
+
+/// One entry of a heat quantity's sensitivity to a surface-pair view factor.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensitivity {
+    /// Emitting surface.
+    pub from: String,
+    /// Receiving surface.
+    pub to: String,
+    /// d(quantity)/dF(from → to), W or K.
+    pub d: f64,
 }
 
 /// A case ready to run.

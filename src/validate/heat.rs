@@ -1,56 +1,161 @@
 //! Heat-rate and temperature checks of enclosure problems, through the radiation solve.
 //!
-//! The solve stage is not in this build yet: heat references are reported as n/a until it is.
-use super::case::Case;
+//! Tolerances: exact factors (analytic, a supplied exact file) give `HEAT_EXACT_REL`; an
+//! approximate method's view-factor tolerances propagate through the case's sensitivities,
+//! |ΔQ| ≤ Σ_IJ |∂Q/∂F_IJ|·tol(F_IJ) (worst case, first order). Without sensitivities (patched
+//! cases) only exact methods are checked.
+use super::case::{Case, HeatRef};
 use super::check::{Check, Status};
+use super::tolerance::{self, HEAT_EXACT_REL};
 use crate::scene::Scene;
-use crate::viewfactor::{Method, Params};
-use std::time::Duration;
+use crate::viewfactor::{Method, Params, ViewFactors};
+use crate::{Error, Result};
+use std::time::{Duration, Instant};
 
-/// Why heat checks cannot run yet.
-const NO_SOLVE: &str = "the radiation solve is not available in this build";
+/// Per-surface results of a solve: (name, heat rate W, temperature K), plus the ambient's
+/// heat rate in open scenes.
+#[derive(Debug, Clone, Default)]
+pub struct HeatResults {
+    /// (surface, heat_rate, temperature).
+    pub surfaces: Vec<(String, f64, f64)>,
+    /// Net heat the environment gives the scene, W.
+    pub ambient: Option<f64>,
+}
 
-fn heat_quantities(case: &Case) -> Vec<String> {
+impl HeatResults {
+    fn value(&self, h: &HeatRef, temperature: bool) -> Option<f64> {
+        if h.surface == crate::report::csv::AMBIENT && !temperature {
+            return self.ambient;
+        }
+        self.surfaces.iter().find(|s| s.0 == h.surface).map(|s| if temperature { s.2 } else { s.1 })
+    }
+}
+
+/// Solves `scene` with patch-level `vf` (or the exact file) as `lambert solve` does.
+fn solve(_scene: &Scene, _source: Source) -> Result<HeatResults> {
+    Err(Error::Unsupported("the radiation solve is not available in this build".into()))
+}
+
+/// Where the view factors come from.
+enum Source<'a> {
+    /// A method's run parameters.
+    Method(&'a Params),
+    /// An exact view-factor CSV.
+    File(&'a std::path::Path),
+}
+
+/// (quantity label, reference, is temperature) of every heat reference.
+fn quantities(case: &Case) -> Vec<(String, f64, bool, &HeatRef)> {
     let mut q = Vec::new();
     for h in &case.reference.heat {
-        if h.heat_rate.is_some() {
-            q.push(format!("q({}) [W]", h.surface));
+        if let Some(v) = h.heat_rate {
+            q.push((format!("Q({}) [W]", h.surface), v, false, h));
         }
-        if h.temperature.is_some() {
-            q.push(format!("T({}) [K]", h.surface));
+        if let Some(v) = h.temperature {
+            q.push((format!("T({}) [K]", h.surface), v, true, h));
         }
     }
     q
 }
 
-/// Heat checks with `method`'s view factors.
+/// Heat tolerance of `method` on `h`: exact, or propagated through the sensitivities.
+fn heat_tolerance(
+    case: &Case,
+    method: Option<Method>,
+    params: Option<&Params>,
+    vf: Option<&ViewFactors>,
+    h: &HeatRef,
+    reference: f64,
+) -> Option<f64> {
+    let exact = (HEAT_EXACT_REL + h.uncertainty) * reference.abs();
+    let (Some(method), Some(params), Some(vf)) = (method, params, vf) else { return Some(exact) };
+    if method == Method::Analytic {
+        return Some(exact);
+    }
+    if h.sensitivity.is_empty() {
+        return None;
+    }
+    let mut tol = exact;
+    for s in &h.sensitivity {
+        let r = case.reference.viewfactors.iter().find(|r| r.from == s.from && r.to == s.to)?;
+        let i = vf.names.iter().position(|n| *n == s.from)?;
+        let j = vf.names.iter().position(|n| *n == s.to)?;
+        let sigma = vf.rows[i].iter().find(|e| e.to as usize == j).map(|e| e.std_error).unwrap_or(0.0);
+        tol += s.d.abs() * tolerance::view_factor(method, params, r, sigma, params.samples as f64);
+    }
+    Some(tol)
+}
+
+fn checks(
+    case: &Case,
+    label: &str,
+    method: Option<Method>,
+    params: Option<&Params>,
+    vf: Option<&ViewFactors>,
+    result: Result<HeatResults>,
+    time: Duration,
+) -> Vec<Check> {
+    let res = match result {
+        Ok(r) => r,
+        Err(e) => {
+            let q: Vec<String> = quantities(case).into_iter().map(|q| q.0).collect();
+            let status = match e {
+                Error::Unsupported(why) => Status::NotApplicable(why),
+                e => Status::Fail(e.to_string()),
+            };
+            return vec![Check::without_value(&case.name, &q.join(", "), label, status)];
+        }
+    };
+    let mut out = Vec::new();
+    for (quantity, reference, temperature, h) in quantities(case) {
+        let Some(value) = res.value(h, temperature) else {
+            let why = format!("the solve has no surface '{}'", h.surface);
+            out.push(Check::without_value(&case.name, &quantity, label, Status::Fail(why)));
+            continue;
+        };
+        match heat_tolerance(case, method, params, vf, h, reference) {
+            Some(tol) => out.push(Check::compared(&case.name, quantity, label, value, reference, tol, time)),
+            None => {
+                let mut c = Check::without_value(
+                    &case.name,
+                    &quantity,
+                    label,
+                    Status::NotApplicable(
+                        "no heat error model for approximate factors on a patched case".into(),
+                    ),
+                );
+                c.value = Some(value);
+                c.reference = Some(reference);
+                out.push(c);
+            }
+        }
+    }
+    out
+}
+
+/// Heat checks with `method`'s view factors (`vf`: its surface-level result, for σ).
 pub fn method_checks(
     case: &Case,
-    _scene: &Scene,
+    scene: &Scene,
     method: Method,
-    _params: &Params,
-    _time: Duration,
+    params: &Params,
+    vf: &ViewFactors,
+    time: Duration,
 ) -> Vec<Check> {
-    if case.reference.heat.is_empty() || !matches!(method, Method::Analytic | Method::Auto) {
+    if case.reference.heat.is_empty() {
         return Vec::new();
     }
-    vec![Check::without_value(
-        &case.name,
-        &heat_quantities(case).join(", "),
-        method.name(),
-        Status::NotApplicable(NO_SOLVE.into()),
-    )]
+    let start = Instant::now();
+    let result = solve(scene, Source::Method(params));
+    checks(case, method.name(), Some(method), Some(params), Some(vf), result, time + start.elapsed())
 }
 
 /// Heat checks with the case's exact view-factor file.
-pub fn file_checks(case: &Case, _scene: &Scene) -> Vec<Check> {
-    if case.reference.viewfactors_file.is_none() || case.reference.heat.is_empty() {
+pub fn file_checks(case: &Case, scene: &Scene) -> Vec<Check> {
+    let (Some(file), false) = (&case.reference.viewfactors_file, case.reference.heat.is_empty()) else {
         return Vec::new();
-    }
-    vec![Check::without_value(
-        &case.name,
-        &heat_quantities(case).join(", "),
-        "vf-file",
-        Status::NotApplicable(NO_SOLVE.into()),
-    )]
+    };
+    let start = Instant::now();
+    let result = solve(scene, Source::File(&case.dir.join(file)));
+    checks(case, "vf-file", None, None, None, result, start.elapsed())
 }

@@ -65,7 +65,7 @@ fn run_method(case: &Case, scene: &Scene, method: Method, budget: &Budget) -> Ve
         }
     };
     let mut checks = view_factor_checks(case, scene, method, &params, &vf, time);
-    checks.extend(heat::method_checks(case, scene, method, &params, time));
+    checks.extend(heat::method_checks(case, scene, method, &params, &vf, time));
     match case.reference.known_issue.get(method.name()) {
         Some(why) if checks.iter().any(|c| matches!(c.status, Status::Fail(_))) => {
             checks.into_iter().map(|c| c.with_known_issue(why)).collect()
