@@ -225,7 +225,8 @@ fn v10_v12_point_factors() {
     // V12: the literature lists the triangle counter-clockwise about +z, i.e. facing away from
     // the origin; reversed here so that its front faces the element.
     let tri = Polygon::new(vec![v(0.1, 1.2, 1.6), v(1.5, 0.4, 0.7), v(0.2, -0.3, 1.0)]).unwrap();
-    check("V12 point to triangle", point_to_polygon(DVec3::ZERO, DVec3::Z, &tri), 0.131969942498, 1e-11);
+    // The reference is printed to 12 digits: half a unit of the last one is 3.8e-12 relative.
+    check("V12 point to triangle", point_to_polygon(DVec3::ZERO, DVec3::Z, &tri), 0.131969942498, 3.8e-12);
 }
 
 #[test]
@@ -627,4 +628,38 @@ fn tessellated(r1: f64, r2: f64, h: f64, label: &str) {
 fn tessellated_disks_converge_to_v8_and_v9() {
     tessellated(1.0, 1.0, 1.0, "V8 r1 = r2 = h = 1");
     tessellated(1.0, 2.0, 1.0, "V9 r1 = 1, r2 = 2, h = 1");
+}
+
+#[test]
+fn far_field_error_stays_within_the_round_off_bound() {
+    // Opposed unit squares (moved, so no edge is axis-aligned) at growing gap c: the contour
+    // terms cancel more and more (literature.md §2: ≥ 1e-16·(c/L)²); the reported bound must
+    // cover the actual error. The f64 C-11 formula itself cancels at small X = a/c (its
+    // ln(1 + X²Y²/…) and atan terms lose about 1/X² digits), so the reference is C-11 in
+    // 40-digit arithmetic (mpmath).
+    use lambert::viewfactor::analytic::contour::polygon_polygon_with_round_off;
+    let exact = [
+        (1.0, 0.199_824_895_698_387_38),
+        (3.0, 0.032_971_397_219_497_295),
+        (10.0, 0.003_162_056_838_757_601_5),
+        (30.0, 0.000_353_415_915_031_043_3),
+        (100.0, 3.182_886_673_282_92e-5),
+        (1e3, 3.183_096_739_773_803e-7),
+        (1e4, 3.183_098_840_617_247_7e-9),
+    ];
+    let m = motion();
+    eprintln!("{:>8} {:>22} {:>10} {:>10} {:>14}", "c/L", "A1F12", "rel err", "bound/val", "f64 C-11 err");
+    for (c, want) in exact {
+        let (p, q) = (floor([0.0, 1.0], [0.0, 1.0]), ceiling([0.0, 1.0], [0.0, 1.0], c));
+        let x = polygon_polygon_with_round_off(&p.transformed(&m).unwrap(), &q.transformed(&m).unwrap());
+        let err = (x.value - want).abs();
+        let c11 = rel(cf::parallel_opposed_rectangles(1.0, 1.0, c), want);
+        eprintln!(
+            "{c:>8} {:>22.15e} {:>10.2e} {:>10.2e} {c11:>14.2e}",
+            x.value,
+            err / want,
+            x.round_off / want
+        );
+        assert!(err <= x.round_off + 1e-15 * want, "c = {c}: error {err:e} > bound {:e}", x.round_off);
+    }
 }

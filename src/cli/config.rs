@@ -24,13 +24,21 @@ pub struct Config {
     /// Report per patch.
     pub patches: bool,
     /// Enforcement choice as given (`None` = the subcommand's default).
-    #[allow(dead_code)]
     pub enforce: Option<String>,
     /// Output target.
     pub output: Output,
 }
 
 impl Config {
+    /// A file target (`-` = stdout).
+    pub fn file_output(p: &std::path::Path) -> Output {
+        if p.as_os_str() == "-" {
+            Output::Stdout
+        } else {
+            Output::File(p.to_path_buf())
+        }
+    }
+
     /// Validates the shared arguments and configures the thread pool.
     pub fn from_args(a: &CommonArgs) -> Result<Self> {
         let method: Method = a.method.parse()?;

@@ -1,9 +1,11 @@
 //! Orchestration of the subcommands: load → compute → report. No physics here.
 use super::args::{Command, SolveArgs, ValidateArgs, ViewfactorsArgs};
 use super::config::{Config, Output};
+use lambert::exchange::{self, Enforce, EnforceParams, Exchange};
 use lambert::report;
-use lambert::scene;
-use lambert::viewfactor::{self, Level};
+use lambert::scene::{self, Scene};
+use lambert::solve;
+use lambert::viewfactor::{self, Level, ViewFactors};
 use lambert::{Error, Result};
 use std::io::Write;
 use std::path::Path;
@@ -52,7 +54,17 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         eprintln!("lambert: warning: {w}");
     }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
-    let vf = viewfactor::compute(&scene, &cfg.params, level)?;
+    let mode: Enforce = cfg.enforce.as_deref().unwrap_or("none").parse()?;
+    let vf = if mode == Enforce::None {
+        let vf = viewfactor::compute(&scene, &cfg.params, level)?;
+        warn_leaks(&scene, &vf);
+        vf
+    } else {
+        // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
+        let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
+        let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
+        at_level(&scene, &ex, level).to_viewfactors(raw.wall)
+    };
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
     let (worst, at) = vf.max_patch_row_error();
     let secs = vf.wall.as_secs_f64();
@@ -70,8 +82,131 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     Ok(())
 }
 
-fn solve(_a: SolveArgs) -> Result<()> {
-    Err(Error::Usage("`solve` is not available in this build yet".into()))
+/// SPEC: `viewfactors` warns about a leaking closed scene and names the worst rows.
+fn warn_leaks(scene: &Scene, vf: &ViewFactors) {
+    if !scene.is_closed() {
+        return;
+    }
+    let ex = Exchange::from_viewfactors(vf);
+    let leaks = exchange::enforce::leaks(&ex);
+    if !leaks.is_empty() {
+        let worst: Vec<String> =
+            leaks.iter().take(5).map(|l| format!("{} ({:.6})", ex.names[l.node], l.row_sum)).collect();
+        eprintln!(
+            "lambert: warning: closed scene leaks: {} row(s) sum to less than 1 beyond the method's error; worst: {}",
+            leaks.len(),
+            worst.join(", ")
+        );
+    }
+}
+
+/// Builds the exchange matrix of `vf` and enforces `mode`, printing the diagnostics.
+/// `rays`: rays per patch of a hit-counting method (mc-cosine, mc-uniform), which the
+/// Sobol sampler does not report per row (it reports replicate spreads instead); with it the
+/// closure can use maximum likelihood.
+fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>) -> Result<Exchange> {
+    let mut ex = Exchange::from_viewfactors(vf);
+    if let (Some(n), Level::Patch) = (rays, ex.level) {
+        if ex.samples.iter().all(|&s| s == 0) {
+            ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
+        }
+    }
+    let p =
+        EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
+    let rep = exchange::enforce(&mut ex, &p)?;
+    eprintln!("lambert: exchange before enforcement: {}", rep.before);
+    eprintln!(
+        "lambert: enforce {} ({}, {} iterations): {}",
+        mode_name(mode),
+        rep.method,
+        rep.iterations,
+        rep.after
+    );
+    Ok(ex)
+}
+
+/// Rays per patch when the method counts hits with equal weights.
+fn hit_rays(p: &viewfactor::Params) -> Option<usize> {
+    matches!(p.method, viewfactor::Method::McCosine | viewfactor::Method::McUniform).then_some(p.samples)
+}
+
+fn mode_name(m: Enforce) -> &'static str {
+    match m {
+        Enforce::None => "none",
+        Enforce::Reciprocity => "reciprocity",
+        Enforce::Closure => "closure",
+    }
+}
+
+/// The exchange matrix at the output level (patches as they are, or summed per surface).
+fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
+    if level == ex.level {
+        return ex.clone();
+    }
+    let group: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
+    let names = scene.surfaces.iter().map(|s| s.name.clone()).collect();
+    let areas = scene.surfaces.iter().map(|s| s.area).collect();
+    ex.aggregate(&group, names, areas, Level::Surface)
+}
+
+fn solve(a: SolveArgs) -> Result<()> {
+    let cfg = Config::from_args(&a.common)?;
+    let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
+    let scene = scene::load(&cfg.scene)?;
+    scene.check_boundary_conditions()?;
+    let mode = match cfg.enforce.as_deref() {
+        Some(e) => e.parse()?,
+        None => Enforce::solve_default(!scene.is_closed()),
+    };
+    let vf = match &a.viewfactors {
+        Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
+        None => viewfactor::compute(&scene, &cfg.params, Level::Patch)?,
+    };
+    if cfg.patches && vf.level == Level::Surface {
+        return Err(Error::Usage(
+            "--patches needs patch-level view factors (a `viewfactors --patches` file)".into(),
+        ));
+    }
+    let rays = if a.viewfactors.is_none() { hit_rays(&cfg.params) } else { None };
+    let ex = enforced(&scene, &vf, mode, rays)?;
+    let sol = match &scene.spectral {
+        Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
+        None => solve::solve_gray(&scene, &ex, &params)?,
+    };
+    let info = &sol.info;
+    eprintln!(
+        "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",
+        info.unknowns,
+        info.solver,
+        info.iterations,
+        info.residual,
+        info.wall.as_secs_f64()
+    );
+    let out = if cfg.patches { sol } else { sol.by_surface(&scene) };
+    let (sum, max) = out.heat_balance();
+    let ok = sum.abs() <= solve::BALANCE_TOL * max;
+    eprintln!(
+        "lambert: energy balance: sum of heat_rate = {sum:.3e} W ({:.1e} of max |heat_rate| = {max:.6e} W){}",
+        if max > 0.0 { sum.abs() / max } else { 0.0 },
+        if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
+    );
+    write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))?;
+    if let Some(path) = &a.conductances {
+        let c = solve::conductance::radk(&scene, &ex, &params)?;
+        let c = if cfg.patches || ex.level == Level::Surface {
+            c
+        } else {
+            let mut group: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
+            let mut names: Vec<String> = scene.surfaces.iter().map(|s| s.name.clone()).collect();
+            if c.names.len() > group.len() {
+                group.push(names.len());
+                names.push(solve::AMBIENT.to_string());
+            }
+            c.aggregate(&group, names)
+        };
+        write_output(&Config::file_output(path), |w, p| report::solve_csv::write_conductances(w, &c, p))?;
+    }
+    Ok(())
 }
 
 fn validate(a: ValidateArgs) -> Result<()> {

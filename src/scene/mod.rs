@@ -8,7 +8,8 @@
 //! - [`gltf_scene`]: glTF 2.0 models as mesh surfaces;
 //! - [`props`]: property layers (surface → node extras → model → defaults) and their resolution;
 //! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
-//! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`].
+//! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`];
+//! - [`bands`]: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
 use crate::error::InputError;
 use crate::geometry::Polygon;
 use glam::DVec3;
@@ -16,6 +17,7 @@ use std::ops::Range;
 use std::path::PathBuf;
 
 pub mod assemble;
+pub mod bands;
 pub mod gltf_scene;
 pub mod patching;
 pub mod props;
@@ -131,6 +133,8 @@ pub struct Scene {
     pub condition_errors: Vec<InputError>,
     /// Notes for the user from loading (e.g. dropped degenerate glTF triangles).
     pub warnings: Vec<String>,
+    /// `[[band]]` table and per-surface band emissivities (semi-gray solve), when given.
+    pub spectral: Option<bands::Spectral>,
 }
 
 impl Scene {

@@ -23,6 +23,21 @@ pub struct RawScene {
     /// `[[model]]` glTF references.
     #[serde(default)]
     pub model: Vec<Spanned<RawModel>>,
+    /// `[[band]]` wavelength bands for semi-gray solves (bands.rs).
+    #[serde(default)]
+    pub band: Vec<Spanned<RawBand>>,
+}
+
+/// One `[[band]]`: wavelengths in µm; the last band may omit `upper` (∞).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBand {
+    /// Band name (e.g. "solar").
+    pub name: Option<String>,
+    /// Lower wavelength limit, µm.
+    pub lower: Spanned<f64>,
+    /// Upper wavelength limit, µm (absent = ∞).
+    pub upper: Option<Spanned<f64>>,
 }
 
 /// `[ambient]`.
@@ -71,6 +86,8 @@ pub struct RawSurface {
     pub subdivide: Option<Spanned<[i64; 2]>>,
     /// Largest patch width, m.
     pub max_patch_size: Num,
+    /// Band emissivities, one per `[[band]]` (bands.rs).
+    pub emissivity_bands: Option<Spanned<Vec<f64>>>,
 }
 
 /// `rectangle = { origin, u, v }`.

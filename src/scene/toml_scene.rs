@@ -93,7 +93,9 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
         surfaces.push(surface(path, &text, k, s)?);
     }
     let title = raw.title.map(|t| t.into_inner());
-    assemble::assemble(path, title, ambient, &defaults, surfaces, models)
+    let mut scene = assemble::assemble(path, title, ambient, &defaults, surfaces, models)?;
+    scene.spectral = super::bands::from_raw(path, &text, &raw.band, &raw.surface, &scene)?;
+    Ok(scene)
 }
 
 type Located<T> = Result<T, (usize, String)>;

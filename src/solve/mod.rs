@@ -1,1 +1,246 @@
-//! Net-radiation solve: K = D − S (SPD), direct and iterative solvers.
+//! Net-radiation solve (literature.md §5): gray diffuse surfaces with temperature or flux
+//! conditions, an optional black ambient, black surfaces eliminated, in the SPD form K = D − S.
+//!
+//! - this file: [`Params`], [`Info`], [`Solution`] and the gray entry point [`solve_gray`];
+//! - [`system`]: nodes and boundary conditions, assembly of K J = b, the anchoring check,
+//!   recovery of q, T, H from J;
+//! - [`direct`]: dense LLT (small N), sparse LLT with a reusable symbolic factorisation,
+//!   LU fallbacks (faer);
+//! - [`iterative`]: Jacobi and Gauss–Seidel with a typed [`NoConvergence`];
+//! - [`planck`]: blackbody band fractions F_{0→λT};
+//! - [`bands`]: semi-gray bands, temperatures coupled across bands by Newton;
+//! - [`conductance`]: radiative conductances RADK_ij = A_i ε_i B_ij (Gebhart).
+use crate::exchange::Exchange;
+use crate::scene::Scene;
+use crate::viewfactor::Level;
+use crate::{Error, Result};
+use std::str::FromStr;
+use std::time::{Duration, Instant};
+
+pub mod bands;
+pub mod conductance;
+pub mod direct;
+pub mod iterative;
+pub mod planck;
+pub mod system;
+
+pub use iterative::NoConvergence;
+pub use system::Node;
+
+/// Name of the ambient node in results.
+pub const AMBIENT: &str = "ambient";
+
+/// Energy-balance acceptance: |Σ heat_rate| ≤ this × max |heat_rate| (SPEC-level check of a
+/// conservative, converged solve; round-off of a direct solve is ~1e-14).
+pub const BALANCE_TOL: f64 = 1e-9;
+/// Default relative residual goal of the iterative solvers (well below the 1e-9 balance).
+pub const ITERATIVE_TOL: f64 = 1e-12;
+/// Default iteration cap of the iterative solvers.
+pub const MAX_ITERATIONS: usize = 100_000;
+
+/// `--solver`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Solver {
+    /// Dense or sparse Cholesky, LU fallback.
+    #[default]
+    Direct,
+    /// Jacobi iteration.
+    Jacobi,
+    /// Gauss–Seidel iteration.
+    GaussSeidel,
+}
+
+impl FromStr for Solver {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "direct" => Ok(Solver::Direct),
+            "jacobi" => Ok(Solver::Jacobi),
+            "gauss-seidel" => Ok(Solver::GaussSeidel),
+            _ => {
+                Err(Error::Usage(format!("unknown --solver '{s}'; expected direct, jacobi or gauss-seidel")))
+            }
+        }
+    }
+}
+
+/// Options of the solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    /// Linear solver.
+    pub solver: Solver,
+    /// Relative residual goal of the iterative solvers.
+    pub tolerance: f64,
+    /// Iteration cap of the iterative solvers.
+    pub max_iterations: usize,
+    /// Largest unknown count solved densely.
+    pub dense_max: usize,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            solver: Solver::Direct,
+            tolerance: ITERATIVE_TOL,
+            max_iterations: MAX_ITERATIONS,
+            dense_max: direct::DENSE_MAX,
+        }
+    }
+}
+
+/// How a solve went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Info {
+    /// The linear solver used, e.g. "dense LLT".
+    pub solver: String,
+    /// Unknown radiosities.
+    pub unknowns: usize,
+    /// Iterations (iterative solvers, or Newton steps for bands).
+    pub iterations: usize,
+    /// Final ‖b − KJ‖/‖b‖ (max over bands).
+    pub residual: f64,
+    /// Wall time.
+    pub wall: Duration,
+}
+
+/// Results of one node (patch or surface).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NodeResult {
+    /// T, K.
+    pub temperature: f64,
+    /// Net outgoing flux q = J − H, W/m².
+    pub heat_flux: f64,
+    /// Net outgoing heat Q = A q, W.
+    pub heat_rate: f64,
+    /// Radiosity J, W/m².
+    pub radiosity: f64,
+    /// Irradiation H, W/m².
+    pub irradiation: f64,
+}
+
+/// A solved scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// Node level.
+    pub level: Level,
+    /// Node names.
+    pub names: Vec<String>,
+    /// Areas, m².
+    pub areas: Vec<f64>,
+    /// Emissivities (gray, or the total hemispherical value at the solved T for bands).
+    pub emissivity: Vec<f64>,
+    /// Owning surface of each node.
+    pub surface: Vec<usize>,
+    /// Per node.
+    pub results: Vec<NodeResult>,
+    /// Open scenes: (ambient temperature, net heat the environment gives the scene, W).
+    pub ambient: Option<(f64, f64)>,
+    /// Solver report.
+    pub info: Info,
+}
+
+impl Solution {
+    /// (Σ heat_rate over all rows incl. ambient, max |heat_rate|): SPEC requires the sum ≈ 0.
+    pub fn heat_balance(&self) -> (f64, f64) {
+        let amb = self.ambient.map_or(0.0, |a| a.1);
+        let sum = self.results.iter().map(|r| r.heat_rate).sum::<f64>() + amb;
+        let max = self.results.iter().map(|r| r.heat_rate.abs()).fold(amb.abs(), f64::max);
+        (sum, max)
+    }
+
+    /// Per-surface results: areas and heat rates add; T, J and H are area-weighted means.
+    pub fn by_surface(&self, scene: &Scene) -> Solution {
+        if self.level == Level::Surface {
+            return self.clone();
+        }
+        let m = scene.surfaces.len();
+        let mut results = vec![NodeResult::default(); m];
+        let mut areas = vec![0.0; m];
+        let mut eps = vec![0.0; m];
+        for (k, r) in self.results.iter().enumerate() {
+            let (s, a) = (self.surface[k], self.areas[k]);
+            areas[s] += a;
+            eps[s] += a * self.emissivity[k];
+            let t = &mut results[s];
+            t.temperature += a * r.temperature;
+            t.heat_rate += r.heat_rate;
+            t.radiosity += a * r.radiosity;
+            t.irradiation += a * r.irradiation;
+        }
+        for s in 0..m {
+            let a = areas[s];
+            if a > 0.0 {
+                let t = &mut results[s];
+                (t.temperature, t.radiosity, t.irradiation) =
+                    (t.temperature / a, t.radiosity / a, t.irradiation / a);
+                t.heat_flux = t.heat_rate / a;
+                eps[s] /= a;
+            }
+        }
+        Solution {
+            level: Level::Surface,
+            names: scene.surfaces.iter().map(|s| s.name.clone()).collect(),
+            areas,
+            emissivity: eps,
+            surface: (0..m).collect(),
+            results,
+            ambient: self.ambient,
+            info: self.info.clone(),
+        }
+    }
+}
+
+/// Solves the gray net-radiation problem on the nodes of `ex` (which must carry the ambient
+/// column for open scenes, see [`crate::exchange::enforce`]).
+pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solution> {
+    let start = Instant::now();
+    let nodes = system::nodes(scene, ex)?;
+    let eps: Vec<f64> = nodes.iter().map(|n| n.emissivity).collect();
+    let e_amb = scene.ambient.map_or(0.0, |a| crate::SIGMA * a.temperature.powi(4));
+    let rows: Vec<system::RowKind> = nodes.iter().map(|n| n.row_kind()).collect();
+    let sys = system::assemble(ex, &eps, &rows, e_amb);
+    system::check_anchored(scene, ex, &nodes, &sys)?;
+    let (x, mut info) = solve_system(&sys, params, &mut None)?;
+    let j = sys.radiosities(&x);
+    let results = system::recover(ex, &nodes, &rows, &j, e_amb)?;
+    let ambient = scene.ambient.map(|a| (a.temperature, system::ambient_heat(ex, &j, e_amb)));
+    info.wall = start.elapsed();
+    Ok(Solution {
+        level: ex.level,
+        names: ex.names.clone(),
+        areas: ex.areas.clone(),
+        emissivity: eps,
+        surface: nodes.iter().map(|n| n.surface).collect(),
+        results,
+        ambient,
+        info,
+    })
+}
+
+/// Solves K x = b with the chosen solver; `symbolic` caches the sparse LLT analysis.
+pub fn solve_system(
+    sys: &system::System,
+    params: &Params,
+    cache: &mut direct::Cache,
+) -> Result<(Vec<f64>, Info)> {
+    let info = |solver: &str, iterations, residual| Info {
+        solver: solver.to_string(),
+        unknowns: sys.b.len(),
+        iterations,
+        residual,
+        wall: Duration::ZERO,
+    };
+    match params.solver {
+        Solver::Direct => {
+            let f = direct::factor(&sys.k, params.dense_max, cache)?;
+            let x = f.solve(&sys.b);
+            let r = sys.k.residual(&x, &sys.b);
+            Ok((x, info(f.name(), 0, r)))
+        }
+        Solver::Jacobi | Solver::GaussSeidel => {
+            let gs = params.solver == Solver::GaussSeidel;
+            let (x, it, r) = iterative::solve(&sys.k, &sys.b, gs, params.tolerance, params.max_iterations)?;
+            Ok((x, info(if gs { "Gauss-Seidel" } else { "Jacobi" }, it, r)))
+        }
+    }
+}

@@ -7,8 +7,11 @@
 use super::case::{Case, HeatRef};
 use super::check::{Check, Status};
 use super::tolerance::{self, HEAT_EXACT_REL};
+use crate::exchange::{self, Enforce, EnforceParams, Exchange};
+use crate::report;
 use crate::scene::Scene;
-use crate::viewfactor::{Method, Params, ViewFactors};
+use crate::solve;
+use crate::viewfactor::{self, Level, Method, Params, ViewFactors};
 use crate::{Error, Result};
 use std::time::{Duration, Instant};
 
@@ -31,9 +34,42 @@ impl HeatResults {
     }
 }
 
-/// Solves `scene` with patch-level `vf` (or the exact file) as `lambert solve` does.
-fn solve(_scene: &Scene, _source: Source) -> Result<HeatResults> {
-    Err(Error::Unsupported("the radiation solve is not available in this build".into()))
+/// Solves `scene` as `lambert solve` does: patch-level factors (a method's, or the exact
+/// file), the solve's default enforcement (closure for closed scenes, reciprocity for open
+/// ones; maximum likelihood for hit counts), the gray solve, results per surface.
+fn solve(scene: &Scene, source: Source) -> Result<HeatResults> {
+    scene.check_boundary_conditions()?;
+    let (vf, rays) = match source {
+        Source::Method(p) => {
+            let hits = matches!(p.method, Method::McCosine | Method::McUniform).then_some(p.samples);
+            (viewfactor::compute(scene, p, Level::Patch)?, hits)
+        }
+        Source::File(path) => (report::read_vf::read_viewfactors(path, scene)?, None),
+    };
+    let mut ex = Exchange::from_viewfactors(&vf);
+    if let (Some(n), Level::Patch) = (rays, ex.level) {
+        if ex.samples.iter().all(|&s| s == 0) {
+            ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
+        }
+    }
+    let open = !scene.is_closed();
+    let p = EnforceParams {
+        mode: Enforce::solve_default(open),
+        open,
+        source: scene.source.clone(),
+        ..Default::default()
+    };
+    exchange::enforce(&mut ex, &p)?;
+    let sol = solve::solve_gray(scene, &ex, &solve::Params::default())?.by_surface(scene);
+    Ok(HeatResults {
+        surfaces: sol
+            .names
+            .iter()
+            .zip(&sol.results)
+            .map(|(n, r)| (n.clone(), r.heat_rate, r.temperature))
+            .collect(),
+        ambient: sol.ambient.map(|a| a.1),
+    })
 }
 
 /// Where the view factors come from.

@@ -24,7 +24,7 @@
 //! a hemicube's top face has 2/R); uniform spacing is kept for comparison.
 use super::engine::{Row, RowKernel};
 use super::hemicube::prepare::{Eye, Gathered, Prepared};
-use super::hemicube::{checked_resolution, emit, positions, Positions, NEAR_REL};
+use super::hemicube::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
 use super::MethodSet;
 use crate::scene::Scene;
 use crate::Result;
@@ -115,13 +115,7 @@ impl RowKernel for SinglePlaneKernel<'_> {
             ws.gathered.gather(&self.prep, &eye, i);
             ws.plane.project(&ws.gathered, self.options.half_width, near);
             let Workspace { plane, acc, touched, .. } = &mut ws;
-            plane.resolve(&self.grid, &mut |id, f| {
-                let a = &mut acc[id as usize];
-                if *a == 0.0 {
-                    touched.push(id);
-                }
-                *a += w * f;
-            });
+            plane.resolve(&self.grid, &mut |id, f| credit(acc, touched, id, w * f));
         }
         let Workspace { acc, touched, .. } = &mut ws;
         emit(acc, touched, MethodSet::SINGLE_PLANE, out);

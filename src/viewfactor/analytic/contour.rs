@@ -7,8 +7,9 @@
 //! 1. coplanar pairs give exactly 0;
 //! 2. each polygon is clipped to the other's front half-space (back-facing → 0; this also covers
 //!    intersecting and touching planes), so every point of one sees the whole contour of the other;
-//! 3. coordinates are shifted to the pair's centre and scaled by a power of two L (exact), so
-//!    ln r is ln(r/L): the constant drops out because Σ e_i·f_j = 0 over closed rings;
+//! 3. coordinates are shifted to the pair's centre and scaled by a power of two L (exact) near
+//!    the pair's separation, so ln r is ln(r/L) ≈ 0: the constant drops out because
+//!    Σ e_i·f_j = 0 over closed rings, and the terms that must cancel stay small;
 //! 4. every edge pair is evaluated exactly by [`super::edge::pair_term`].
 //!
 //! No vertex is nudged; shared vertices and edges are exact limits of the formulas.
@@ -26,26 +27,50 @@ const COPLANAR: f64 = 1e-12;
 /// polygon touching the other's plane along an edge is kept whole, not cut into slivers.
 const CLIP_SNAP: f64 = 1e-13;
 
+/// Round-off of one edge-pair term in units of ε times its magnitude (the sizes of the parts
+/// that cancel, see [`super::edge::Term`]): a handful of rounded operations on each. Measured:
+/// independent evaluations (reciprocity, rigid motion, triangulation) differ by at most 0.14
+/// of the resulting bound.
+const TERM_ROUND_OFF: f64 = 4.0;
+
+/// Exchange area A_p F_pq by the contour integral, with a bound on its round-off.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Exchange {
+    /// A_p F_pq, m².
+    pub value: f64,
+    /// Bound on the round-off of `value`, m²: the contour terms cancel when the pair is far
+    /// apart (relative to its size) or grazing, and this grows with the cancellation.
+    pub round_off: f64,
+}
+
 /// Exchange area A_p F_pq between the front faces of two planar polygons, m².
 pub fn polygon_polygon(p: &Polygon, q: &Polygon) -> f64 {
+    ring_ring(p.vertices(), p.normal(), q.vertices(), q.normal()).value
+}
+
+/// [`polygon_polygon`] with its round-off bound.
+pub fn polygon_polygon_with_round_off(p: &Polygon, q: &Polygon) -> Exchange {
     ring_ring(p.vertices(), p.normal(), q.vertices(), q.normal())
 }
 
 /// Exchange area between two planar rings (counter-clockwise about unit normals `np`, `nq`),
 /// clipped to each other's front half-space; the rings are not validated.
-pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> f64 {
+pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
+    let none = Exchange::default();
     if p.len() < 3 || q.len() < 3 {
-        return 0.0;
+        return none;
     }
-    // Step: normalised frame centred on the pair, scaled by a power of two.
+    // Step: normalised frame centred on the pair, scaled by a power of two close to the pair's
+    // separation (or size, when they are close), so that ln r ≈ 0 for typical distances.
     let cp = mean(p);
     let cq = mean(q);
     let origin = 0.5 * (cp + cq);
-    let reach = p.iter().chain(q).map(|v| v.distance_squared(origin)).fold(0.0, f64::max).sqrt();
-    if !(reach > 0.0 && reach.is_finite()) {
-        return 0.0;
+    let radius = |v: &[DVec3], c: DVec3| v.iter().map(|x| x.distance_squared(c)).fold(0.0, f64::max).sqrt();
+    let size = cp.distance(cq).max(radius(p, cp)).max(radius(q, cq));
+    if !(size > 0.0 && size.is_finite()) {
+        return none;
     }
-    let scale = 2f64.powi(reach.log2().ceil() as i32);
+    let scale = 2f64.powi(size.log2().round() as i32);
     let inv = 1.0 / scale;
     let (mut pr, mut qr) = (Ring::new(), Ring::new());
     pr.fill_mapped(p, origin, inv);
@@ -55,12 +80,12 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> f64 {
     let coplanar =
         |ring: &Ring, o: DVec3, n: DVec3| ring.as_slice().iter().all(|v| (*v - o).dot(n).abs() <= COPLANAR);
     if coplanar(&qr, op, np) || coplanar(&pr, oq, nq) {
-        return 0.0;
+        return none;
     }
     // Step: each polygon clipped to the other's front half-space.
     let (mut pc, mut qc) = (Ring::new(), Ring::new());
     let p_ring = match classify(pr.as_slice(), oq, nq, CLIP_SNAP) {
-        Side::Outside => return 0.0,
+        Side::Outside => return none,
         Side::Inside => pr.as_slice(),
         Side::Cut => {
             clip_into(pr.as_slice(), oq, nq, CLIP_SNAP, &mut pc);
@@ -68,7 +93,7 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> f64 {
         }
     };
     let q_ring = match classify(qr.as_slice(), op, np, CLIP_SNAP) {
-        Side::Outside => return 0.0,
+        Side::Outside => return none,
         Side::Inside => qr.as_slice(),
         Side::Cut => {
             clip_into(qr.as_slice(), op, np, CLIP_SNAP, &mut qc);
@@ -76,22 +101,27 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> f64 {
         }
     };
     if p_ring.len() < 3 || q_ring.len() < 3 {
-        return 0.0;
+        return none;
     }
-    // Step: the double sum over edge pairs.
-    let sum = with_edges(q_ring, |fs| {
+    // Step: the double sum over edge pairs, with the magnitude its round-off scales with.
+    let (sum, magnitude) = with_edges(q_ring, |fs| {
         let n = p_ring.len();
-        let mut sum = 0.0;
+        let (mut sum, mut magnitude) = (0.0, 0.0);
         for i in 0..n {
             let e = Edge::new(p_ring[i], p_ring[(i + 1) % n]);
             if e.len == 0.0 {
                 continue;
             }
-            sum += fs.iter().filter(|f| f.len > 0.0).map(|f| pair_term(&e, f)).sum::<f64>();
+            for f in fs.iter().filter(|f| f.len > 0.0) {
+                let term = pair_term(&e, f);
+                sum += term.value;
+                magnitude += term.magnitude;
+            }
         }
-        sum
+        (sum, magnitude)
     });
-    (sum / TAU * scale * scale).max(0.0)
+    let unit = scale * scale / TAU;
+    Exchange { value: (sum * unit).max(0.0), round_off: TERM_ROUND_OFF * f64::EPSILON * magnitude * unit }
 }
 
 /// Vertex average (a point of the ring's plane).

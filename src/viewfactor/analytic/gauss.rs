@@ -15,11 +15,12 @@ use std::sync::OnceLock;
 pub const N_MAX: usize = 20;
 /// Smallest rule used (2 points integrate a straight line exactly).
 const N_MIN: usize = 2;
-/// ln(1/ε) for the per-interval target ε ≈ 1e-16 relative; a factor 4 margin on the
-/// ρ^(−2n) model covers the modest constant of a logarithmic singularity.
-const LN_INV_EPS: f64 = 38.2;
+/// ln(1/ε) for the per-interval target ρ^(−2n) ≤ ε = 1e-15. Measured on 3000 random near
+/// polygon pairs against a 1e-26 target: the differences stay below 0.2 of the contour
+/// round-off bound for any value from 33 up, and exceed it 150-fold at 25.
+const LN_INV_EPS: f64 = 34.5;
 /// Split point, as a fraction of the interval, when a singularity sits at or beyond an end:
-/// the far piece then has ρ ≥ 2 + √3 at once (3.73^(−2·15) ≈ 1e-17).
+/// the far piece then has ρ ≥ 2 + √3 at once, which 14 points integrate to 1e-15.
 const GRADE: f64 = 1.0 / 3.0;
 /// Intervals shorter than this fraction of the whole are integrated as they are: the
 /// integrand is continuous, so such a piece errs by at most its length times the variation.
@@ -45,64 +46,84 @@ pub struct Singularity {
 /// Bernstein-ellipse parameter ρ of `s` for the interval [l, r]: foci l and r, ellipse
 /// through s; ρ = a + √(a² − 1) with a the semi-major axis in half-lengths.
 fn bernstein_rho(s: Singularity, l: f64, r: f64) -> f64 {
-    let da = (s.x - l).hypot(s.y);
-    let db = (s.x - r).hypot(s.y);
+    let da = ((s.x - l) * (s.x - l) + s.y * s.y).sqrt();
+    let db = ((s.x - r) * (s.x - r) + s.y * s.y).sqrt();
     let a = (da + db) / (r - l);
     a + (a * a - 1.0).max(0.0).sqrt()
 }
 
 /// Gauss points needed for ρ^(−2n) ≤ ε.
-fn points_for(rho: f64) -> usize {
+fn points_for(rho: f64, ln_inv_eps: f64) -> usize {
     if rho <= 1.0 {
         return usize::MAX;
     }
-    ((LN_INV_EPS / (2.0 * rho.ln())).ceil() as usize).max(N_MIN)
+    ((ln_inv_eps / (2.0 * rho.ln())).ceil() as usize).max(N_MIN)
 }
 
 /// ∫₀ᴸ f(σ) dσ for an `f` analytic except at `sing` (and their conjugates).
-pub fn integrate(len: f64, sing: &[Singularity], mut f: impl FnMut(f64) -> f64) -> f64 {
+pub fn integrate(len: f64, sing: &[Singularity], f: impl FnMut(f64) -> f64) -> f64 {
+    integrate_to(len, sing, LN_INV_EPS, f)
+}
+
+/// [`integrate`] with a per-interval target ρ^(−2n) ≤ e^(−`ln_inv_eps`).
+pub fn integrate_to(len: f64, sing: &[Singularity], ln_inv_eps: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
     let rules = rules();
+    // Step: fast path, one rule on the whole interval (far pairs).
+    let (rho, worst) = nearest(sing, 0.0, len);
+    let n = points_for(rho, ln_inv_eps);
+    if n <= N_MAX {
+        return gauss(&rules[n - 1], 0.0, len, &mut f);
+    }
     let min_piece = MIN_PIECE * len;
     let mut stack = [(0.0f64, 0.0f64); STACK];
-    stack[0] = (0.0, len);
-    let mut top = 1;
+    let mut top = split(&mut stack, 0, 0.0, len, worst);
     let mut total = 0.0;
     while top > 0 {
         top -= 1;
         let (l, r) = stack[top];
-        // Step: nearest singularity in the Bernstein sense.
-        let (mut rho, mut worst) = (f64::INFINITY, None);
-        for &s in sing {
-            let q = bernstein_rho(s, l, r);
-            if q < rho {
-                rho = q;
-                worst = Some(s);
-            }
-        }
-        let n = points_for(rho);
-        let tiny = r - l <= min_piece || top + 2 > STACK;
-        if n <= N_MAX || tiny {
-            // Step: one Gauss rule on [l, r].
-            let (x, w) = &rules[n.min(N_MAX) - 1];
-            let h = r - l;
-            total += h * x.iter().zip(w).map(|(&x, &w)| w * f(l + h * x)).sum::<f64>();
-            continue;
-        }
-        // Step: split at the singularity's real part, or grade towards the near end.
-        let s = worst.expect("a finite ρ comes from a singularity");
-        let h = r - l;
-        let m = if s.x > l + GRADE * h && s.x < r - GRADE * h {
-            s.x
-        } else if s.x <= l + GRADE * h {
-            l + GRADE * h
+        let (rho, worst) = nearest(sing, l, r);
+        let n = points_for(rho, ln_inv_eps);
+        if n <= N_MAX || r - l <= min_piece || top + 2 > STACK {
+            total += gauss(&rules[n.min(N_MAX) - 1], l, r, &mut f);
         } else {
-            r - GRADE * h
-        };
-        stack[top] = (l, m);
-        stack[top + 1] = (m, r);
-        top += 2;
+            top = split(&mut stack, top, l, r, worst);
+        }
     }
     total
+}
+
+/// The smallest Bernstein parameter over `sing` for [l, r], with its singularity.
+fn nearest(sing: &[Singularity], l: f64, r: f64) -> (f64, Singularity) {
+    let mut best = (f64::INFINITY, Singularity { x: 0.5 * (l + r), y: f64::INFINITY });
+    for &s in sing {
+        let q = bernstein_rho(s, l, r);
+        if q < best.0 {
+            best = (q, s);
+        }
+    }
+    best
+}
+
+/// One n-point Gauss rule on [l, r].
+fn gauss(rule: &(Vec<f64>, Vec<f64>), l: f64, r: f64, f: &mut impl FnMut(f64) -> f64) -> f64 {
+    let h = r - l;
+    h * rule.0.iter().zip(&rule.1).map(|(&x, &w)| w * f(l + h * x)).sum::<f64>()
+}
+
+/// Pushes the halves of [l, r], split at the singularity's real part when it lies well inside,
+/// else a third of the way towards it; returns the new stack top.
+fn split(stack: &mut [(f64, f64)], top: usize, l: f64, r: f64, s: Singularity) -> usize {
+    let h = r - l;
+    let m = if s.x > l + GRADE * h && s.x < r - GRADE * h {
+        s.x
+    } else if s.x <= l + GRADE * h {
+        l + GRADE * h
+    } else {
+        r - GRADE * h
+    };
+    stack[top] = (l, m);
+    stack[top + 1] = (m, r);
+    top + 2
 }
 
 #[cfg(test)]

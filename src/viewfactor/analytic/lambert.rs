@@ -7,6 +7,7 @@
 //! front half-space, hence the clip in [`point_to_polygon`].
 //!
 //! The disk uses the same contour integral on the exact circle (see [`super::disk`]).
+use super::angle::atan2_pos;
 use super::ring::{classify, clip_into, Ring, Side};
 use crate::geometry::Polygon;
 use glam::DVec3;
@@ -65,7 +66,7 @@ pub fn edge_term(n: DVec3, a: DVec3, b: DVec3) -> f64 {
     if len == 0.0 {
         return 0.0;
     }
-    len.atan2(a.dot(b)) * n.dot(c) / len
+    atan2_pos(len, a.dot(b)) * n.dot(c) / len
 }
 
 #[cfg(test)]

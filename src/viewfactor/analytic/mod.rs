@@ -5,7 +5,9 @@
 //! - [`contour`]: polygon-to-polygon exchange area by the double contour integral;
 //! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
 //! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
-//! - [`ring`]: stack-allocated vertex rings and half-space clipping.
+//! - [`ring`]: stack-allocated vertex rings and half-space clipping;
+//! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
+pub mod angle;
 pub mod contour;
 pub mod disk;
 pub mod edge;

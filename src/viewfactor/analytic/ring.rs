@@ -174,6 +174,15 @@ mod tests {
         }
         assert_eq!(r.len(), INLINE + 5);
         assert!(r.as_slice().iter().enumerate().all(|(k, v)| v.x == k as f64));
+        // Popping back to the stack keeps the same vertices.
+        for _ in 0..6 {
+            r.pop();
+        }
+        assert_eq!(r.len(), INLINE - 1);
+        assert!(r.as_slice().iter().enumerate().all(|(k, v)| v.x == k as f64));
+        r.push(DVec3::splat(-1.0));
+        r.push(DVec3::splat(-2.0));
+        assert_eq!(r.as_slice()[INLINE].x, -2.0);
     }
 
     #[test]

@@ -15,6 +15,10 @@ pub(crate) struct DeltaTables {
     pub top: Vec<f64>,
     /// One side face, R columns × R/2 rows, row-major from z = 0 (all four sides share it).
     pub side: Vec<f64>,
+    /// Row prefix sums of `top`: R + 1 per row, so a run of pixels sums in one subtraction.
+    pub top_prefix: Vec<f64>,
+    /// Row prefix sums of `side`.
+    pub side_prefix: Vec<f64>,
 }
 
 impl DeltaTables {
@@ -41,13 +45,28 @@ impl DeltaTables {
                 side.push(z * h * h / (PI * d * d));
             }
         }
-        Self { resolution: r, top, side }
+        let (top_prefix, side_prefix) = (row_prefix(&top, r), row_prefix(&side, r));
+        Self { resolution: r, top, side, top_prefix, side_prefix }
     }
 
     /// Σ of all five faces' delta factors (1 + O(h²)).
     pub fn total(&self) -> f64 {
         self.top.iter().sum::<f64>() + 4.0 * self.side.iter().sum::<f64>()
     }
+}
+
+/// Per-row prefix sums (R + 1 per row, starting at 0) of a row-major table of width `r`.
+fn row_prefix(table: &[f64], r: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(table.len() / r * (r + 1));
+    for row in table.chunks_exact(r) {
+        let mut sum = 0.0;
+        out.push(0.0);
+        out.extend(row.iter().map(|d| {
+            sum += d;
+            sum
+        }));
+    }
+    out
 }
 
 #[cfg(test)]

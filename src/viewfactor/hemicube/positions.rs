@@ -16,6 +16,7 @@
 use super::prepare::Prepared;
 use crate::geometry::quadrature::AreaRule;
 use crate::geometry::Polygon;
+use glam::DVec2;
 
 /// Projection positions per patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,22 +77,46 @@ impl Positions {
     }
 }
 
-/// Points (strictly inside) and weights (summing to the area) of a q×q rule on `polygon`;
-/// q = 1 is the centroid.
+/// Points and weights (summing to the area) of a q×q rule on `polygon`; q = 1 is the
+/// centroid. Parallelograms get the tensor Gauss rule and triangles the collapsed one (points
+/// strictly inside); any other polygon is cut by a q×q grid of its bounding box in its own
+/// frame, each piece contributing its centroid and area (a composite midpoint rule: at most
+/// q² positions however many vertices, e.g. a 64-gon disk).
 pub(crate) fn rule(polygon: &Polygon, q: usize) -> AreaRule {
     if q <= 1 {
         return AreaRule { points: vec![polygon.centroid()], weights: vec![polygon.area()] };
     }
     let v = polygon.vertices();
     let diameter = 2.0 * polygon.bounding_radius();
+    if v.len() == 3 {
+        return AreaRule::triangle(v[0], v[1], v[2], q);
+    }
     if v.len() == 4 && (v[0] + v[2] - v[1] - v[3]).length() <= PARALLELOGRAM_TOL * diameter {
         return AreaRule::parallelogram(v[0], v[1] - v[0], v[3] - v[0], q);
     }
+    let n = polygon.normal();
+    let t = (v[1] - v[0]).normalize();
+    let b = n.cross(t);
+    let (lo, hi) = v.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
+        let uv = DVec2::new((*p - v[0]).dot(t), (*p - v[0]).dot(b));
+        (lo.min(uv), hi.max(uv))
+    });
+    let step = (hi - lo) / q as f64;
     let mut all = AreaRule::default();
-    for [a, b, c] in polygon.triangulate() {
-        let r = AreaRule::triangle(a, b, c, q);
-        all.points.extend(r.points);
-        all.weights.extend(r.weights);
+    for i in 0..q {
+        for j in 0..q {
+            let c0 = v[0] + t * (lo.x + i as f64 * step.x) + b * (lo.y + j as f64 * step.y);
+            let c1 = c0 + t * step.x + b * step.y;
+            let piece = polygon
+                .clip(c0, t)
+                .and_then(|p| p.clip(c0, b))
+                .and_then(|p| p.clip(c1, -t))
+                .and_then(|p| p.clip(c1, -b));
+            if let Some(p) = piece {
+                all.points.push(p.centroid());
+                all.weights.push(p.area());
+            }
+        }
     }
     all
 }
@@ -107,6 +132,18 @@ mod tests {
         let tri = Polygon::new(vec![DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::Y]).unwrap();
         let in_sq = |x: &DVec3| x.x > 0.0 && x.y > 0.0 && x.x < 1.0 && x.y < 1.0;
         let in_tri = |x: &DVec3| x.x > 0.0 && x.y > 0.0 && x.x + 2.0 * x.y < 2.0;
+        let hexagon = Polygon::new(
+            (0..6)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::PI / 3.0;
+                    DVec3::new(0.5 + 0.4 * a.cos(), 0.5 + 0.4 * a.sin(), 0.0)
+                })
+                .collect(),
+        )
+        .unwrap();
+        let r = rule(&hexagon, 3);
+        assert!(r.points.len() <= 9 && (r.weights.iter().sum::<f64>() - hexagon.area()).abs() < 1e-14);
+        assert!(r.points.iter().all(|x| (x.x - 0.5).hypot(x.y - 0.5) < 0.4));
         for (p, q, n, inside) in
             [(&sq, 1, 1, &in_sq as &dyn Fn(&DVec3) -> bool), (&sq, 3, 9, &in_sq), (&tri, 2, 4, &in_tri)]
         {

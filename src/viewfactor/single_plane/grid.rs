@@ -33,6 +33,8 @@ pub(crate) struct PlaneGrid {
     pub r: usize,
     /// R + 1 node coordinates from −s to s.
     pub nodes: Vec<f64>,
+    /// R pixel centres (node midpoints), where pixels are point sampled.
+    pub centres: Vec<f64>,
     /// G at node (i, j), index j·(R + 1) + i.
     g: Vec<f64>,
 }
@@ -60,7 +62,8 @@ impl PlaneGrid {
         for &y in &nodes {
             g.extend(nodes.iter().map(|&x| corner_factor(x, y)));
         }
-        Self { r, nodes, g }
+        let centres = nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+        Self { r, nodes, centres, g }
     }
 
     /// Exact factor of the cell of pixels [i0, i1) × [j0, j1).

@@ -1,13 +1,16 @@
 //! Warnock-style visibility on the single plane: a cell of pixels is resolved whole when
 //! no projected edge crosses it and one polygon covers it in front of every other; otherwise
-//! it is split in four, down to single pixels, which are point sampled at their centre with
-//! the same even–odd, half-open rule as the hemicube's item buffer.
+//! it is split in four. Cells of at most [`SCAN_BLOCK`]² pixels that edges still cross are
+//! resolved pixel by pixel, point sampled at the pixel centres with the same even–odd,
+//! half-open rule as the hemicube's item buffer (row spans, as the rasteriser does: the same
+//! answer as recursing to single pixels, at a fraction of the classification cost).
 use super::grid::PlaneGrid;
 use crate::viewfactor::hemicube::clip::{self, HalfSpace};
 use crate::viewfactor::hemicube::prepare::{Gathered, NO_RECEIVER};
 use crate::viewfactor::hemicube::raster::crossing;
 use crate::viewfactor::hemicube::RECEIVER_DEPTH_BIAS;
 use glam::{DVec2, DVec3};
+use std::ops::Range;
 
 /// One polygon projected onto the plane z = 1.
 #[derive(Debug, Clone, Copy)]
@@ -50,7 +53,14 @@ pub(crate) struct PlaneScene {
     stack: Vec<(u32, bool)>,
     clipped: Vec<DVec3>,
     tmp: Vec<DVec3>,
+    /// Scan scratch: row crossings and the (depth, id) of a block's pixels.
+    xs: Vec<f64>,
+    block: Vec<(f64, u32)>,
 }
+
+/// Largest cell side, in pixels, resolved by scanning pixel rows rather than subdividing:
+/// below it the quadtree's per-cell classification costs more than sampling each pixel.
+const SCAN_BLOCK: usize = 8;
 
 impl PlaneScene {
     /// Clips every gathered polygon to the pyramid |x|, |y| ≤ s·z, z ≥ near and projects it.
@@ -110,7 +120,7 @@ impl PlaneScene {
         &mut self,
         grid: &PlaneGrid,
         cell: [usize; 4],
-        parent: std::ops::Range<usize>,
+        parent: Range<usize>,
         add: &mut impl FnMut(u32, f64),
     ) {
         let [i0, i1, j0, j1] = cell;
@@ -145,8 +155,8 @@ impl PlaneScene {
                 return;
             }
         }
-        if i1 - i0 == 1 && j1 - j0 == 1 {
-            self.sample_pixel(list, 0.5 * (lo + hi), grid.cell_factor(i0, i1, j0, j1), add);
+        if i1 - i0 <= SCAN_BLOCK && j1 - j0 <= SCAN_BLOCK {
+            self.scan_block(grid, cell, list, add);
         } else {
             let im = if i1 - i0 > 1 { (i0 + i1) / 2 } else { i1 };
             let jm = if j1 - j0 > 1 { (j0 + j1) / 2 } else { j1 };
@@ -163,7 +173,7 @@ impl PlaneScene {
 
     /// The polygon nearest over the whole cell (its farthest corner depth beats every other's
     /// nearest; depth is affine, so corners bound it), or `None` when depths interleave.
-    fn front_most(&self, list: std::ops::Range<usize>, lo: DVec2, hi: DVec2) -> Option<u32> {
+    fn front_most(&self, list: Range<usize>, lo: DVec2, hi: DVec2) -> Option<u32> {
         let corners = [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)];
         let range = |p: &ProjPoly| {
             corners.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
@@ -181,26 +191,55 @@ impl PlaneScene {
             .then(|| self.polys[self.stack[best].0 as usize].id)
     }
 
-    /// Point-samples one pixel: the nearest candidate containing its centre wins it.
-    fn sample_pixel(
-        &self,
-        list: std::ops::Range<usize>,
-        centre: DVec2,
-        factor: f64,
+    /// Resolves a small cell pixel by pixel: each candidate's crossings with every pixel-row
+    /// centre line give spans, the nearest polygon whose span holds a pixel centre wins it
+    /// (the even–odd, half-open rule of the rasteriser).
+    fn scan_block(
+        &mut self,
+        grid: &PlaneGrid,
+        cell: [usize; 4],
+        list: Range<usize>,
         add: &mut impl FnMut(u32, f64),
     ) {
-        let mut best: Option<(f64, u32)> = None;
+        let [i0, i1, j0, j1] = cell;
+        let w = i1 - i0;
+        self.block.clear();
+        self.block.resize(w * (j1 - j0), (f64::NEG_INFINITY, NO_RECEIVER));
         for k in list {
-            let p = &self.polys[self.stack[k].0 as usize];
-            if contains(self.ring(p), centre) {
-                let q = p.depth(centre);
-                if best.is_none_or(|(b, _)| q > b) {
-                    best = Some((q, p.id));
+            let p = self.polys[self.stack[k].0 as usize];
+            let ring = &self.pts[p.first as usize..(p.first + p.len) as usize];
+            for j in j0..j1 {
+                let yc = grid.centres[j];
+                if yc < p.lo.y || yc > p.hi.y {
+                    continue;
+                }
+                self.xs.clear();
+                for e in 0..ring.len() {
+                    let (a, b) = (ring[e], ring[(e + 1) % ring.len()]);
+                    if (a.y <= yc) != (b.y <= yc) {
+                        self.xs.push(crossing(a, b, yc));
+                    }
+                }
+                self.xs.sort_unstable_by(f64::total_cmp);
+                for pair in self.xs.chunks_exact(2) {
+                    for i in i0..i1 {
+                        let xc = grid.centres[i];
+                        if xc >= pair[0] && xc < pair[1] {
+                            let q = p.depth(DVec2::new(xc, yc));
+                            let slot = &mut self.block[(j - j0) * w + (i - i0)];
+                            if q > slot.0 {
+                                *slot = (q, p.id);
+                            }
+                        }
+                    }
                 }
             }
         }
-        if let Some((_, id)) = best.filter(|&(_, id)| id != NO_RECEIVER) {
-            add(id, factor);
+        for (k, &(_, id)) in self.block.iter().enumerate() {
+            if id != NO_RECEIVER {
+                let (i, j) = (i0 + k % w, j0 + k / w);
+                add(id, grid.cell_factor(i, i + 1, j, j + 1));
+            }
         }
     }
 

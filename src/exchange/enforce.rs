@@ -1,0 +1,246 @@
+//! `--enforce none|reciprocity|closure` (SPEC.md "Enforcement defaults"):
+//! - none: raw exchange areas; open scenes get S_i,amb = A_i − Σ_j S_ij as they come;
+//! - reciprocity: s̄ = ½(s + sᵀ); in open scenes rows that overshoot A_i are scaled down
+//!   symmetrically ([`super::scaling::capped_scaling`]) and the ambient takes the rest;
+//! - closure (closed scenes): first the leak check ([`leaks`]): a row short of 1 by more than
+//!   the method's error is refused (exit 2), never stretched. Then constrained maximum
+//!   likelihood for hit-count Monte Carlo, symmetric scaling otherwise (or an explicit
+//!   [`ClosureMethod`]). Plain row scaling is never used. In open scenes closure equals
+//!   reciprocity: the ambient node closes every row.
+use super::diagnostics::Diagnostics;
+use super::lsq::{weighted_least_squares, Weight};
+use super::{ml, scaling, Exchange};
+use crate::error::InputError;
+use crate::viewfactor::MethodSet;
+use crate::{Error, Result};
+use std::path::PathBuf;
+use std::str::FromStr;
+
+/// Closure target: max |Σ_j F_ij − 1| after enforcement (a few hundred ulps of 1).
+pub const CLOSURE_TOL: f64 = 1e-12;
+/// Leak threshold for deterministic methods: analytic and hemicube rows close to ~1e-5 or
+/// better, so a shortfall above 1e-3 is geometry, not method error.
+pub const LEAK_TOL: f64 = 1e-3;
+/// Leak threshold for single-plane, whose finite plane misses up to ~1 % of grazing
+/// directions (literature.md §4: the plane captures 0.9919 at half-width 10).
+pub const LEAK_TOL_SINGLE_PLANE: f64 = 2e-2;
+/// Monte Carlo rows leak when short by more than this many standard errors of the row sum
+/// (and by more than [`LEAK_TOL`]): a false alarm needs a 4σ event.
+pub const LEAK_SIGMAS: f64 = 4.0;
+
+/// The SPEC.md enforcement modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Enforce {
+    /// Raw factors.
+    None,
+    /// A_iF_ij = A_jF_ji by averaging.
+    Reciprocity,
+    /// Reciprocity plus Σ_j F_ij = 1 (closed) or ≤ 1 (open).
+    Closure,
+}
+
+impl FromStr for Enforce {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "none" => Ok(Enforce::None),
+            "reciprocity" => Ok(Enforce::Reciprocity),
+            "closure" => Ok(Enforce::Closure),
+            _ => Err(Error::Usage(format!("unknown --enforce '{s}'; expected none, reciprocity or closure"))),
+        }
+    }
+}
+
+impl Enforce {
+    /// SPEC default of `solve`: closure for closed scenes, reciprocity for open ones.
+    pub fn solve_default(open: bool) -> Self {
+        if open {
+            Enforce::Reciprocity
+        } else {
+            Enforce::Closure
+        }
+    }
+}
+
+/// How closure is reached (the study compares all of them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ClosureMethod {
+    /// ML for hit counts, symmetric scaling otherwise.
+    #[default]
+    Auto,
+    /// Constrained maximum likelihood (needs hit counts).
+    MaxLikelihood,
+    /// s_ij = s̄_ij g_i g_j.
+    SymmetricScaling,
+    /// One weighted least-squares projection, w = s̄.
+    WeightedLs,
+    /// One least-squares projection, w = 1 on the pattern.
+    UnweightedLs,
+}
+
+/// Options of [`enforce`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnforceParams {
+    /// The mode.
+    pub mode: Enforce,
+    /// Closure method.
+    pub method: ClosureMethod,
+    /// Open scene (an ambient node takes the rest of every row).
+    pub open: bool,
+    /// Scene file, for messages.
+    pub source: PathBuf,
+    /// Closure target.
+    pub tolerance: f64,
+}
+
+impl Default for EnforceParams {
+    fn default() -> Self {
+        Self {
+            mode: Enforce::None,
+            method: ClosureMethod::Auto,
+            open: false,
+            source: PathBuf::new(),
+            tolerance: CLOSURE_TOL,
+        }
+    }
+}
+
+/// What [`enforce`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnforceReport {
+    /// Residuals of the raw matrix.
+    pub before: Diagnostics,
+    /// Residuals after enforcement.
+    pub after: Diagnostics,
+    /// The method applied.
+    pub method: &'static str,
+    /// Newton steps, CG iterations or sweeps spent.
+    pub iterations: usize,
+}
+
+/// One leaking row: (node, Σ_j F_ij, allowed shortfall).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Leak {
+    /// Node index.
+    pub node: usize,
+    /// Row sum Σ_j F_ij.
+    pub row_sum: f64,
+    /// The shortfall allowed by the method's error.
+    pub threshold: f64,
+}
+
+/// Rows of a closed scene short of 1 by more than the method's error, worst first.
+pub fn leaks(ex: &Exchange) -> Vec<Leak> {
+    let sums = ex.row_sums();
+    let ip = ex.indptr();
+    let mut out: Vec<Leak> = (0..ex.len())
+        .filter_map(|i| {
+            let p = sums[i] / ex.areas[i];
+            let methods = ex.methods[ip[i]..ip[i + 1]].iter().fold(MethodSet::default(), |a, &m| a.union(m));
+            let sigma = if ex.samples[i] > 0 && ex.has_hit_counts() {
+                // Multinomial: the row sum is a binomial proportion of n rays.
+                let q = p.clamp(0.0, 1.0);
+                (q * (1.0 - q) / ex.samples[i] as f64).sqrt()
+            } else {
+                ex.var[ip[i]..ip[i + 1]].iter().sum::<f64>().sqrt() / ex.areas[i]
+            };
+            let det = if methods.union(MethodSet::SINGLE_PLANE) == methods && !methods.is_empty() {
+                LEAK_TOL_SINGLE_PLANE
+            } else {
+                LEAK_TOL
+            };
+            let threshold = det.max(LEAK_SIGMAS * sigma);
+            (1.0 - p > threshold).then_some(Leak { node: i, row_sum: p, threshold })
+        })
+        .collect();
+    out.sort_by(|a, b| a.row_sum.total_cmp(&b.row_sum).then(a.node.cmp(&b.node)));
+    out
+}
+
+/// Applies `p.mode` to `ex` in place and sets the ambient column of open scenes.
+pub fn enforce(ex: &mut Exchange, p: &EnforceParams) -> Result<EnforceReport> {
+    let before = Diagnostics::of(ex, p.open);
+    let (method, iterations) = match (p.mode, p.open) {
+        (Enforce::None, _) => ("none", 0),
+        (Enforce::Reciprocity, false) => {
+            ex.symmetrize();
+            ("reciprocity average", 0)
+        }
+        (_, true) => {
+            ex.symmetrize();
+            let it = scaling::capped_scaling(ex, p.tolerance)?;
+            ("reciprocity average, over-full rows scaled", it)
+        }
+        (Enforce::Closure, false) => {
+            refuse_leaks(ex, &p.source)?;
+            close(ex, p)?
+        }
+    };
+    if p.open {
+        let sums = ex.row_sums();
+        // Round-off below the closure tolerance is not an overshoot.
+        let amb = ex.areas.iter().zip(&sums).map(|(a, s)| {
+            let r = a - s;
+            if r < 0.0 && -r <= p.tolerance * a * 10.0 {
+                0.0
+            } else {
+                r
+            }
+        });
+        ex.ambient = Some(amb.collect());
+    }
+    let after = Diagnostics::of(ex, p.open);
+    Ok(EnforceReport { before, after, method, iterations })
+}
+
+fn close(ex: &mut Exchange, p: &EnforceParams) -> Result<(&'static str, usize)> {
+    let method = match p.method {
+        ClosureMethod::Auto if ex.has_hit_counts() => ClosureMethod::MaxLikelihood,
+        ClosureMethod::Auto => ClosureMethod::SymmetricScaling,
+        m => m,
+    };
+    match method {
+        ClosureMethod::MaxLikelihood => {
+            if !ex.has_hit_counts() {
+                return Err(Error::Usage("maximum-likelihood closure needs Monte Carlo hit counts".into()));
+            }
+            Ok(("maximum likelihood", ml::max_likelihood(ex, p.tolerance)?))
+        }
+        ClosureMethod::SymmetricScaling | ClosureMethod::Auto => {
+            ex.symmetrize();
+            Ok(("symmetric scaling", scaling::symmetric_scaling(ex, p.tolerance)?))
+        }
+        ClosureMethod::WeightedLs => {
+            ex.symmetrize();
+            Ok(("weighted least squares (w = s)", weighted_least_squares(ex, Weight::Sbar)?))
+        }
+        ClosureMethod::UnweightedLs => {
+            ex.symmetrize();
+            Ok(("least squares (w = 1)", weighted_least_squares(ex, Weight::Unit)?))
+        }
+    }
+}
+
+/// SPEC: "never stretch a leaking row to 1" — a closed scene with leaking rows is bad input.
+fn refuse_leaks(ex: &Exchange, source: &std::path::Path) -> Result<()> {
+    let leaks = leaks(ex);
+    let Some(first) = leaks.first() else { return Ok(()) };
+    let names: Vec<String> = leaks
+        .iter()
+        .take(super::diagnostics::WORST_ROWS)
+        .map(|l| format!("{} (row sum {:.6})", ex.names[l.node], l.row_sum))
+        .collect();
+    Err(InputError::surface(
+        source,
+        ex.names[first.node].clone(),
+        format!(
+            "the closed scene leaks: {} row(s) sum to less than 1 by more than the method's error \
+             ({:.1e}); worst: {}. Look for a gap, a flipped normal or a missing [ambient]; \
+             closure will not stretch a leaking row",
+            leaks.len(),
+            first.threshold,
+            names.join(", ")
+        ),
+    )
+    .into())
+}

@@ -1,0 +1,74 @@
+//! CSV writers for `solve` (SPEC.md): the per-surface / per-patch results table and the
+//! radiative conductances `from,to,radk`.
+use crate::solve::conductance::Conductances;
+use crate::solve::Solution;
+use crate::{Error, Result};
+use std::io::Write;
+use std::path::Path;
+
+fn csv_err(path: &Path) -> impl Fn(csv::Error) -> Error + '_ {
+    move |e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) }
+}
+
+/// Writes `surface,area,emissivity,temperature,heat_flux,heat_rate,radiosity,irradiation`;
+/// open scenes end with an `ambient` row whose heat_rate makes the column sum to zero.
+pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<()> {
+    let mut w = csv::Writer::from_writer(out);
+    let err = csv_err(path);
+    w.write_record([
+        "surface",
+        "area",
+        "emissivity",
+        "temperature",
+        "heat_flux",
+        "heat_rate",
+        "radiosity",
+        "irradiation",
+    ])
+    .map_err(&err)?;
+    for (k, r) in sol.results.iter().enumerate() {
+        let f = [
+            sol.areas[k],
+            sol.emissivity[k],
+            r.temperature,
+            r.heat_flux,
+            r.heat_rate,
+            r.radiosity,
+            r.irradiation,
+        ];
+        let mut rec = vec![sol.names[k].clone()];
+        rec.extend(f.iter().map(|v| v.to_string()));
+        w.write_record(&rec).map_err(&err)?;
+    }
+    if let Some((t, q)) = sol.ambient {
+        let e = crate::SIGMA * t.powi(4);
+        // The ambient is black: emissivity 1, radiosity = emission; area and flux are undefined.
+        w.write_record([
+            crate::solve::AMBIENT,
+            "",
+            "1",
+            &t.to_string(),
+            "",
+            &q.to_string(),
+            &e.to_string(),
+            "",
+        ])
+        .map_err(&err)?;
+    }
+    w.flush().map_err(|e| Error::Io { path: path.to_path_buf(), source: e })
+}
+
+/// Writes `from,to,radk` for every non-zero conductance (ambient included).
+pub fn write_conductances<W: Write>(out: W, c: &Conductances, path: &Path) -> Result<()> {
+    let mut w = csv::Writer::from_writer(out);
+    let err = csv_err(path);
+    w.write_record(["from", "to", "radk"]).map_err(&err)?;
+    for (i, row) in c.radk.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            if *v != 0.0 {
+                w.write_record([c.names[i].as_str(), c.names[j].as_str(), &v.to_string()]).map_err(&err)?;
+            }
+        }
+    }
+    w.flush().map_err(|e| Error::Io { path: path.to_path_buf(), source: e })
+}

@@ -1,0 +1,331 @@
+//! The linear system of the net-radiation method (literature.md §5), SPD form:
+//! - T row (0 < ε < 1): (A_i/ρ_i) J_i − Σ_j S_ij J_j = (A_i ε_i/ρ_i) E_bi + S_i∞ E_b∞;
+//! - q row: A_i J_i − Σ_j S_ij J_j = A_i q_i + S_i∞ E_b∞;
+//! - black T row (ε = 1): J_i = E_bi is known and moves to the right-hand side.
+//!
+//! K = D − S is symmetric when S is, and SPD iff every connected group of unknowns has a
+//! strictly dominant row ([`check_anchored`]).
+use crate::error::InputError;
+use crate::exchange::Exchange;
+use crate::scene::{BoundaryCondition, Scene};
+use crate::viewfactor::Level;
+use crate::{Error, Result, SIGMA};
+use rayon::prelude::*;
+
+/// A group of unknowns is anchored when some row's diagonal dominance margin
+/// Σ_j K_ij exceeds this fraction of K_ii; closure leaves ~1e-12, so 1e-9 separates a true
+/// anchor from round-off.
+pub const ANCHOR_TOL: f64 = 1e-9;
+
+/// One radiosity node with its surface's properties.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Node {
+    /// Owning surface.
+    pub surface: usize,
+    /// Area, m².
+    pub area: f64,
+    /// Gray emissivity.
+    pub emissivity: f64,
+    /// Boundary condition.
+    pub condition: BoundaryCondition,
+}
+
+impl Node {
+    /// The row this node contributes for gray radiation.
+    pub fn row_kind(&self) -> RowKind {
+        match self.condition {
+            BoundaryCondition::Temperature(t) => RowKind::Temperature(SIGMA * t.powi(4)),
+            BoundaryCondition::HeatFlux(q) => RowKind::Flux(q),
+        }
+    }
+}
+
+/// The equation of one node: known emissive power or known net flux (W/m²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RowKind {
+    /// E_b known.
+    Temperature(f64),
+    /// q known.
+    Flux(f64),
+}
+
+/// Nodes of `ex` with the properties of their surfaces; every surface needs a condition.
+pub fn nodes(scene: &Scene, ex: &Exchange) -> Result<Vec<Node>> {
+    let expected = match ex.level {
+        Level::Surface => scene.surfaces.len(),
+        Level::Patch => scene.patches.len(),
+    };
+    if ex.len() != expected {
+        return Err(InputError::file(
+            &scene.source,
+            format!("the exchange matrix has {} nodes but the scene has {expected}", ex.len()),
+        )
+        .into());
+    }
+    (0..ex.len())
+        .map(|i| {
+            let s = match ex.level {
+                Level::Surface => i,
+                Level::Patch => scene.patches[i].surface,
+            };
+            let surf = &scene.surfaces[s];
+            let condition = surf.condition.ok_or_else(|| {
+                Error::from(InputError::surface(
+                    &scene.source,
+                    surf.name.clone(),
+                    "no boundary condition: `solve` needs `temperature` or `heat_flux`",
+                ))
+            })?;
+            Ok(Node { surface: s, area: ex.areas[i], emissivity: surf.emissivity, condition })
+        })
+        .collect()
+}
+
+/// A square CSR matrix.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Csr {
+    /// Row pointer.
+    pub indptr: Vec<usize>,
+    /// Sorted columns.
+    pub indices: Vec<usize>,
+    /// Values.
+    pub data: Vec<f64>,
+    /// True when the matrix is exactly symmetric.
+    pub symmetric: bool,
+}
+
+impl Csr {
+    /// Order.
+    pub fn n(&self) -> usize {
+        self.indptr.len() - 1
+    }
+    /// y = K x.
+    pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
+        (0..self.n())
+            .into_par_iter()
+            .map(|i| (self.indptr[i]..self.indptr[i + 1]).map(|k| self.data[k] * x[self.indices[k]]).sum())
+            .collect()
+    }
+    /// ‖b − Kx‖ / ‖b‖ (or ‖b − Kx‖ when b = 0).
+    pub fn residual(&self, x: &[f64], b: &[f64]) -> f64 {
+        let kx = self.matvec(x);
+        let r: Vec<f64> = b.iter().zip(&kx).map(|(b, k)| b - k).collect();
+        let bn = crate::exchange::linalg::norm(b);
+        let rn = crate::exchange::linalg::norm(&r);
+        if bn > 0.0 {
+            rn / bn
+        } else {
+            rn
+        }
+    }
+    /// Diagonal entries.
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.n())
+            .map(|i| {
+                let (lo, hi) = (self.indptr[i], self.indptr[i + 1]);
+                self.indices[lo..hi].binary_search(&i).map(|k| self.data[lo + k]).unwrap_or(0.0)
+            })
+            .collect()
+    }
+}
+
+/// K J = b over the unknown radiosities.
+#[derive(Debug, Clone, PartialEq)]
+pub struct System {
+    /// Node → unknown index (None: eliminated black node).
+    pub unknown: Vec<Option<usize>>,
+    /// Unknown → node.
+    pub node: Vec<usize>,
+    /// J of eliminated nodes (E_b), 0 elsewhere.
+    pub known: Vec<f64>,
+    /// K = D − S on the unknowns.
+    pub k: Csr,
+    /// Right-hand side.
+    pub b: Vec<f64>,
+}
+
+impl System {
+    /// Radiosities of every node from the unknowns' solution.
+    pub fn radiosities(&self, x: &[f64]) -> Vec<f64> {
+        self.unknown.iter().zip(&self.known).map(|(u, k)| u.map_or(*k, |u| x[u])).collect()
+    }
+}
+
+/// True when S_ij = S_ji exactly for every stored entry.
+pub fn is_symmetric(ex: &Exchange) -> bool {
+    let ip = ex.indptr();
+    (0..ex.len())
+        .into_par_iter()
+        .all(|i| (ip[i]..ip[i + 1]).all(|k| ex.get(ex.s.indices()[k], i) == ex.s.data()[k]))
+}
+
+/// Assembles K J = b for per-node emissivities, row kinds and ambient emissive power.
+pub fn assemble(ex: &Exchange, eps: &[f64], rows: &[RowKind], e_amb: f64) -> System {
+    let n = ex.len();
+    let mut unknown = vec![None; n];
+    let mut node = Vec::new();
+    let mut known = vec![0.0; n];
+    for i in 0..n {
+        match rows[i] {
+            RowKind::Temperature(eb) if eps[i] >= 1.0 => known[i] = eb,
+            _ => {
+                unknown[i] = Some(node.len());
+                node.push(i);
+            }
+        }
+    }
+    let ip = ex.indptr();
+    let (idx, s) = (ex.s.indices(), ex.s.data());
+    let amb = ex.ambient.as_deref();
+    let built: Vec<(Vec<usize>, Vec<f64>, f64)> = node
+        .par_iter()
+        .map(|&i| {
+            let a = ex.areas[i];
+            let rho = 1.0 - eps[i];
+            let (d, mut b) = match rows[i] {
+                RowKind::Temperature(eb) => (a / rho, a * eps[i] / rho * eb),
+                RowKind::Flux(q) => (a, a * q),
+            };
+            b += amb.map_or(0.0, |am| am[i]) * e_amb;
+            let (mut cols, mut vals) = (Vec::new(), Vec::new());
+            let ui = unknown[i].unwrap_or(0);
+            let mut diag_done = false;
+            for k in ip[i]..ip[i + 1] {
+                let j = idx[k];
+                match unknown[j] {
+                    None => b += s[k] * known[j],
+                    Some(uj) => {
+                        if uj > ui && !diag_done {
+                            cols.push(ui);
+                            vals.push(d);
+                            diag_done = true;
+                        }
+                        if uj == ui {
+                            cols.push(ui);
+                            vals.push(d - s[k]);
+                            diag_done = true;
+                        } else {
+                            cols.push(uj);
+                            vals.push(-s[k]);
+                        }
+                    }
+                }
+            }
+            if !diag_done {
+                cols.push(ui);
+                vals.push(d);
+            }
+            (cols, vals, b)
+        })
+        .collect();
+    let mut indptr = vec![0usize];
+    let (mut indices, mut data, mut b) = (Vec::new(), Vec::new(), Vec::with_capacity(node.len()));
+    for (c, v, bi) in built {
+        indices.extend(c);
+        data.extend(v);
+        b.push(bi);
+        indptr.push(indices.len());
+    }
+    let k = Csr { indptr, indices, data, symmetric: is_symmetric(ex) };
+    System { unknown, node, known, k, b }
+}
+
+/// Refuses a system with a group of unknowns that has no temperature anchor (all-flux closed
+/// enclosure): K is singular there. Exit 2: a missing temperature is bad input.
+pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System) -> Result<()> {
+    let m = sys.node.len();
+    let mut parent: Vec<usize> = (0..m).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    let mut anchored = vec![false; m];
+    #[allow(clippy::needless_range_loop)] // u indexes K's rows and the union-find alike
+    for u in 0..m {
+        let (lo, hi) = (sys.k.indptr[u], sys.k.indptr[u + 1]);
+        let mut margin = 0.0;
+        let mut diag = 0.0;
+        for k in lo..hi {
+            let v = sys.k.indices[k];
+            margin += sys.k.data[k];
+            if v == u {
+                diag = sys.k.data[k];
+            } else {
+                let (a, b) = (find(&mut parent, u), find(&mut parent, v));
+                parent[a] = b;
+            }
+        }
+        anchored[u] = margin > ANCHOR_TOL * diag.abs();
+    }
+    let mut root_ok = vec![false; m];
+    for (u, &a) in anchored.iter().enumerate() {
+        let r = find(&mut parent, u);
+        root_ok[r] |= a;
+    }
+    let bad: Vec<usize> = (0..m).filter(|&u| !root_ok[find(&mut parent, u)]).collect();
+    let Some(&first) = bad.first() else { return Ok(()) };
+    let mut surfaces: Vec<usize> = bad.iter().map(|&u| nodes[sys.node[u]].surface).collect();
+    surfaces.dedup();
+    let names: Vec<&str> = surfaces.iter().take(8).map(|&s| scene.surfaces[s].name.as_str()).collect();
+    Err(InputError::surface(
+        &scene.source,
+        ex.names[sys.node[first]].clone(),
+        format!(
+            "no temperature anchor: the enclosure formed by {} has only heat-flux conditions and \
+             sees no ambient, so its temperatures are undetermined (singular system); give at least \
+             one of these surfaces a temperature",
+            names.join(", ")
+        ),
+    )
+    .into())
+}
+
+/// H, q, Q and T of every node from the radiosities J.
+pub fn recover(
+    ex: &Exchange,
+    nodes: &[Node],
+    rows: &[RowKind],
+    j: &[f64],
+    e_amb: f64,
+) -> Result<Vec<super::NodeResult>> {
+    let ip = ex.indptr();
+    let (idx, s) = (ex.s.indices(), ex.s.data());
+    (0..ex.len())
+        .map(|i| {
+            let a = ex.areas[i];
+            let inc: f64 = (ip[i]..ip[i + 1]).map(|k| s[k] * j[idx[k]]).sum::<f64>()
+                + ex.ambient.as_ref().map_or(0.0, |am| am[i] * e_amb);
+            let h = inc / a;
+            let q = j[i] - h;
+            let eps = nodes[i].emissivity;
+            let temperature = match rows[i] {
+                RowKind::Temperature(eb) => (eb / SIGMA).powf(0.25),
+                RowKind::Flux(qp) => {
+                    let eb = j[i] + (1.0 - eps) / eps * qp;
+                    if eb < 0.0 {
+                        return Err(Error::Compute(format!(
+                            "{}: the prescribed heat flux {qp} W/m² would need a negative emissive power",
+                            ex.names[i]
+                        )));
+                    }
+                    (eb / SIGMA).powf(0.25)
+                }
+            };
+            Ok(super::NodeResult {
+                temperature,
+                heat_flux: q,
+                heat_rate: a * q,
+                radiosity: j[i],
+                irradiation: h,
+            })
+        })
+        .collect()
+}
+
+/// Net heat the ambient gives the scene: Σ_i S_i∞ (E_b∞ − J_i).
+pub fn ambient_heat(ex: &Exchange, j: &[f64], e_amb: f64) -> f64 {
+    ex.ambient.as_ref().map_or(0.0, |am| am.iter().zip(j).map(|(a, j)| a * (e_amb - j)).sum())
+}
