@@ -209,6 +209,14 @@ fn solve(a: SolveArgs) -> Result<()> {
     Ok(())
 }
 
-fn validate(_a: ValidateArgs) -> Result<()> {
-    Err(Error::Usage("`validate` is not available in this build yet".into()))
+fn validate(a: ValidateArgs) -> Result<()> {
+    let options = lambert::validate::Options { cases: a.cases, out: a.out, quick: a.quick };
+    lambert::validate::check_options(&options)?;
+    let suite = lambert::validate::run(&options, &mut |line| eprintln!("validate: {line}"))?;
+    print!("{}", lambert::validate::report::console(&suite.checks));
+    eprintln!("validate: report written to {}", options.out.join("report.md").display());
+    match suite.failures() {
+        0 => Ok(()),
+        n => Err(Error::Compute(format!("{n} validation checks failed"))),
+    }
 }
