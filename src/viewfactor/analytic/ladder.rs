@@ -425,6 +425,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)] // the plain reference loop indexes four arrays
     fn simd_and_portable_sums_agree_bit_for_bit() {
         // Point counts that exercise every chunk path: 1, 4, 9, 16, 25, 36 and triangle pairs.
         let a = square(DVec3::ZERO, DVec3::X, DVec3::Y);
