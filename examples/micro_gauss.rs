@@ -1,11 +1,10 @@
 use glam::DVec3;
 use lambert::geometry::Polygon;
 use lambert::viewfactor::analytic::ladder::{gauss_exchange, PatchRules, Points};
-/// Process CPU time in seconds (utime + stime from /proc/self/stat, 10 ms ticks).
+/// This thread's on-CPU time in seconds (/proc/thread-self/schedstat, Linux).
 fn cpu() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/stat").unwrap();
-    let f: Vec<&str> = s.rsplit(')').next().unwrap().split_whitespace().collect();
-    (f[11].parse::<f64>().unwrap() + f[12].parse::<f64>().unwrap()) / 100.0
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").unwrap();
+    s.split_whitespace().next().unwrap().parse::<f64>().unwrap() * 1e-9
 }
 fn main() {
     let h = 1.0 / 36.0;

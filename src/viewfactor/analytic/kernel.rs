@@ -36,8 +36,8 @@ struct PatchInfo {
     radius: f64,
     /// Unoriented plane group.
     plane: u32,
-    /// Gauss parameter length (the L of the error model).
-    param_len: f64,
+    /// 1 / Gauss parameter length (the L of the error model).
+    inv_len: f64,
     /// Gauss rules on Duffy triangles (not one parallelogram).
     triangles: bool,
 }
@@ -86,7 +86,7 @@ impl<'s> AnalyticKernel<'s> {
                     centroid: poly.centroid(),
                     radius: poly.bounding_radius(),
                     plane: planes.id[p],
-                    param_len: rules.param_len(p),
+                    inv_len: 1.0 / rules.param_len(p),
                     triangles: rules.triangulated(p),
                 }
             })
@@ -142,20 +142,20 @@ impl<'s> AnalyticKernel<'s> {
         )
     }
 
-    /// A_i F_ij for one pair (j ≠ i), or the refusal when a blocker cuts the view.
-    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> Result<f64> {
+    /// Which rung of the ladder treats pair (i, j), j ≠ i; a refusal when a blocker cuts the view.
+    pub fn rung(&self, i: usize, j: usize) -> Result<Rung> {
         let (a, b) = (&self.info[i], &self.info[j]);
         if a.plane == b.plane {
-            return Ok(0.0);
+            return Ok(Rung::Zero);
         }
         // j seen from i's plane, and i from j's.
         let (jlo, jhi) = self.extent(a, j);
         if jhi <= 0.0 {
-            return Ok(0.0);
+            return Ok(Rung::Zero);
         }
         let (ilo, ihi) = self.extent(b, i);
         if ihi <= 0.0 {
-            return Ok(0.0);
+            return Ok(Rung::Zero);
         }
         if !self.occlusion.is_clear() {
             if let Some(k) = self.occlusion.first_blocker(self.scene, i, j) {
@@ -169,18 +169,40 @@ impl<'s> AnalyticKernel<'s> {
             // j's plane, ν_j from j's extent in i's plane (2 on Duffy triangles).
             let nu_i = if a.triangles { 2.0 } else { variation(ilo, ihi) };
             let nu_j = if b.triangles { 2.0 } else { variation(jlo, jhi) };
-            let mi = self.model.order(a.triangles, d / a.param_len, nu_i);
-            let mj = self.model.order(b.triangles, d / b.param_len, nu_j);
+            let mi = self.model.order(a.triangles, d * a.inv_len, nu_i);
+            let mj = self.model.order(b.triangles, d * b.inv_len, nu_j);
             if let (Some(mi), Some(mj)) = (mi, mj) {
+                return Ok(Rung::Gauss(mi, mj));
+            }
+        }
+        Ok(Rung::Exact)
+    }
+
+    /// A_i F_ij for one pair (j ≠ i), or the refusal when a blocker cuts the view.
+    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> Result<f64> {
+        Ok(match self.rung(i, j)? {
+            Rung::Zero => 0.0,
+            Rung::Gauss(mi, mj) => {
+                let (a, b) = (&self.info[i], &self.info[j]);
                 let Scratch { rule_i, rule_j, weights } = scratch;
                 let pi = self.rules.points(i, mi, rule_i);
                 let pj = self.rules.points(j, mj, rule_j);
-                return Ok(gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights));
+                gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights)
             }
-        }
-        let patches = &self.scene.patches;
-        Ok(polygon_polygon(&patches[i].polygon, &patches[j].polygon))
+            Rung::Exact => polygon_polygon(&self.scene.patches[i].polygon, &self.scene.patches[j].polygon),
+        })
     }
+}
+
+/// The rung of the ladder that evaluates a pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rung {
+    /// Coplanar or back-facing: exactly 0.
+    Zero,
+    /// Tensor Gauss rules of these orders on patch i and patch j.
+    Gauss(usize, usize),
+    /// The exact double contour integral.
+    Exact,
 }
 
 /// Per-row buffers: generated high-order rules and the receiver weights.
