@@ -349,3 +349,50 @@ fn blockers_beside_the_view_are_not_refused() {
         assert!((vf.get(0, 1) - exact).abs() < 1e-12);
     }
 }
+
+/// A unit-cube scene file; `lid_width` < 1 leaves a gap along the north wall.
+fn cube_toml(lid_width: f64) -> String {
+    let faces = [
+        ("floor", "[0,0,0]", "[1,0,0]".to_string(), "[0,1,0]"),
+        ("ceiling", "[0,0,1]", format!("[0,{lid_width},0]"), "[1,0,0]"),
+        ("west", "[0,0,0]", "[0,1,0]".to_string(), "[0,0,1]"),
+        ("east", "[1,0,0]", "[0,0,1]".to_string(), "[0,1,0]"),
+        ("south", "[0,0,0]", "[0,0,1]".to_string(), "[1,0,0]"),
+        ("north", "[0,1,0]", "[1,0,0]".to_string(), "[0,0,1]"),
+    ];
+    faces
+        .iter()
+        .map(|(name, o, u, v)| {
+            format!("[[surface]]\nname = \"{name}\"\nrectangle = {{ origin = {o}, u = {u}, v = {v} }}\nsubdivide = [3, 3]\n\n")
+        })
+        .collect()
+}
+
+fn cli_viewfactors(scene: &std::path::Path) -> (Option<i32>, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_lambert"))
+        .args(["viewfactors".as_ref(), scene.as_os_str(), "-m".as_ref(), "analytic".as_ref()])
+        .output()
+        .expect("run lambert");
+    (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+#[test]
+fn cli_reports_closure_and_warns_about_leaks() {
+    let dir = tempfile::tempdir().unwrap();
+    let closed = dir.path().join("cube.toml");
+    std::fs::write(&closed, cube_toml(1.0)).unwrap();
+    let (code, err) = cli_viewfactors(&closed);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("54 patches, 1431 pairs"), "{err}");
+    assert!(err.contains("max |row sum - 1| = "), "{err}");
+    assert!(!err.contains("leaks"), "an exact cube does not leak: {err}");
+
+    // A 1e-3-wide gap along the north wall: the rows of the surfaces that see it fall short.
+    let leaky = dir.path().join("gap.toml");
+    std::fs::write(&leaky, cube_toml(0.999)).unwrap();
+    let (code, err) = cli_viewfactors(&leaky);
+    assert_eq!(code, Some(0), "viewfactors only warns: {err}");
+    let warning =
+        err.lines().find(|l| l.contains("leaks")).unwrap_or_else(|| panic!("no leak warning: {err}"));
+    assert!(warning.contains("north"), "the north wall borders the gap: {warning}");
+}
