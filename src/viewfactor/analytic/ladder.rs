@@ -489,10 +489,10 @@ mod tests {
                     }
                     // Against the plain double loop.
                     let mut plain = 0.0;
-                    for x in 0..beta.len() {
-                        for y in 0..gamma.len() {
+                    for (x, bx) in beta.iter().enumerate() {
+                        for (y, gy) in gamma.iter().enumerate() {
                             let d = DVec3::new(pj.x[y] - pi.x[x], pj.y[y] - pi.y[x], pj.z[y] - pi.z[x]);
-                            plain += beta[x] * gamma[y] / d.length_squared().powi(2);
+                            plain += bx * gy / d.length_squared().powi(2);
                         }
                     }
                     assert!(((portable - plain) / plain).abs() < 1e-13, "{portable} vs {plain}");
@@ -511,7 +511,8 @@ pub fn gauss_nodes(order: usize) -> &'static (Vec<f64>, Vec<f64>) {
 /// Calibrated constants of E(m, λ, ν) = A·ρ^(−p) + B·ν·ρ^(1−p) per order m = 1..=MAX_ORDER,
 /// `[parallelogram, triangle]`: p = 2m on parallelograms (m-point Gauss is exact to degree
 /// 2m − 1), p = 2m − 1 on Duffy triangles (the Jacobian 1 − s costs one degree).
-/// Envelopes of `examples/ladder_calibration` (20 000 receivers × 4 emitter shapes, seed 7);
+/// Envelopes of `examples/ladder_calibration` (20 000 receivers × 4 emitter shapes, seed 7;
+/// the larger of two runs' fits);
 /// B of orders ≥ 4 (parallelograms) and ≥ 5 (triangles) had no sample above round-off in the
 /// asymptotic range and is extrapolated geometrically.
 const MODEL_A: [[f64; MAX_ORDER]; 2] =
