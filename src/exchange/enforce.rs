@@ -21,9 +21,6 @@ pub const CLOSURE_TOL: f64 = 1e-12;
 /// Leak threshold for deterministic methods: analytic and hemicube rows close to ~1e-5 or
 /// better, so a shortfall above 1e-3 is geometry, not method error.
 pub const LEAK_TOL: f64 = 1e-3;
-/// Leak threshold for rows made by the analytic method alone: its pairs are exact or within
-/// the Gauss ladder's 5e-8 relative bound, so a shortfall above 1e-6 is a gap in the geometry.
-pub const LEAK_TOL_ANALYTIC: f64 = 1e-6;
 /// Leak threshold for single-plane, whose finite plane misses up to ~1 % of grazing
 /// directions (literature.md §4: the plane captures 0.9919 at half-width 10).
 pub const LEAK_TOL_SINGLE_PLANE: f64 = 2e-2;
@@ -149,8 +146,6 @@ pub fn leaks(ex: &Exchange) -> Vec<Leak> {
             };
             let det = if methods.union(MethodSet::SINGLE_PLANE) == methods && !methods.is_empty() {
                 LEAK_TOL_SINGLE_PLANE
-            } else if methods == MethodSet::ANALYTIC {
-                LEAK_TOL_ANALYTIC
             } else {
                 LEAK_TOL
             };

@@ -14,12 +14,26 @@ use super::occlusion::Occlusion;
 use super::planes::PlaneGroups;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
-use crate::viewfactor::MethodSet;
+use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::{Error, Result};
 use glam::DVec3;
 
 /// Relative tolerance for "these patches share a plane" (coplanar pairs exchange nothing).
 const COPLANAR_TOL: f64 = 1e-12;
+
+/// A closed scene's row computed by this method alone that falls short of 1 by more than this
+/// leaks (a gap, a flipped normal): every pair is exact or within [`GAUSS_REL_TOL`], so rows
+/// close to 5e-8; 1e-6 leaves a 20× margin.
+pub const LEAK_TOL: f64 = 1e-6;
+
+/// Output rows of `vf` (made by this method) whose sum falls short of 1 by more than
+/// [`LEAK_TOL`], worst first, with their sums. Meaningful for closed scenes only.
+pub fn leaks(vf: &ViewFactors) -> Vec<(usize, f64)> {
+    let mut out: Vec<(usize, f64)> =
+        vf.row_sums().into_iter().enumerate().filter(|&(_, s)| 1.0 - s > LEAK_TOL).collect();
+    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    out
+}
 
 /// Per-pair relative error target of the Gauss rungs: 5e-8 keeps every surface total within
 /// 5e-8·F_IJ ≤ 1e-8 for F_IJ ≤ 0.2 (the cube's faces) and every row sum within 5e-8, while
