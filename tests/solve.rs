@@ -1,5 +1,7 @@
 //! Net-radiation solve against literature.md §1.2 (E3, E4 on the real cube, exact factors
 //! from C-11/C-14) and closed forms (concentric cubes), all solvers, energy balance.
+// Dense matrix checks read clearest with (i, j) indices.
+#![allow(clippy::needless_range_loop)]
 mod support;
 
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};

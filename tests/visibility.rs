@@ -251,3 +251,28 @@ fn padded_tree_keeps_triangle_tests_per_ray_low_on_axis_aligned_meshes() {
     let tests = vis.tests_per_ray(&rays);
     assert!(tests < 8.0, "{tests} triangle tests per ray");
 }
+
+#[test]
+fn grazing_rays_from_concave_corners_neither_leak_nor_die_on_a_back_side() {
+    // A box at coordinates that f32 cannot hold exactly; origins on the floor within 1e-9..1e-6
+    // of the wall x = max (concave corner), rays nearly parallel to that wall, both ways.
+    let (c, side) = (DVec3::new(0.3, 0.7, 0.1), 1.3);
+    let faces = cube_faces(c, side, true, 1);
+    let scene = scene_of(faces.concat());
+    let vis = Visibility::new(&scene);
+    let (floor, h) = (5, 0.5 * side);
+    assert!(scene.patches[floor].polygon.normal().z > 0.99);
+    let mut rng = Pcg64Mcg::new(21);
+    let mut checked = 0;
+    for _ in 0..2000 {
+        let gap = 10f64.powf(rng.random_range(-9.0..-6.0));
+        let o = DVec3::new(c.x + h - gap, c.y + rng.random_range(-0.6..0.6), c.z - h);
+        for eps in [-1e-3, -1e-5, -1e-7, 1e-7, 1e-5, 1e-3] {
+            let d = (DVec3::Z * 0.5 - DVec3::X * eps + DVec3::Y * rng.random_range(-0.5..0.5)).normalize();
+            let hit = vis.first_hit(o, d, f64::INFINITY, Some(floor));
+            assert!(matches!(hit, Some(h) if h.front_facing), "origin {o}, dir {d} (eps {eps}): {hit:?}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 12_000);
+}

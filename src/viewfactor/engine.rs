@@ -63,24 +63,41 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
             .progress_chars("=> "),
     );
     let show = params.progress && std::io::stderr().is_terminal();
-    let mut lo = 0;
-    while lo < n {
-        let hi = (lo + wave).min(n);
-        let rows: Vec<Result<Row>> = (lo..hi)
+    // Pipeline: while the pool computes wave k + 1, this thread folds wave k into the sink
+    // (the sink is serial; folding between waves would leave the other cores idle).
+    let compute = |lo: usize, hi: usize| -> Vec<Result<Row>> {
+        (lo..hi)
             .into_par_iter()
             .map(|i| {
                 let mut row = Row::default();
                 kernel.row(i, &mut row).map(|_| row)
             })
-            .collect();
+            .collect()
+    };
+    let fold = |sink: &mut Sink, lo: usize, rows: Vec<Result<Row>>| -> Result<()> {
         for (k, row) in rows.into_iter().enumerate() {
             sink.accept(lo + k, &row?);
         }
+        Ok(())
+    };
+    let mut pending: Option<(usize, Vec<Result<Row>>)> = None;
+    let mut lo = 0;
+    while lo < n {
+        let hi = (lo + wave).min(n);
+        let (rows, folded) = rayon::join(
+            || compute(lo, hi),
+            || pending.take().map_or(Ok(()), |(start, rows)| fold(&mut sink, start, rows)),
+        );
+        folded?;
+        pending = Some((lo, rows));
         lo = hi;
         if show && bar.is_hidden() && start.elapsed() > PROGRESS_DELAY {
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         }
         bar.set_position(lo as u64);
+    }
+    if let Some((start, rows)) = pending {
+        fold(&mut sink, start, rows)?;
     }
     bar.finish_and_clear();
     Ok(sink.finish(start.elapsed()))

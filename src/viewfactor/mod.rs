@@ -173,6 +173,10 @@ impl Default for Params {
 /// Computes the view factors of `scene` at the requested level with the chosen method.
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        // `auto` is analytic until shadowing and Monte Carlo fallbacks exist for blocked pairs.
+        Method::Analytic | Method::Auto => {
+            Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
+        }
         Method::McArea | Method::McUniform | Method::McCosine => {
             return monte_carlo::compute(scene, params, level)
         }
@@ -184,7 +188,6 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
             params.resolution,
             single_plane::SinglePlaneOptions::default(),
         )?),
-        m => return Err(Error::Unsupported(format!("method '{m}' is not available yet"))),
     };
     engine::run(scene, kernel.as_ref(), params, level)
 }

@@ -81,79 +81,122 @@ struct Acc {
     method: MethodSet,
 }
 
+/// Output matrices with at most this many rows are accumulated densely (n² small cells, no
+/// map lookups); larger ones (patch level) in ordered maps.
+const DENSE_MAX_OUT: usize = 512;
+
+/// Accumulated output: Σ s and Σ var per (row, column).
+enum Store {
+    /// n × n cells, row-major.
+    Dense { n: usize, cells: Vec<Acc> },
+    /// One ordered map per row.
+    Sparse(Vec<BTreeMap<u32, Acc>>),
+}
+
+impl Store {
+    fn cell(&mut self, row: u32, col: u32) -> &mut Acc {
+        match self {
+            Store::Dense { n, cells } => &mut cells[row as usize * *n + col as usize],
+            Store::Sparse(rows) => rows[row as usize].entry(col).or_default(),
+        }
+    }
+}
+
+/// One row folded to output columns: Σ s, Σ var, Σ s² (multinomial union rule), methods.
+#[derive(Default, Clone, Copy)]
+struct Fold {
+    s: f64,
+    var: f64,
+    s2: f64,
+    method: MethodSet,
+    /// Listed in `touched`.
+    hit: bool,
+}
+
 /// Accumulates rows in patch order.
 pub(crate) struct Sink<'a> {
     scene: &'a Scene,
     level: Level,
     symmetric: bool,
-    /// Output rows keyed by column; BTreeMap keeps sums in a fixed order.
-    acc: Vec<BTreeMap<u32, Acc>>,
-    patch_sums: Vec<f64>,
+    /// Output patch index → output row/column.
+    out: Vec<u32>,
+    store: Store,
+    /// Per patch: Σ_j s_ij before dividing by A_i.
+    patch_s: Vec<f64>,
     samples: Vec<u32>,
     pairs: u64,
-    /// Scratch: the current row folded to output columns.
-    scratch: BTreeMap<u32, (f64, f64, f64, MethodSet)>,
+    /// Scratch for the current row: dense cells plus the columns touched.
+    fold: Vec<Fold>,
+    touched: Vec<u32>,
 }
 
 impl<'a> Sink<'a> {
     pub(crate) fn new(scene: &'a Scene, level: Level, symmetric: bool) -> Self {
+        let out: Vec<u32> = match level {
+            Level::Surface => scene.patches.iter().map(|p| p.surface as u32).collect(),
+            Level::Patch => (0..scene.patches.len() as u32).collect(),
+        };
         let n_out = match level {
             Level::Surface => scene.surfaces.len(),
             Level::Patch => scene.patches.len(),
+        };
+        let store = if n_out <= DENSE_MAX_OUT {
+            Store::Dense { n: n_out, cells: vec![Acc::default(); n_out * n_out] }
+        } else {
+            Store::Sparse(vec![BTreeMap::new(); n_out])
         };
         Self {
             scene,
             level,
             symmetric,
-            acc: vec![BTreeMap::new(); n_out],
-            patch_sums: vec![0.0; scene.patches.len()],
+            out,
+            store,
+            patch_s: vec![0.0; scene.patches.len()],
             samples: vec![0; scene.patches.len()],
             pairs: 0,
-            scratch: BTreeMap::new(),
-        }
-    }
-
-    fn out_index(&self, patch: usize) -> u32 {
-        match self.level {
-            Level::Surface => self.scene.patches[patch].surface as u32,
-            Level::Patch => patch as u32,
+            fold: vec![Fold::default(); n_out],
+            touched: Vec::new(),
         }
     }
 
     /// Folds row `i` in.
     pub(crate) fn accept(&mut self, i: usize, row: &Row) {
-        let area_i = self.scene.patches[i].polygon.area();
         self.samples[i] = row.shared_samples;
         self.pairs += row.pairs;
-        let oi = self.out_index(i);
+        let oi = self.out[i];
         // Fold the row to output columns: Σ s, Σ var, Σ s² (for the multinomial union rule).
-        self.scratch.clear();
+        let mut row_s = 0.0;
         for e in &row.entries {
             let j = e.j as usize;
-            self.patch_sums[i] += e.s / area_i;
+            let oj = self.out[j];
+            row_s += e.s;
             if self.symmetric {
-                self.patch_sums[j] += e.s / self.scene.patches[j].polygon.area();
-                let oj = self.out_index(j);
-                let a = self.acc[oj as usize].entry(oi).or_default();
+                self.patch_s[j] += e.s;
+                let a = self.store.cell(oj, oi);
                 a.s += e.s;
                 a.var += e.var;
                 a.method = a.method.union(e.method);
             }
-            let oj = self.out_index(j);
-            let t = self.scratch.entry(oj).or_insert((0.0, 0.0, 0.0, MethodSet::default()));
-            t.0 += e.s;
-            t.1 += e.var;
-            t.2 += e.s * e.s;
-            t.3 = t.3.union(e.method);
+            let t = &mut self.fold[oj as usize];
+            if !t.hit {
+                t.hit = true;
+                self.touched.push(oj);
+            }
+            t.s += e.s;
+            t.var += e.var;
+            t.s2 += e.s * e.s;
+            t.method = t.method.union(e.method);
         }
+        self.patch_s[i] += row_s;
         let n = row.shared_samples as f64;
-        for (&oj, &(s, var, s2, method)) in &self.scratch {
+        for oj in self.touched.drain(..) {
+            let t = std::mem::take(&mut self.fold[oj as usize]);
             // Multinomial union: Var(Σ s_j) = Σ var_j + (Σ s_j² − (Σ s_j)²)/n.
-            let var = if n > 0.0 { (var + (s2 - s * s) / n).max(0.0) } else { var };
-            let a = self.acc[oi as usize].entry(oj).or_default();
-            a.s += s;
+            let var = if n > 0.0 { (t.var + (t.s2 - t.s * t.s) / n).max(0.0) } else { t.var };
+            let a = self.store.cell(oi, oj);
+            a.s += t.s;
             a.var += var;
-            a.method = a.method.union(method);
+            a.method = a.method.union(t.method);
         }
     }
 
@@ -164,28 +207,35 @@ impl<'a> Sink<'a> {
                 .map(|p| (self.scene.patch_name(p), self.scene.patches[p].polygon.area()))
                 .unzip(),
         };
-        let rows = self
-            .acc
-            .into_iter()
-            .enumerate()
-            .map(|(i, row)| {
-                row.into_iter()
-                    .filter(|(_, a)| a.s > 0.0)
-                    .map(|(j, a)| Entry {
-                        to: j,
-                        factor: a.s / areas[i],
-                        std_error: a.var.sqrt() / areas[i],
-                        method: a.method,
-                    })
-                    .collect()
-            })
-            .collect();
+        let entry = |i: usize, j: u32, a: &Acc| Entry {
+            to: j,
+            factor: a.s / areas[i],
+            std_error: a.var.sqrt() / areas[i],
+            method: a.method,
+        };
+        let rows: Vec<Vec<Entry>> = match self.store {
+            Store::Dense { n, cells } => (0..n)
+                .map(|i| {
+                    (0..n)
+                        .filter(|&j| cells[i * n + j].s > 0.0)
+                        .map(|j| entry(i, j as u32, &cells[i * n + j]))
+                        .collect()
+                })
+                .collect(),
+            Store::Sparse(maps) => maps
+                .into_iter()
+                .enumerate()
+                .map(|(i, row)| row.iter().filter(|(_, a)| a.s > 0.0).map(|(&j, a)| entry(i, j, a)).collect())
+                .collect(),
+        };
+        let patch_row_sums =
+            self.patch_s.iter().zip(&self.scene.patches).map(|(s, p)| s / p.polygon.area()).collect();
         ViewFactors {
             level: self.level,
             names,
             areas,
             rows,
-            patch_row_sums: self.patch_sums,
+            patch_row_sums,
             patch_samples: self.samples,
             pairs: self.pairs,
             wall,

@@ -7,16 +7,12 @@
 //! Exact zeros are re-evaluated in f64, as the paper prescribes.
 use glam::Vec3A;
 
-/// One ray prepared for many triangle tests: origin, axis permutation and shear.
+/// One ray prepared for many triangle tests: origin and the shear as three SIMD columns, so
+/// that M·(v − o) = (v−o)[kx] − Sx·(v−o)[kz], (v−o)[ky] − Sy·(v−o)[kz], Sz·(v−o)[kz].
 #[derive(Debug, Clone, Copy)]
 pub struct ShearedRay {
     origin: Vec3A,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    cols: [Vec3A; 3],
 }
 
 /// A hit: parameter t along the (unit) ray direction and the side that was hit.
@@ -50,23 +46,26 @@ impl ShearedRay {
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        Self { origin, kx, ky, kz, sx: dir[kx] / dir[kz], sy: dir[ky] / dir[kz], sz: 1.0 / dir[kz] }
+        let (sx, sy, sz) = (dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+        let mut cols = [Vec3A::ZERO; 3];
+        cols[kx].x = 1.0;
+        cols[ky].y = 1.0;
+        cols[kz] = Vec3A::new(-sx, -sy, sz);
+        Self { origin, cols }
+    }
+
+    /// Vertex in ray space: sheared x, y and scaled z.
+    #[inline(always)]
+    fn shear(&self, v: Vec3A) -> Vec3A {
+        let p = v - self.origin;
+        self.cols[0] * p.x + self.cols[1] * p.y + self.cols[2] * p.z
     }
 
     /// Intersects triangle (v0, v1, v2); `None` when the ray's line misses it.
     #[inline(always)]
     pub fn intersect(&self, v: &[Vec3A; 3]) -> Option<TriHit> {
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = v[0] - self.origin;
-        let b = v[1] - self.origin;
-        let c = v[2] - self.origin;
-        // Shear and scale the vertices into ray space.
-        let ax = a[kx] - self.sx * a[kz];
-        let ay = a[ky] - self.sy * a[kz];
-        let bx = b[kx] - self.sx * b[kz];
-        let by = b[ky] - self.sy * b[kz];
-        let cx = c[kx] - self.sx * c[kz];
-        let cy = c[ky] - self.sy * c[kz];
+        let (a, b, c) = (self.shear(v[0]), self.shear(v[1]), self.shear(v[2]));
+        let (ax, ay, bx, by, cx, cy) = (a.x, a.y, b.x, b.y, c.x, c.y);
         // Scaled barycentric edge functions.
         let mut u = cx * by - cy * bx;
         let mut w_ = ax * cy - ay * cx;
@@ -86,7 +85,7 @@ impl ShearedRay {
             return None;
         }
         // Scaled hit distance, then divide once.
-        let t = (u * (self.sz * a[kz]) + w_ * (self.sz * b[kz]) + w * (self.sz * c[kz])) / det;
+        let t = (u * a.z + w_ * b.z + w * c.z) / det;
         // With this shear, counter-clockwise triangles seen from the origin give det > 0.
         Some(TriHit { t, front: det > 0.0 })
     }

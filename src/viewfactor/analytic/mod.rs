@@ -1,5 +1,7 @@
-//! Exact kernels of the `analytic` method for planar polygons.
+//! The `analytic` method: exact for planar polygons, with a Gauss ladder where provably
+//! accurate enough.
 //!
+//! Exact kernels:
 //! - [`lambert`]: point-to-polygon (Lambert 1760), point-to-ring and exact point-to-disk factors;
 //! - [`disk`]: the exact element-to-disk factor (full circle and clipped circular segment);
 //! - [`contour`]: polygon-to-polygon exchange area by the double contour integral;
@@ -7,6 +9,12 @@
 //! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
 //! - [`ring`]: stack-allocated vertex rings and half-space clipping;
 //! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
+//!
+//! The method on a scene:
+//! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
+//! - [`occlusion`]: detection of pairs whose view is partly blocked (refused until shadowing);
+//! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes);
+//! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
 pub mod angle;
 pub mod contour;
 pub mod disk;
@@ -14,3 +22,8 @@ pub mod edge;
 pub mod gauss;
 pub mod lambert;
 pub mod ring;
+
+pub mod kernel;
+pub mod ladder;
+pub mod occlusion;
+pub mod planes;

@@ -1,0 +1,53 @@
+//! Speed target of the analytic method: the closed unit cube with n×n patches per face, all
+//! pairs, per-surface output. Prints wall time, pairs/s, face-total errors against the closed
+//! forms (C-11, C-14), the largest patch row-sum error and peak RSS (VmHWM).
+//!
+//! `cargo run --release --example cube_speed -- [n=36] [threads]`
+#[path = "../tests/support/analytic_scenes.rs"]
+mod scenes;
+
+use lambert::viewfactor::closed_form::{parallel_opposed_rectangles, perpendicular_common_edge};
+use lambert::viewfactor::{compute, Level, Method, Params};
+
+fn vm_hwm_mb() -> f64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(36);
+    if let Some(t) = args.get(2).and_then(|a| a.parse::<usize>().ok()) {
+        rayon::ThreadPoolBuilder::new().num_threads(t).build_global().expect("thread pool");
+    }
+    let scene = scenes::cube(n);
+    let params = Params { method: Method::Analytic, ..Params::default() };
+    let vf = compute(&scene, &params, Level::Surface).expect("cube is unobstructed");
+    let (opp, adj) = (parallel_opposed_rectangles(1.0, 1.0, 1.0), perpendicular_common_edge(1.0, 1.0, 1.0));
+    let (mut e_opp, mut e_adj) = (0.0f64, 0.0f64);
+    for i in 0..6 {
+        for j in 0..6 {
+            let f = vf.get(i, j);
+            match (i == j, i / 2 == j / 2) {
+                (true, _) => assert_eq!(f, 0.0, "planar face sees itself"),
+                (false, true) => e_opp = e_opp.max((f - opp).abs()),
+                (false, false) => e_adj = e_adj.max((f - adj).abs()),
+            }
+        }
+    }
+    let (row_err, _) = vf.max_patch_row_error();
+    let secs = vf.wall.as_secs_f64();
+    println!(
+        "cube {n}x{n}/face: N = {}, pairs = {}, threads = {}, wall = {secs:.3} s, {:.3e} pairs/s",
+        scene.patches.len(),
+        vf.pairs,
+        rayon::current_num_threads(),
+        vf.pairs as f64 / secs
+    );
+    println!("  max |F_opp - C-11| = {e_opp:.3e}, max |F_adj - C-14| = {e_adj:.3e}, max |row sum - 1| = {row_err:.3e}");
+    println!("  peak RSS (VmHWM) = {:.1} MB", vm_hwm_mb());
+}

@@ -1,0 +1,351 @@
+//! Blocker detection for the unshadowed analytic method: which patch pairs have part of their
+//! view cut by another patch or an obstruction.
+//!
+//! **Criterion.** For convex parts A ⊂ patch i (clipped to j's front half-space) and B ⊂ patch j
+//! (clipped to i's), the sight lines a→b fill H = conv(A ∪ B). A convex blocker K cuts a set of
+//! sight lines of positive measure iff relint(K) meets int(H). K lies in a plane P, so this holds
+//! iff A ∪ B has points strictly on both sides of P and relint(K) overlaps relint(H ∩ P) in P:
+//! a 2-D separating-axis test between two convex polygons, with overlaps thinner than
+//! [`OCCLUSION_TOL`]·(scene size) counted as touching.
+//!
+//! **Pre-filter.** Blockers are grouped by plane. A plane can only block when some patch has a
+//! vertex strictly on one side and another patch strictly on the other; in a convex enclosure
+//! (the cube) no plane qualifies, so the check costs O(N·planes) once and nothing per pair.
+//! Candidate search within an active plane is a linear scan with a bounding-box test; a BVH
+//! will replace it.
+use super::planes::{Plane, PlaneGroups};
+use crate::geometry::Polygon;
+use crate::scene::Scene;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Relative thickness below which an overlap counts as touching, not blocking: far above the
+/// round-off of coordinates (1e-16 relative), far below any modelled feature.
+pub const OCCLUSION_TOL: f64 = 1e-9;
+
+/// What blocks a view: a patch (index into [`Scene::patches`]) or an obstruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blocker {
+    /// A patch of an exchanging surface.
+    Patch(usize),
+    /// Obstruction `.0`, polygon `.1`.
+    Obstruction(usize, usize),
+}
+
+impl Blocker {
+    /// Human-readable name: `surface 'wall' (patch wall#3)` or `obstruction 'shade'`.
+    pub fn describe(&self, scene: &Scene) -> String {
+        match *self {
+            Blocker::Patch(p) => {
+                let s = &scene.surfaces[scene.patches[p].surface];
+                format!("surface '{}' (patch {})", s.name, scene.patch_name(p))
+            }
+            Blocker::Obstruction(k, _) => format!("obstruction '{}'", scene.obstructions[k].name),
+        }
+    }
+}
+
+/// One convex blocker polygon projected into its group's plane frame.
+#[derive(Debug, Clone)]
+struct Blocker2 {
+    owner: Blocker,
+    pts: Vec<[f64; 2]>,
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
+/// An active blocking plane with its blockers.
+#[derive(Debug, Clone)]
+struct Group {
+    plane: Plane,
+    e1: DVec3,
+    e2: DVec3,
+    blockers: Vec<Blocker2>,
+}
+
+/// Blocker detection for one scene.
+#[derive(Debug, Clone)]
+pub struct Occlusion {
+    tol: f64,
+    groups: Vec<Group>,
+    /// Convex parts of each patch (the patch itself when convex, else its triangles).
+    parts: Vec<Vec<Polygon>>,
+}
+
+/// Convex pieces of a polygon.
+fn convex_parts(poly: &Polygon) -> Vec<Polygon> {
+    if poly.is_convex() {
+        return vec![poly.clone()];
+    }
+    poly.triangulate().into_iter().filter_map(|[a, b, c]| Polygon::triangle(a, b, c)).collect()
+}
+
+/// (has a vertex strictly in front, has a vertex strictly behind) of `poly` w.r.t. `plane`.
+fn sides(poly: &Polygon, plane: &Plane, tol: f64) -> (bool, bool) {
+    let d = plane.distance(poly.centroid());
+    let r = poly.bounding_radius();
+    if d - r > tol {
+        return (true, false);
+    }
+    if d + r < -tol {
+        return (false, true);
+    }
+    poly.vertices().iter().fold((false, false), |(p, m), v| {
+        let d = plane.distance(*v);
+        (p || d > tol, m || d < -tol)
+    })
+}
+
+impl Occlusion {
+    /// Groups every patch and obstruction polygon by plane and keeps the planes that can block.
+    pub fn new(scene: &Scene) -> Self {
+        let scale = scene_size(scene);
+        let tol = OCCLUSION_TOL * scale;
+        let mut polys: Vec<(&Polygon, Blocker)> =
+            scene.patches.iter().enumerate().map(|(p, patch)| (&patch.polygon, Blocker::Patch(p))).collect();
+        for (k, o) in scene.obstructions.iter().enumerate() {
+            polys.extend(o.polygons.iter().enumerate().map(|(m, poly)| (poly, Blocker::Obstruction(k, m))));
+        }
+        let grouping = PlaneGroups::new(polys.iter().map(|(p, _)| *p), scale, tol);
+        // Side census per plane: a plane blocks only if two different patches lie strictly on
+        // opposite sides of it.
+        let active: Vec<bool> = grouping
+            .planes
+            .par_iter()
+            .map(|plane| {
+                let (mut plus, mut minus) = (None, None);
+                for (p, patch) in scene.patches.iter().enumerate() {
+                    let (sp, sm) = sides(&patch.polygon, plane, tol);
+                    if sp && plus.is_none() {
+                        plus = Some(p);
+                    }
+                    if sm && (minus.is_none() || minus == plus) {
+                        minus = Some(p);
+                    }
+                    if let (Some(a), Some(b)) = (plus, minus) {
+                        if a != b {
+                            return true;
+                        }
+                    }
+                }
+                false
+            })
+            .collect();
+        let mut groups: Vec<Option<Group>> = grouping
+            .planes
+            .iter()
+            .zip(&active)
+            .map(|(plane, &on)| {
+                on.then(|| {
+                    let (e1, e2) = plane.normal.any_orthonormal_pair();
+                    Group { plane: *plane, e1, e2, blockers: Vec::new() }
+                })
+            })
+            .collect();
+        for ((poly, owner), &g) in polys.iter().zip(&grouping.id) {
+            if let Some(group) = groups[g as usize].as_mut() {
+                for part in convex_parts(poly) {
+                    let pts: Vec<[f64; 2]> =
+                        part.vertices().iter().map(|v| [v.dot(group.e1), v.dot(group.e2)]).collect();
+                    let (lo, hi) = bbox(&pts);
+                    group.blockers.push(Blocker2 { owner: *owner, pts, lo, hi });
+                }
+            }
+        }
+        let groups: Vec<Group> = groups.into_iter().flatten().collect();
+        let parts = if groups.is_empty() {
+            Vec::new()
+        } else {
+            scene.patches.iter().map(|p| convex_parts(&p.polygon)).collect()
+        };
+        Occlusion { tol, groups, parts }
+    }
+
+    /// True when no plane of the scene can block any pair (every convex enclosure).
+    pub fn is_clear(&self) -> bool {
+        self.groups.is_empty()
+    }
+
+    /// Number of planes that can block some pair.
+    pub fn active_planes(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// A blocker that cuts part of the view between patches `i` and `j`, if any.
+    pub fn first_blocker(&self, scene: &Scene, i: usize, j: usize) -> Option<Blocker> {
+        if self.groups.is_empty() || i == j {
+            return None;
+        }
+        let (pi, pj) = (&scene.patches[i].polygon, &scene.patches[j].polygon);
+        let mut clipped: Option<(Vec<Polygon>, Vec<Polygon>)> = None;
+        for g in &self.groups {
+            let (ip, im) = sides(pi, &g.plane, self.tol);
+            let (jp, jm) = sides(pj, &g.plane, self.tol);
+            if !((ip && jm) || (im && jp)) {
+                continue;
+            }
+            // Parts of each patch in front of the other's plane (computed once per pair).
+            let (a_parts, b_parts) = clipped.get_or_insert_with(|| {
+                let a = self.parts[i].iter().filter_map(|p| p.clip(pj.centroid(), pj.normal())).collect();
+                let b = self.parts[j].iter().filter_map(|p| p.clip(pi.centroid(), pi.normal())).collect();
+                (a, b)
+            });
+            for a in a_parts.iter() {
+                for b in b_parts.iter() {
+                    let Some(x) = self.section(g, a, b) else { continue };
+                    let (lo, hi) = bbox(&x);
+                    for k in &g.blockers {
+                        if matches!(k.owner, Blocker::Patch(p) if p == i || p == j) {
+                            continue;
+                        }
+                        if k.lo[0] >= hi[0] - self.tol
+                            || k.hi[0] <= lo[0] + self.tol
+                            || k.lo[1] >= hi[1] - self.tol
+                            || k.hi[1] <= lo[1] + self.tol
+                        {
+                            continue;
+                        }
+                        if overlap_2d(&x, &k.pts, self.tol) {
+                            return Some(k.owner);
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// Every pair i < j whose view is partly blocked, with a blocker (row order).
+    pub fn blocked_pairs(&self, scene: &Scene) -> Vec<(usize, usize, Blocker)> {
+        if self.is_clear() {
+            return Vec::new();
+        }
+        let n = scene.patches.len();
+        (0..n)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                (i + 1..n).filter_map(move |j| self.first_blocker(scene, i, j).map(|k| (i, j, k)))
+            })
+            .collect()
+    }
+
+    /// The section conv(a ∪ b) ∩ plane as a convex polygon in the plane frame, when it has
+    /// interior (a and b together strictly on both sides).
+    fn section(&self, g: &Group, a: &Polygon, b: &Polygon) -> Option<Vec<[f64; 2]>> {
+        let verts: Vec<(DVec3, f64)> =
+            a.vertices().iter().chain(b.vertices()).map(|v| (*v, g.plane.distance(*v))).collect();
+        let mut pts = Vec::with_capacity(16);
+        for (k, &(v, dv)) in verts.iter().enumerate() {
+            if dv.abs() <= self.tol {
+                pts.push(v);
+            }
+            if dv > self.tol {
+                for &(w, dw) in &verts[..] {
+                    if dw < -self.tol {
+                        pts.push(v + (w - v) * (dv / (dv - dw)));
+                    }
+                }
+            }
+            let _ = k;
+        }
+        let p2: Vec<[f64; 2]> = pts.iter().map(|v| [v.dot(g.e1), v.dot(g.e2)]).collect();
+        let hull = convex_hull(p2);
+        (hull.len() >= 3).then_some(hull)
+    }
+}
+
+/// Bounding-box diagonal of every patch and obstruction vertex (1 for an empty scene).
+fn scene_size(scene: &Scene) -> f64 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    let polys =
+        scene.patches.iter().map(|p| &p.polygon).chain(scene.obstructions.iter().flat_map(|o| &o.polygons));
+    for poly in polys {
+        for v in poly.vertices() {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+    }
+    let d = (hi - lo).length();
+    if d.is_finite() && d > 0.0 {
+        d
+    } else {
+        1.0
+    }
+}
+
+fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    pts.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+    })
+}
+
+fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+}
+
+/// Andrew's monotone chain; counter-clockwise, collinear points dropped.
+fn convex_hull(mut p: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    p.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let mut h: Vec<[f64; 2]> = Vec::with_capacity(2 * p.len());
+    for pass in 0..2 {
+        let start = h.len();
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> =
+            if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
+        for &q in iter {
+            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0.0 {
+                h.pop();
+            }
+            h.push(q);
+        }
+        h.pop();
+    }
+    h
+}
+
+/// True when two convex polygons overlap by more than `tol` along every separating-axis
+/// candidate (the edge normals of both).
+fn overlap_2d(a: &[[f64; 2]], b: &[[f64; 2]], tol: f64) -> bool {
+    for poly in [a, b] {
+        for k in 0..poly.len() {
+            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+            let axis = [q[1] - p[1], p[0] - q[0]];
+            let len = axis[0].hypot(axis[1]);
+            if len == 0.0 {
+                continue;
+            }
+            let proj = |s: &[[f64; 2]]| {
+                s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    let d = (v[0] * axis[0] + v[1] * axis[1]) / len;
+                    (lo.min(d), hi.max(d))
+                })
+            };
+            let ((alo, ahi), (blo, bhi)) = (proj(a), proj(b));
+            if ahi <= blo + tol || bhi <= alo + tol {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_and_overlap() {
+        let h = convex_hull(vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]]);
+        assert_eq!(h.len(), 4, "{h:?}");
+        let sq = |x: f64| vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]];
+        assert!(overlap_2d(&sq(0.0), &sq(0.5), 1e-9));
+        assert!(!overlap_2d(&sq(0.0), &sq(1.0), 1e-9), "touching along an edge is not overlap");
+        assert!(!overlap_2d(&sq(0.0), &sq(1.5), 1e-9));
+        let tri = vec![[1.2, -1.0], [2.0, 0.5], [1.2, 2.0]];
+        assert!(!overlap_2d(&sq(0.0), &tri, 1e-9));
+    }
+}
