@@ -53,3 +53,14 @@ def selftest():
     out, _ = solve([1] * 6, [0.8, 0.6, 0.5, 0.5, 0.5, 0.5], F, bc)
     assert abs(out[0]["heat_rate"] - mpf("21385.907")) < 1e-3, out[0]["heat_rate"]
     assert abs(out[2]["temperature"] - mpf("876.93099")) < 1e-5, out[2]["temperature"]
+
+
+def close_symmetric(areas, F, iters=200):
+    """Closure by symmetric diagonal scaling s_ij = s̄_ij g_i g_j with Σ_j s_ij = A_i (the
+    deterministic enforcement of DESIGN.md, ≡ WLS with w = s̄ to first order)."""
+    n = len(areas)
+    S = [[(areas[i] * F[i][j] + areas[j] * F[j][i]) / 2 for j in range(n)] for i in range(n)]
+    g = [mpf(1)] * n
+    for _ in range(iters):
+        g = [mp.sqrt(g[i] * areas[i] / mp.fsum(S[i][j] * g[j] for j in range(n))) for i in range(n)]
+    return [[S[i][j] * g[i] * g[j] / areas[i] for j in range(n)] for i in range(n)]

@@ -1,9 +1,10 @@
 //! Heat-rate and temperature checks of enclosure problems, through the radiation solve.
 //!
 //! Tolerances: exact factors (analytic, a supplied exact file) give `HEAT_EXACT_REL`; an
-//! approximate method's view-factor tolerances propagate through the case's sensitivities,
-//! |ΔQ| ≤ Σ_IJ |∂Q/∂F_IJ|·tol(F_IJ) (worst case, first order). Without sensitivities (patched
-//! cases) only exact methods are checked.
+//! approximate method's view-factor tolerances propagate through the case's sensitivities
+//! (∂Q/∂F_IJ after the solve's enforcement, from cases/_generator): Σ_IJ |∂Q/∂F_IJ|·tol(F_IJ)
+//! for deterministic methods (biases may align), the root sum of squares for Monte Carlo
+//! (independent errors). Without sensitivities (patched cases) only analytic is checked.
 use super::case::{Case, HeatRef};
 use super::check::{Check, Status};
 use super::tolerance::{self, HEAT_EXACT_REL};
@@ -111,15 +112,19 @@ fn heat_tolerance(
     if h.sensitivity.is_empty() {
         return None;
     }
-    let mut tol = exact;
+    // Monte Carlo errors are independent across pairs (root sum of squares); the other
+    // methods' biases may align (plain sum).
+    let (mut sum, mut squares) = (0.0, 0.0);
     for s in &h.sensitivity {
         let r = case.reference.viewfactors.iter().find(|r| r.from == s.from && r.to == s.to)?;
         let i = vf.names.iter().position(|n| *n == s.from)?;
         let j = vf.names.iter().position(|n| *n == s.to)?;
         let sigma = vf.rows[i].iter().find(|e| e.to as usize == j).map(|e| e.std_error).unwrap_or(0.0);
-        tol += s.d.abs() * tolerance::view_factor(method, params, r, sigma, params.samples as f64);
+        let t = s.d.abs() * tolerance::view_factor(method, params, r, sigma, params.samples as f64);
+        sum += t;
+        squares += t * t;
     }
-    Some(tol)
+    Some(exact + if method.is_monte_carlo() { squares.sqrt() } else { sum })
 }
 
 fn checks(
