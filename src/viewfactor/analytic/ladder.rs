@@ -202,6 +202,7 @@ impl PatchRules {
     }
 
     /// The order-`order` rule of patch `p`, from the cache or generated into `buf`.
+    #[inline]
     pub fn points<'a>(&'a self, p: usize, order: usize, buf: &'a mut Points) -> PointsRef<'a> {
         debug_assert!((1..=MAX_ORDER).contains(&order));
         if order <= CACHED_ORDERS {
@@ -270,8 +271,9 @@ fn weights<'s>(
 /// Σ_a Σ_b β_a γ_b / r_ab⁴ (r_ab > 0), the reference order of operations that the AVX path
 /// reproduces bit for bit: rows a take receivers b in chunks of 8, whose halves (4 lanes
 /// each) share one division, γ₀/q₀ + γ₁/q₁ = (γ₀q₁ + γ₁q₀)/(q₀q₁) with q = r⁴ (q₀q₁ = r⁸
-/// stays in range for 1e-38 < r < 1e38), then a chunk of 4; the leftover receivers (< 4) are
-/// summed as columns over a in the same way; the last corner term by term.
+/// stays in range for 1e-38 < r < 1e38), then a chunk of 4; row lanes are weighted by β_a
+/// and summed across lanes once. The leftover receivers (< 4) are summed as columns over a
+/// in the same way; the last corner term by term.
 #[allow(clippy::needless_range_loop)] // (a, b) index pairs read clearer than zipped iterators
 #[inline(always)]
 fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
@@ -283,31 +285,35 @@ fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
         let r2 = dx * dx + dy * dy + dz * dz;
         r2 * r2
     };
-    let mut total = 0.0;
+    // Rows: lane sums weighted by β_a, one horizontal sum at the end.
+    let mut rows = [0.0f64; 4];
     for a in 0..na {
         let mut acc = [0.0f64; 4];
-        for b in (0..b8).step_by(8) {
+        for b in (0..b8 / 8).map(|c| 8 * c) {
             for k in 0..4 {
                 let (ql, qh) = (q(a, b + k), q(a, b + 4 + k));
                 acc[k] += (gamma[b + k] * qh + gamma[b + 4 + k] * ql) / (ql * qh);
             }
         }
-        for b in (b8..b4).step_by(4) {
+        for b in (b8 / 4..b4 / 4).map(|c| 4 * c) {
             for k in 0..4 {
                 acc[k] += gamma[b + k] / q(a, b + k);
             }
         }
-        total += beta[a] * ((acc[0] + acc[1]) + (acc[2] + acc[3]));
+        for k in 0..4 {
+            rows[k] += beta[a] * acc[k];
+        }
     }
+    let mut total = (rows[0] + rows[1]) + (rows[2] + rows[3]);
     for b in b4..nb {
         let mut acc = [0.0f64; 4];
-        for a in (0..a8).step_by(8) {
+        for a in (0..a8 / 8).map(|c| 8 * c) {
             for k in 0..4 {
                 let (ql, qh) = (q(a + k, b), q(a + 4 + k, b));
                 acc[k] += (beta[a + k] * qh + beta[a + 4 + k] * ql) / (ql * qh);
             }
         }
-        for a in (a8..a4).step_by(4) {
+        for a in (a8 / 4..a4 / 4).map(|c| 4 * c) {
             for k in 0..4 {
                 acc[k] += beta[a + k] / q(a + k, b);
             }
@@ -384,33 +390,34 @@ mod simd {
         assert!(pj.x.len() >= nb && pj.y.len() >= nb && pj.z.len() >= nb);
         let (b8, b4) = (nb - nb % 8, nb - nb % 4);
         let (a8, a4) = (na - na % 8, na - na % 4);
-        let mut total = 0.0;
+        let mut rows = _mm256_setzero_pd();
         for a in 0..na {
             let (x, y, z) = (_mm256_set1_pd(pi.x[a]), _mm256_set1_pd(pi.y[a]), _mm256_set1_pd(pi.z[a]));
             let mut acc = _mm256_setzero_pd();
-            for b in (0..b8).step_by(8) {
+            for b in (0..b8 / 8).map(|c| 8 * c) {
                 let (ql, qh) = (q4(pj, b, x, y, z), q4(pj, b + 4, x, y, z));
                 let (gl, gh) =
                     (_mm256_loadu_pd(gamma.as_ptr().add(b)), _mm256_loadu_pd(gamma.as_ptr().add(b + 4)));
                 acc = _mm256_add_pd(acc, paired(gl, gh, ql, qh));
             }
-            for b in (b8..b4).step_by(4) {
+            for b in (b8 / 4..b4 / 4).map(|c| 4 * c) {
                 let g = _mm256_loadu_pd(gamma.as_ptr().add(b));
                 acc = _mm256_add_pd(acc, _mm256_div_pd(g, q4(pj, b, x, y, z)));
             }
-            total += beta[a] * hsum(acc);
+            rows = _mm256_add_pd(rows, _mm256_mul_pd(_mm256_set1_pd(beta[a]), acc));
         }
+        let mut total = hsum(rows);
         for b in b4..nb {
             let (x, y, z) = (_mm256_set1_pd(pj.x[b]), _mm256_set1_pd(pj.y[b]), _mm256_set1_pd(pj.z[b]));
             let mut acc = _mm256_setzero_pd();
             // r is symmetric: (x_a − y_b)² = (y_b − x_a)² exactly, so loading a-points works.
-            for a in (0..a8).step_by(8) {
+            for a in (0..a8 / 8).map(|c| 8 * c) {
                 let (ql, qh) = (q4(pi, a, x, y, z), q4(pi, a + 4, x, y, z));
                 let (wl, wh) =
                     (_mm256_loadu_pd(beta.as_ptr().add(a)), _mm256_loadu_pd(beta.as_ptr().add(a + 4)));
                 acc = _mm256_add_pd(acc, paired(wl, wh, ql, qh));
             }
-            for a in (a8..a4).step_by(4) {
+            for a in (a8 / 4..a4 / 4).map(|c| 4 * c) {
                 let w = _mm256_loadu_pd(beta.as_ptr().add(a));
                 acc = _mm256_add_pd(acc, _mm256_div_pd(w, q4(pi, a, x, y, z)));
             }
@@ -586,10 +593,13 @@ impl ErrorModel {
     }
 
     /// Smallest order whose bound meets the budget at (λ, ν), or `None` (use the exact integral).
-    pub fn order(&self, triangles: bool, lambda: f64, nu: f64) -> Option<usize> {
-        // Round ν up to a bin edge (no `ceil`: it is a libm call on baseline x86-64).
-        let x = nu.clamp(0.0, 2.0) * (NU_BINS as f64 / 2.0);
-        let bin = ((x as usize) + ((x as usize as f64) < x) as usize).min(NU_BINS);
+    /// ν is given by the extremes lo ≥ 0, hi of the linear factor: ν = 2(hi − lo)/(hi + lo).
+    #[inline]
+    pub fn order(&self, triangles: bool, lambda: f64, lo: f64, hi: f64) -> Option<usize> {
+        // Bin = ⌈ν·NU_BINS/2⌉ without a division: count the edges k with ν·NU_BINS/2 > k.
+        let (num, den) = (NU_BINS as f64 * (hi - lo), hi + lo);
+        let bin =
+            if triangles { NU_BINS } else { (0..NU_BINS).map(|k| (num > k as f64 * den) as usize).sum() };
         // λ_min falls with the order, so the first order that fits is one past the count of
         // orders that do not (branch-free: the pattern varies from pair to pair).
         let table = &self.lambda_min[triangles as usize];
