@@ -466,6 +466,53 @@ mod tests {
     }
 
     #[test]
+    fn thresholds_fall_with_the_order_and_orders_meet_the_budget() {
+        for tol in [1e-3, 5e-8, 1e-10, 1e-12] {
+            let model = ErrorModel::new(tol);
+            for (kind, table) in model.lambda_min.iter().enumerate() {
+                for m in 1..MAX_ORDER {
+                    for bin in 0..=NU_BINS {
+                        assert!(
+                            table[m][bin] <= table[m - 1][bin],
+                            "tol {tol} kind {kind} order {} bin {bin}",
+                            m + 1
+                        );
+                    }
+                }
+            }
+            // The chosen order meets the budget at ν; the one below it fails at ν rounded up to
+            // its bin edge (the lookup is conservative by at most one bin).
+            let tol_ok = model.side_tol() * (1.0 + 1e-9);
+            for k in 0..2000 {
+                let lambda = 0.3 * 1.01f64.powi(k);
+                let (lo, hi) = (k as f64 % 7.0, 7.0);
+                for tri in [false, true] {
+                    let nu = if tri { 2.0 } else { 2.0 * (hi - lo) / (hi + lo) };
+                    let nu_edge = (nu * NU_BINS as f64 / 2.0).ceil() * 2.0 / NU_BINS as f64;
+                    match model.order(tri, lambda, lo, hi) {
+                        Some(m) => {
+                            assert!(
+                                ErrorModel::side_error(m, tri, lambda, nu) <= tol_ok,
+                                "λ {lambda} ν {nu} m {m}"
+                            );
+                            if m > 1 {
+                                assert!(
+                                    ErrorModel::side_error(m - 1, tri, lambda, nu_edge)
+                                        > model.side_tol() * 0.999
+                                );
+                            }
+                        }
+                        None => assert!(
+                            ErrorModel::side_error(MAX_ORDER, tri, lambda, nu_edge)
+                                > model.side_tol() * 0.999
+                        ),
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn simd_and_portable_sums_agree_bit_for_bit() {
         // Point counts that exercise every chunk path: 1, 4, 9, 16, 25, 36 and triangle pairs.
         let a = square(DVec3::ZERO, DVec3::X, DVec3::Y);
