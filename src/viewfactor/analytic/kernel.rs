@@ -223,6 +223,7 @@ impl RowKernel for AnalyticKernel<'_> {
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let n = self.info.len();
         let mut scratch = Scratch::default();
+        out.entries.reserve(n - i - 1);
         for j in i + 1..n {
             let s = self.pair(i, j, &mut scratch)?;
             if s > 0.0 {

@@ -373,8 +373,33 @@ mod simd {
         hj: f64,
         scratch: &mut Vec<f64>,
     ) -> f64 {
-        let (beta, gamma) = super::weights(pi, ni, hi, pj, nj, hj, scratch);
+        let (na, nb) = (pi.w.len(), pj.w.len());
+        scratch.resize(na + nb, 0.0);
+        let (beta, gamma) = scratch.split_at_mut(na);
+        weights4(pi, nj, hj, beta);
+        weights4(pj, ni, hi, gamma);
         pair_sum(pi, beta, pj, gamma)
+    }
+
+    /// out_k = w_k·(((x_k·n.x + y_k·n.y) + z_k·n.z) − h), four at a time, in the scalar order of
+    /// [`super::weights`].
+    #[inline(always)]
+    unsafe fn weights4(p: PointsRef, n: DVec3, h: f64, out: &mut [f64]) {
+        let len = out.len();
+        assert!(p.x.len() >= len && p.y.len() >= len && p.z.len() >= len && p.w.len() >= len);
+        let (nx, ny, nz, hv) =
+            (_mm256_set1_pd(n.x), _mm256_set1_pd(n.y), _mm256_set1_pd(n.z), _mm256_set1_pd(h));
+        let l4 = len - len % 4;
+        for k in (0..l4 / 4).map(|c| 4 * c) {
+            let x = _mm256_mul_pd(_mm256_loadu_pd(p.x.as_ptr().add(k)), nx);
+            let y = _mm256_mul_pd(_mm256_loadu_pd(p.y.as_ptr().add(k)), ny);
+            let z = _mm256_mul_pd(_mm256_loadu_pd(p.z.as_ptr().add(k)), nz);
+            let d = _mm256_sub_pd(_mm256_add_pd(_mm256_add_pd(x, y), z), hv);
+            _mm256_storeu_pd(out.as_mut_ptr().add(k), _mm256_mul_pd(_mm256_loadu_pd(p.w.as_ptr().add(k)), d));
+        }
+        for k in l4..len {
+            out[k] = p.w[k] * (p.x[k] * n.x + p.y[k] * n.y + p.z[k] * n.z - h);
+        }
     }
 
     /// [`super::pair_sum`] with 4-lane AVX vectors.
@@ -540,6 +565,15 @@ mod tests {
                         // SAFETY: AVX detected.
                         let simd = unsafe { simd::pair_sum(pi, &beta, pj, &gamma) };
                         assert_eq!(simd.to_bits(), portable.to_bits(), "pair {p},{q} orders {mi},{mj}");
+                        // The whole exchange, weights included.
+                        let (ni, nj) =
+                            (DVec3::new(0.1, 0.2, 0.97).normalize(), DVec3::new(-0.3, 0.1, -0.9).normalize());
+                        let mut scratch = Vec::new();
+                        let (bw, gw) = weights(pi, ni, 0.3, pj, nj, -2.1, &mut scratch);
+                        let portable = pair_sum(pi, bw, pj, gw);
+                        // SAFETY: AVX detected.
+                        let simd = unsafe { simd::exchange(pi, ni, 0.3, pj, nj, -2.1, &mut Vec::new()) };
+                        assert_eq!(simd.to_bits(), portable.to_bits(), "exchange {p},{q} orders {mi},{mj}");
                     }
                     // Against the plain double loop.
                     let mut plain = 0.0;
