@@ -56,16 +56,6 @@ struct PatchInfo {
     triangles: bool,
 }
 
-/// ν of the error model: relative variation (hi − lo)/mean of a non-negative linear factor
-/// whose extremes over a patch are lo, hi; 2 when it vanishes somewhere.
-fn variation(lo: f64, hi: f64) -> f64 {
-    if lo > 0.0 {
-        (2.0 * (hi - lo) / (hi + lo)).min(2.0)
-    } else {
-        2.0
-    }
-}
-
 /// Exact exchange areas for unobstructed planar patches.
 pub struct AnalyticKernel<'s> {
     scene: &'s Scene,
@@ -180,11 +170,9 @@ impl<'s> AnalyticKernel<'s> {
             let sphere = a.centroid.distance(b.centroid) - a.radius - b.radius;
             let d = sphere.max(jlo).max(ilo);
             // Each patch's cosine factor varies over the *other* patch: ν_i from i's extent in
-            // j's plane, ν_j from j's extent in i's plane (2 on Duffy triangles).
-            let nu_i = if a.triangles { 2.0 } else { variation(ilo, ihi) };
-            let nu_j = if b.triangles { 2.0 } else { variation(jlo, jhi) };
-            let mi = self.model.order(a.triangles, d * a.inv_len, nu_i);
-            let mj = self.model.order(b.triangles, d * b.inv_len, nu_j);
+            // j's plane, ν_j from j's extent in i's plane.
+            let mi = self.model.order(a.triangles, d * a.inv_len, ilo, ihi);
+            let mj = self.model.order(b.triangles, d * b.inv_len, jlo, jhi);
             if let (Some(mi), Some(mj)) = (mi, mj) {
                 return Ok(Rung::Gauss(mi, mj));
             }
@@ -235,6 +223,7 @@ impl RowKernel for AnalyticKernel<'_> {
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let n = self.info.len();
         let mut scratch = Scratch::default();
+        out.entries.reserve(n - i - 1);
         for j in i + 1..n {
             let s = self.pair(i, j, &mut scratch)?;
             if s > 0.0 {

@@ -202,6 +202,7 @@ impl PatchRules {
     }
 
     /// The order-`order` rule of patch `p`, from the cache or generated into `buf`.
+    #[inline]
     pub fn points<'a>(&'a self, p: usize, order: usize, buf: &'a mut Points) -> PointsRef<'a> {
         debug_assert!((1..=MAX_ORDER).contains(&order));
         if order <= CACHED_ORDERS {
@@ -270,8 +271,9 @@ fn weights<'s>(
 /// Σ_a Σ_b β_a γ_b / r_ab⁴ (r_ab > 0), the reference order of operations that the AVX path
 /// reproduces bit for bit: rows a take receivers b in chunks of 8, whose halves (4 lanes
 /// each) share one division, γ₀/q₀ + γ₁/q₁ = (γ₀q₁ + γ₁q₀)/(q₀q₁) with q = r⁴ (q₀q₁ = r⁸
-/// stays in range for 1e-38 < r < 1e38), then a chunk of 4; the leftover receivers (< 4) are
-/// summed as columns over a in the same way; the last corner term by term.
+/// stays in range for 1e-38 < r < 1e38), then a chunk of 4; row lanes are weighted by β_a
+/// and summed across lanes once. The leftover receivers (< 4) are summed as columns over a
+/// in the same way; the last corner term by term.
 #[allow(clippy::needless_range_loop)] // (a, b) index pairs read clearer than zipped iterators
 #[inline(always)]
 fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
@@ -283,31 +285,35 @@ fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
         let r2 = dx * dx + dy * dy + dz * dz;
         r2 * r2
     };
-    let mut total = 0.0;
+    // Rows: lane sums weighted by β_a, one horizontal sum at the end.
+    let mut rows = [0.0f64; 4];
     for a in 0..na {
         let mut acc = [0.0f64; 4];
-        for b in (0..b8).step_by(8) {
+        for b in (0..b8 / 8).map(|c| 8 * c) {
             for k in 0..4 {
                 let (ql, qh) = (q(a, b + k), q(a, b + 4 + k));
                 acc[k] += (gamma[b + k] * qh + gamma[b + 4 + k] * ql) / (ql * qh);
             }
         }
-        for b in (b8..b4).step_by(4) {
+        for b in (b8 / 4..b4 / 4).map(|c| 4 * c) {
             for k in 0..4 {
                 acc[k] += gamma[b + k] / q(a, b + k);
             }
         }
-        total += beta[a] * ((acc[0] + acc[1]) + (acc[2] + acc[3]));
+        for k in 0..4 {
+            rows[k] += beta[a] * acc[k];
+        }
     }
+    let mut total = (rows[0] + rows[1]) + (rows[2] + rows[3]);
     for b in b4..nb {
         let mut acc = [0.0f64; 4];
-        for a in (0..a8).step_by(8) {
+        for a in (0..a8 / 8).map(|c| 8 * c) {
             for k in 0..4 {
                 let (ql, qh) = (q(a + k, b), q(a + 4 + k, b));
                 acc[k] += (beta[a + k] * qh + beta[a + 4 + k] * ql) / (ql * qh);
             }
         }
-        for a in (a8..a4).step_by(4) {
+        for a in (a8 / 4..a4 / 4).map(|c| 4 * c) {
             for k in 0..4 {
                 acc[k] += beta[a + k] / q(a + k, b);
             }
@@ -367,8 +373,33 @@ mod simd {
         hj: f64,
         scratch: &mut Vec<f64>,
     ) -> f64 {
-        let (beta, gamma) = super::weights(pi, ni, hi, pj, nj, hj, scratch);
+        let (na, nb) = (pi.w.len(), pj.w.len());
+        scratch.resize(na + nb, 0.0);
+        let (beta, gamma) = scratch.split_at_mut(na);
+        weights4(pi, nj, hj, beta);
+        weights4(pj, ni, hi, gamma);
         pair_sum(pi, beta, pj, gamma)
+    }
+
+    /// out_k = w_k·(((x_k·n.x + y_k·n.y) + z_k·n.z) − h), four at a time, in the scalar order of
+    /// [`super::weights`].
+    #[inline(always)]
+    unsafe fn weights4(p: PointsRef, n: DVec3, h: f64, out: &mut [f64]) {
+        let len = out.len();
+        assert!(p.x.len() >= len && p.y.len() >= len && p.z.len() >= len && p.w.len() >= len);
+        let (nx, ny, nz, hv) =
+            (_mm256_set1_pd(n.x), _mm256_set1_pd(n.y), _mm256_set1_pd(n.z), _mm256_set1_pd(h));
+        let l4 = len - len % 4;
+        for k in (0..l4 / 4).map(|c| 4 * c) {
+            let x = _mm256_mul_pd(_mm256_loadu_pd(p.x.as_ptr().add(k)), nx);
+            let y = _mm256_mul_pd(_mm256_loadu_pd(p.y.as_ptr().add(k)), ny);
+            let z = _mm256_mul_pd(_mm256_loadu_pd(p.z.as_ptr().add(k)), nz);
+            let d = _mm256_sub_pd(_mm256_add_pd(_mm256_add_pd(x, y), z), hv);
+            _mm256_storeu_pd(out.as_mut_ptr().add(k), _mm256_mul_pd(_mm256_loadu_pd(p.w.as_ptr().add(k)), d));
+        }
+        for k in l4..len {
+            out[k] = p.w[k] * (p.x[k] * n.x + p.y[k] * n.y + p.z[k] * n.z - h);
+        }
     }
 
     /// [`super::pair_sum`] with 4-lane AVX vectors.
@@ -384,33 +415,34 @@ mod simd {
         assert!(pj.x.len() >= nb && pj.y.len() >= nb && pj.z.len() >= nb);
         let (b8, b4) = (nb - nb % 8, nb - nb % 4);
         let (a8, a4) = (na - na % 8, na - na % 4);
-        let mut total = 0.0;
+        let mut rows = _mm256_setzero_pd();
         for a in 0..na {
             let (x, y, z) = (_mm256_set1_pd(pi.x[a]), _mm256_set1_pd(pi.y[a]), _mm256_set1_pd(pi.z[a]));
             let mut acc = _mm256_setzero_pd();
-            for b in (0..b8).step_by(8) {
+            for b in (0..b8 / 8).map(|c| 8 * c) {
                 let (ql, qh) = (q4(pj, b, x, y, z), q4(pj, b + 4, x, y, z));
                 let (gl, gh) =
                     (_mm256_loadu_pd(gamma.as_ptr().add(b)), _mm256_loadu_pd(gamma.as_ptr().add(b + 4)));
                 acc = _mm256_add_pd(acc, paired(gl, gh, ql, qh));
             }
-            for b in (b8..b4).step_by(4) {
+            for b in (b8 / 4..b4 / 4).map(|c| 4 * c) {
                 let g = _mm256_loadu_pd(gamma.as_ptr().add(b));
                 acc = _mm256_add_pd(acc, _mm256_div_pd(g, q4(pj, b, x, y, z)));
             }
-            total += beta[a] * hsum(acc);
+            rows = _mm256_add_pd(rows, _mm256_mul_pd(_mm256_set1_pd(beta[a]), acc));
         }
+        let mut total = hsum(rows);
         for b in b4..nb {
             let (x, y, z) = (_mm256_set1_pd(pj.x[b]), _mm256_set1_pd(pj.y[b]), _mm256_set1_pd(pj.z[b]));
             let mut acc = _mm256_setzero_pd();
             // r is symmetric: (x_a − y_b)² = (y_b − x_a)² exactly, so loading a-points works.
-            for a in (0..a8).step_by(8) {
+            for a in (0..a8 / 8).map(|c| 8 * c) {
                 let (ql, qh) = (q4(pi, a, x, y, z), q4(pi, a + 4, x, y, z));
                 let (wl, wh) =
                     (_mm256_loadu_pd(beta.as_ptr().add(a)), _mm256_loadu_pd(beta.as_ptr().add(a + 4)));
                 acc = _mm256_add_pd(acc, paired(wl, wh, ql, qh));
             }
-            for a in (a8..a4).step_by(4) {
+            for a in (a8 / 4..a4 / 4).map(|c| 4 * c) {
                 let w = _mm256_loadu_pd(beta.as_ptr().add(a));
                 acc = _mm256_add_pd(acc, _mm256_div_pd(w, q4(pi, a, x, y, z)));
             }
@@ -459,6 +491,53 @@ mod tests {
     }
 
     #[test]
+    fn thresholds_fall_with_the_order_and_orders_meet_the_budget() {
+        for tol in [1e-3, 5e-8, 1e-10, 1e-12] {
+            let model = ErrorModel::new(tol);
+            for (kind, table) in model.lambda_min.iter().enumerate() {
+                for m in 1..MAX_ORDER {
+                    for bin in 0..=NU_BINS {
+                        assert!(
+                            table[m][bin] <= table[m - 1][bin],
+                            "tol {tol} kind {kind} order {} bin {bin}",
+                            m + 1
+                        );
+                    }
+                }
+            }
+            // The chosen order meets the budget at ν; the one below it fails at ν rounded up to
+            // its bin edge (the lookup is conservative by at most one bin).
+            let tol_ok = model.side_tol() * (1.0 + 1e-9);
+            for k in 0..2000 {
+                let lambda = 0.3 * 1.01f64.powi(k);
+                let (lo, hi) = (k as f64 % 7.0, 7.0);
+                for tri in [false, true] {
+                    let nu = if tri { 2.0 } else { 2.0 * (hi - lo) / (hi + lo) };
+                    let nu_edge = (nu * NU_BINS as f64 / 2.0).ceil() * 2.0 / NU_BINS as f64;
+                    match model.order(tri, lambda, lo, hi) {
+                        Some(m) => {
+                            assert!(
+                                ErrorModel::side_error(m, tri, lambda, nu) <= tol_ok,
+                                "λ {lambda} ν {nu} m {m}"
+                            );
+                            if m > 1 {
+                                assert!(
+                                    ErrorModel::side_error(m - 1, tri, lambda, nu_edge)
+                                        > model.side_tol() * 0.999
+                                );
+                            }
+                        }
+                        None => assert!(
+                            ErrorModel::side_error(MAX_ORDER, tri, lambda, nu_edge)
+                                > model.side_tol() * 0.999
+                        ),
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     #[allow(clippy::needless_range_loop)] // the plain reference loop indexes four arrays
     fn simd_and_portable_sums_agree_bit_for_bit() {
         // Point counts that exercise every chunk path: 1, 4, 9, 16, 25, 36 and triangle pairs.
@@ -487,6 +566,15 @@ mod tests {
                         // SAFETY: AVX detected.
                         let simd = unsafe { simd::pair_sum(pi, &beta, pj, &gamma) };
                         assert_eq!(simd.to_bits(), portable.to_bits(), "pair {p},{q} orders {mi},{mj}");
+                        // The whole exchange, weights included.
+                        let (ni, nj) =
+                            (DVec3::new(0.1, 0.2, 0.97).normalize(), DVec3::new(-0.3, 0.1, -0.9).normalize());
+                        let mut scratch = Vec::new();
+                        let (bw, gw) = weights(pi, ni, 0.3, pj, nj, -2.1, &mut scratch);
+                        let portable = pair_sum(pi, bw, pj, gw);
+                        // SAFETY: AVX detected.
+                        let simd = unsafe { simd::exchange(pi, ni, 0.3, pj, nj, -2.1, &mut Vec::new()) };
+                        assert_eq!(simd.to_bits(), portable.to_bits(), "exchange {p},{q} orders {mi},{mj}");
                     }
                     // Against the plain double loop.
                     let mut plain = 0.0;
@@ -587,10 +675,13 @@ impl ErrorModel {
     }
 
     /// Smallest order whose bound meets the budget at (λ, ν), or `None` (use the exact integral).
-    pub fn order(&self, triangles: bool, lambda: f64, nu: f64) -> Option<usize> {
-        // Round ν up to a bin edge (no `ceil`: it is a libm call on baseline x86-64).
-        let x = nu.clamp(0.0, 2.0) * (NU_BINS as f64 / 2.0);
-        let bin = ((x as usize) + ((x as usize as f64) < x) as usize).min(NU_BINS);
+    /// ν is given by the extremes lo ≥ 0, hi of the linear factor: ν = 2(hi − lo)/(hi + lo).
+    #[inline]
+    pub fn order(&self, triangles: bool, lambda: f64, lo: f64, hi: f64) -> Option<usize> {
+        // Bin = ⌈ν·NU_BINS/2⌉ without a division: count the edges k with ν·NU_BINS/2 > k.
+        let (num, den) = (NU_BINS as f64 * (hi - lo), hi + lo);
+        let bin =
+            if triangles { NU_BINS } else { (0..NU_BINS).map(|k| (num > k as f64 * den) as usize).sum() };
         // λ_min falls with the order, so the first order that fits is one past the count of
         // orders that do not (branch-free: the pattern varies from pair to pair).
         let table = &self.lambda_min[triangles as usize];
