@@ -14,12 +14,26 @@ use super::occlusion::Occlusion;
 use super::planes::PlaneGroups;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
-use crate::viewfactor::MethodSet;
+use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::{Error, Result};
 use glam::DVec3;
 
 /// Relative tolerance for "these patches share a plane" (coplanar pairs exchange nothing).
 const COPLANAR_TOL: f64 = 1e-12;
+
+/// A closed scene's row computed by this method alone that falls short of 1 by more than this
+/// leaks (a gap, a flipped normal): every pair is exact or within [`GAUSS_REL_TOL`], so rows
+/// close to 5e-8; 1e-6 leaves a 20× margin.
+pub const LEAK_TOL: f64 = 1e-6;
+
+/// Output rows of `vf` (made by this method) whose sum falls short of 1 by more than
+/// [`LEAK_TOL`], worst first, with their sums. Meaningful for closed scenes only.
+pub fn leaks(vf: &ViewFactors) -> Vec<(usize, f64)> {
+    let mut out: Vec<(usize, f64)> =
+        vf.row_sums().into_iter().enumerate().filter(|&(_, s)| 1.0 - s > LEAK_TOL).collect();
+    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    out
+}
 
 /// Per-pair relative error target of the Gauss rungs: 5e-8 keeps every surface total within
 /// 5e-8·F_IJ ≤ 1e-8 for F_IJ ≤ 0.2 (the cube's faces) and every row sum within 5e-8, while
@@ -36,8 +50,8 @@ struct PatchInfo {
     radius: f64,
     /// Unoriented plane group.
     plane: u32,
-    /// Gauss parameter length (the L of the error model).
-    param_len: f64,
+    /// 1 / Gauss parameter length (the L of the error model).
+    inv_len: f64,
     /// Gauss rules on Duffy triangles (not one parallelogram).
     triangles: bool,
 }
@@ -86,7 +100,7 @@ impl<'s> AnalyticKernel<'s> {
                     centroid: poly.centroid(),
                     radius: poly.bounding_radius(),
                     plane: planes.id[p],
-                    param_len: rules.param_len(p),
+                    inv_len: 1.0 / rules.param_len(p),
                     triangles: rules.triangulated(p),
                 }
             })
@@ -142,20 +156,20 @@ impl<'s> AnalyticKernel<'s> {
         )
     }
 
-    /// A_i F_ij for one pair (j ≠ i), or the refusal when a blocker cuts the view.
-    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> Result<f64> {
+    /// Which rung of the ladder treats pair (i, j), j ≠ i; a refusal when a blocker cuts the view.
+    pub fn rung(&self, i: usize, j: usize) -> Result<Rung> {
         let (a, b) = (&self.info[i], &self.info[j]);
         if a.plane == b.plane {
-            return Ok(0.0);
+            return Ok(Rung::Zero);
         }
         // j seen from i's plane, and i from j's.
         let (jlo, jhi) = self.extent(a, j);
         if jhi <= 0.0 {
-            return Ok(0.0);
+            return Ok(Rung::Zero);
         }
         let (ilo, ihi) = self.extent(b, i);
         if ihi <= 0.0 {
-            return Ok(0.0);
+            return Ok(Rung::Zero);
         }
         if !self.occlusion.is_clear() {
             if let Some(k) = self.occlusion.first_blocker(self.scene, i, j) {
@@ -169,18 +183,40 @@ impl<'s> AnalyticKernel<'s> {
             // j's plane, ν_j from j's extent in i's plane (2 on Duffy triangles).
             let nu_i = if a.triangles { 2.0 } else { variation(ilo, ihi) };
             let nu_j = if b.triangles { 2.0 } else { variation(jlo, jhi) };
-            let mi = self.model.order(a.triangles, d / a.param_len, nu_i);
-            let mj = self.model.order(b.triangles, d / b.param_len, nu_j);
+            let mi = self.model.order(a.triangles, d * a.inv_len, nu_i);
+            let mj = self.model.order(b.triangles, d * b.inv_len, nu_j);
             if let (Some(mi), Some(mj)) = (mi, mj) {
+                return Ok(Rung::Gauss(mi, mj));
+            }
+        }
+        Ok(Rung::Exact)
+    }
+
+    /// A_i F_ij for one pair (j ≠ i), or the refusal when a blocker cuts the view.
+    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> Result<f64> {
+        Ok(match self.rung(i, j)? {
+            Rung::Zero => 0.0,
+            Rung::Gauss(mi, mj) => {
+                let (a, b) = (&self.info[i], &self.info[j]);
                 let Scratch { rule_i, rule_j, weights } = scratch;
                 let pi = self.rules.points(i, mi, rule_i);
                 let pj = self.rules.points(j, mj, rule_j);
-                return Ok(gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights));
+                gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights)
             }
-        }
-        let patches = &self.scene.patches;
-        Ok(polygon_polygon(&patches[i].polygon, &patches[j].polygon))
+            Rung::Exact => polygon_polygon(&self.scene.patches[i].polygon, &self.scene.patches[j].polygon),
+        })
     }
+}
+
+/// The rung of the ladder that evaluates a pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rung {
+    /// Coplanar or back-facing: exactly 0.
+    Zero,
+    /// Tensor Gauss rules of these orders on patch i and patch j.
+    Gauss(usize, usize),
+    /// The exact double contour integral.
+    Exact,
 }
 
 /// Per-row buffers: generated high-order rules and the receiver weights.

@@ -232,7 +232,27 @@ pub fn gauss_exchange(
     hj: f64,
     scratch: &mut Vec<f64>,
 ) -> f64 {
-    // Step 1: emitter weights β_a = w_a·(x_a·n_j − h_j), receiver weights γ_b = w_b·(y_b·n_i − h_i).
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: AVX was detected on this CPU just above.
+        return unsafe { simd::exchange(pi, ni, hi, pj, nj, hj, scratch) } / PI;
+    }
+    let (beta, gamma) = weights(pi, ni, hi, pj, nj, hj, scratch);
+    pair_sum(pi, beta, pj, gamma) / PI
+}
+
+/// Emitter weights β_a = w_a·(x_a·n_j − h_j) and receiver weights γ_b = w_b·(y_b·n_i − h_i),
+/// stored in `scratch`.
+#[inline(always)]
+fn weights<'s>(
+    pi: PointsRef,
+    ni: DVec3,
+    hi: f64,
+    pj: PointsRef,
+    nj: DVec3,
+    hj: f64,
+    scratch: &'s mut Vec<f64>,
+) -> (&'s [f64], &'s [f64]) {
     let (na, nb) = (pi.w.len(), pj.w.len());
     scratch.resize(na + nb, 0.0);
     let (beta, gamma) = scratch.split_at_mut(na);
@@ -244,14 +264,7 @@ pub fn gauss_exchange(
     for b in 0..nb {
         gamma[b] = wj[b] * (xj[b] * ni.x + yj[b] * ni.y + zj[b] * ni.z - hi);
     }
-    let (beta, gamma) = (&*beta, &*gamma);
-    // Step 2: Σ_a Σ_b β_a γ_b / r_ab⁴.
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: AVX was detected on this CPU just above.
-        return unsafe { simd::pair_sum(pi, beta, pj, gamma) } / PI;
-    }
-    pair_sum(pi, beta, pj, gamma) / PI
+    (beta, gamma)
 }
 
 /// Σ_a Σ_b β_a γ_b / r_ab⁴ (r_ab > 0), the reference order of operations that the AVX path
@@ -260,6 +273,7 @@ pub fn gauss_exchange(
 /// stays in range for 1e-38 < r < 1e38), then a chunk of 4; the leftover receivers (< 4) are
 /// summed as columns over a in the same way; the last corner term by term.
 #[allow(clippy::needless_range_loop)] // (a, b) index pairs read clearer than zipped iterators
+#[inline(always)]
 fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
     let (na, nb) = (beta.len(), gamma.len());
     let (b8, b4) = (nb - nb % 8, nb - nb % 4);
@@ -311,6 +325,7 @@ fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
 #[cfg(target_arch = "x86_64")]
 mod simd {
     use super::PointsRef;
+    use glam::DVec3;
     use std::arch::x86_64::*;
 
     /// Sum of the four lanes as ((l0 + l1) + (l2 + l3)), matching the portable order.
@@ -338,11 +353,30 @@ mod simd {
         _mm256_div_pd(_mm256_add_pd(_mm256_mul_pd(wl, qh), _mm256_mul_pd(wh, ql)), _mm256_mul_pd(ql, qh))
     }
 
+    /// π·s_ij as [`super::gauss_exchange`] computes it, compiled for AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[target_feature(enable = "avx")]
+    pub(super) unsafe fn exchange(
+        pi: PointsRef,
+        ni: DVec3,
+        hi: f64,
+        pj: PointsRef,
+        nj: DVec3,
+        hj: f64,
+        scratch: &mut Vec<f64>,
+    ) -> f64 {
+        let (beta, gamma) = super::weights(pi, ni, hi, pj, nj, hj, scratch);
+        pair_sum(pi, beta, pj, gamma)
+    }
+
     /// [`super::pair_sum`] with 4-lane AVX vectors.
     ///
     /// # Safety
     /// The CPU must support AVX; slices must have the lengths of `beta` / `gamma`.
     #[target_feature(enable = "avx")]
+    #[inline]
     #[allow(clippy::needless_range_loop)] // mirrors the portable loops index for index
     pub(super) unsafe fn pair_sum(pi: PointsRef, beta: &[f64], pj: PointsRef, gamma: &[f64]) -> f64 {
         let (na, nb) = (beta.len(), gamma.len());
@@ -425,6 +459,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)] // the plain reference loop indexes four arrays
     fn simd_and_portable_sums_agree_bit_for_bit() {
         // Point counts that exercise every chunk path: 1, 4, 9, 16, 25, 36 and triangle pairs.
         let a = square(DVec3::ZERO, DVec3::X, DVec3::Y);
@@ -455,10 +490,10 @@ mod tests {
                     }
                     // Against the plain double loop.
                     let mut plain = 0.0;
-                    for x in 0..beta.len() {
-                        for y in 0..gamma.len() {
+                    for (x, bx) in beta.iter().enumerate() {
+                        for (y, gy) in gamma.iter().enumerate() {
                             let d = DVec3::new(pj.x[y] - pi.x[x], pj.y[y] - pi.y[x], pj.z[y] - pi.z[x]);
-                            plain += beta[x] * gamma[y] / d.length_squared().powi(2);
+                            plain += bx * gy / d.length_squared().powi(2);
                         }
                     }
                     assert!(((portable - plain) / plain).abs() < 1e-13, "{portable} vs {plain}");
@@ -477,7 +512,8 @@ pub fn gauss_nodes(order: usize) -> &'static (Vec<f64>, Vec<f64>) {
 /// Calibrated constants of E(m, λ, ν) = A·ρ^(−p) + B·ν·ρ^(1−p) per order m = 1..=MAX_ORDER,
 /// `[parallelogram, triangle]`: p = 2m on parallelograms (m-point Gauss is exact to degree
 /// 2m − 1), p = 2m − 1 on Duffy triangles (the Jacobian 1 − s costs one degree).
-/// Envelopes of `examples/ladder_calibration` (20 000 receivers × 4 emitter shapes, seed 7);
+/// Envelopes of `examples/ladder_calibration` (20 000 receivers × 4 emitter shapes, seed 7;
+/// the larger of two runs' fits);
 /// B of orders ≥ 4 (parallelograms) and ≥ 5 (triangles) had no sample above round-off in the
 /// asymptotic range and is extrapolated geometrically.
 const MODEL_A: [[f64; MAX_ORDER]; 2] =
@@ -552,8 +588,13 @@ impl ErrorModel {
 
     /// Smallest order whose bound meets the budget at (λ, ν), or `None` (use the exact integral).
     pub fn order(&self, triangles: bool, lambda: f64, nu: f64) -> Option<usize> {
-        let bin = ((nu.clamp(0.0, 2.0) * (NU_BINS as f64 / 2.0)).ceil() as usize).min(NU_BINS);
+        // Round ν up to a bin edge (no `ceil`: it is a libm call on baseline x86-64).
+        let x = nu.clamp(0.0, 2.0) * (NU_BINS as f64 / 2.0);
+        let bin = ((x as usize) + ((x as usize as f64) < x) as usize).min(NU_BINS);
+        // λ_min falls with the order, so the first order that fits is one past the count of
+        // orders that do not (branch-free: the pattern varies from pair to pair).
         let table = &self.lambda_min[triangles as usize];
-        (0..MAX_ORDER).find(|&m| lambda >= table[m][bin]).map(|m| m + 1)
+        let misses: usize = (0..MAX_ORDER).map(|m| (lambda < table[m][bin]) as usize).sum();
+        (misses < MAX_ORDER).then_some(misses + 1)
     }
 }
