@@ -46,3 +46,37 @@ fn a_missing_cases_folder_is_bad_usage() {
     assert_eq!(run.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&run.stderr).contains("/nonexistent/cases"));
 }
+
+/// A one-case suite run through the library: a wrong reference fails, n/a never passes.
+#[test]
+fn wrong_references_fail_and_refusals_are_not_passes() {
+    use lambert::validate::{runner, Budget, Case, Status};
+    let dir = tempfile::tempdir().expect("temporary directory");
+    std::fs::write(
+        dir.path().join("scene.toml"),
+        "[ambient]\ntemperature = 300.0\n\n[[surface]]\nname = \"bottom\"\nrectangle = { origin = [0,0,0], u = [1,0,0], v = [0,1,0] }\n\n[[surface]]\nname = \"top\"\nrectangle = { origin = [0,0,1], u = [0,1,0], v = [1,0,0] }\n\n[[surface]]\nname = \"blocker\"\npolygon = [[0.25,0.25,0.5],[0.25,0.75,0.5],[0.75,0.75,0.5],[0.75,0.25,0.5]]\nrole = \"obstruction\"\n",
+    )
+    .unwrap();
+    // The obstructed C-11 value, off by 1e-6: every exact method must fail it.
+    std::fs::write(
+        dir.path().join("reference.toml"),
+        "title = \"t\"\ncitation = \"c\"\n[skip]\n\"single-plane\" = \"not needed\"\n\n[[viewfactor]]\nfrom = \"bottom\"\nto = \"top\"\nvalue = 0.0995072946\nsource = \"o1 + 1e-6\"\n",
+    )
+    .unwrap();
+    let case = Case::load(dir.path()).expect("case loads");
+    let checks = runner::run_case(&case, &Budget::quick());
+    let status = |m: &str| checks.iter().find(|c| c.method == m).map(|c| c.status.clone()).expect(m);
+    assert!(matches!(status("single-plane"), Status::Skipped(_)));
+    // Monte Carlo at 1e5 rays cannot resolve 1e-6: within 4σ it passes.
+    assert_eq!(status("mc-cosine"), Status::Pass, "{checks:#?}");
+    // Exact methods either compute it (and must fail the 1e-6 offset) or refuse it (n/a).
+    for m in ["analytic", "auto"] {
+        match status(m) {
+            Status::Fail(_) | Status::NotApplicable(_) => {}
+            other => panic!("{m}: {other:?}"),
+        }
+    }
+    assert!(checks
+        .iter()
+        .all(|c| !matches!(c.status, Status::Pass) || c.error().unwrap() <= c.tolerance.unwrap()));
+}

@@ -99,7 +99,38 @@ def o4():
     return c
 
 
+def o5():
+    c = Case("o5_squares_corner_blocker", "Parallel unit squares at gap 1 with a 0.5×0.5 obstruction in a corner at z = 0.5", "View3D's shipped square-obstruction.vs3 (research/view3d.md §5: exact 0.1498686718)", ambient=AMB)
+    c.rect("bottom", (0, 0, 0), X, Y, subdivide=(4, 4))
+    c.rect("top", (0, 0, 1), Y, X, subdivide=(4, 4))
+    blk = rectangle((0, 0, 0.5), (0, 0.5, 0), (0.5, 0, 0))
+    c.obstruction("blocker", blk)
+    s, err = converged([rectangle((0, 0, 0), X, Y)], [rectangle((0, 0, 1), Y, X)], plate(blk), 0.5, 8)
+    u = 2 * err + 1e-15
+    c.vf("bottom", "top", s, f"{SHADOW}; converged to {err:.0e}", uncertainty=u, blocker=plate(blk))
+    c.vf("top", "bottom", s, "reciprocity of the same integral (equal areas)", uncertainty=u, blocker=plate(blk))
+    return c
+
+
+def o6():
+    c = Case("o6_concentric_cubes", "Outward cube of side 0.5 centred in an inward cube of side 2 (glTF, one node each)", "Enclosure algebra (exact for a convex inner body): F12 = 1, F21 = A1/A2 = 0.0625, F22 = 0.9375",
+             note="The outer box sees itself past the inner one: obstructed self-view.")
+    import gltf
+    inner = gltf.box((-0.25, -0.25, -0.25), (0.25, 0.25, 0.25), 2)
+    outer = gltf.box((-1, -1, -1), (1, 1, 1), 2, inward=True)
+    c.model("boxes.gltf", [("inner", inner, {}), ("outer", outer, {})])
+    from casekit import point_estimates
+    a1, a2 = gltf.mesh_area(c.surface("inner").patches), gltf.mesh_area(c.surface("outer").patches)
+    ce, ge = point_estimates(c.surface("outer").patches, c.surface("inner").patches, None)
+    bias = max(abs(ce / a2 - a1 / a2), abs(ge / a2 - a1 / a2))
+    c.vf("inner", "outer", 1.0, "closure of a convex body inside an enclosure (exact)", bias=0.0)
+    c.vf("outer", "inner", a1 / a2, "reciprocity A1/A2 (exact)", bias=bias)
+    c.vf("outer", "outer", 1 - a1 / a2, "closure 1 − A1/A2 (exact)", bias=bias)
+    return c
+
+
 CASES = [
     ("o1_squares_centred_blocker", o1), ("o2_squares_plate_between", o2),
-    ("o3_obstructed_room", o3), ("o4_squares_side_blocker", o4),
+    ("o3_obstructed_room", o3), ("o4_squares_side_blocker", o4), ("o5_squares_corner_blocker", o5),
+    ("o6_concentric_cubes", o6),
 ]

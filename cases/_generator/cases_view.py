@@ -121,7 +121,7 @@ def v08():
 
 
 def v09():
-    n = 256
+    n = 128
     c = Case("v09_coaxial_disks_unequal", f"Coaxial parallel disks r1 = 1, r2 = 2, h = 1 (`disk` shapes, {n} segments)", "Howell C-40/C-41; literature.md V9", ambient=AMB,
              note="Reference: the curved-disk closed form; its uncertainty is the tessellation error,\nthe larger of the inscribed and circumscribed n-gon deviations (computed, 1LI Gauss).")
     c.disk("small", (0, 0, 0), Z, 1.0, n)

@@ -120,3 +120,23 @@ def annulus(center_y, r1, r2, n, normal_y):
 
 def mesh_area(tris):
     return math.fsum(0.5 * norm(cross(sub(b, a), sub(c, a))) for a, b, c in tris)
+
+
+def box(lo, hi, n, inward=False):
+    """Axis-aligned box surface, each face n×n quads as triangles, outward (or inward) normals."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    c = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
+    faces = [((x0, y0, z0), (x1 - x0, 0, 0), (0, y1 - y0, 0)), ((x0, y0, z1), (x1 - x0, 0, 0), (0, y1 - y0, 0)),
+             ((x0, y0, z0), (x1 - x0, 0, 0), (0, 0, z1 - z0)), ((x0, y1, z0), (x1 - x0, 0, 0), (0, 0, z1 - z0)),
+             ((x0, y0, z0), (0, y1 - y0, 0), (0, 0, z1 - z0)), ((x1, y0, z0), (0, y1 - y0, 0), (0, 0, z1 - z0))]
+    tris = []
+    for o, u, v in faces:
+        for i in range(n):
+            for j in range(n):
+                a = add(o, add(mul(u, i / n), mul(v, j / n)))
+                q = [a, add(a, mul(u, 1 / n)), add(add(a, mul(u, 1 / n)), mul(v, 1 / n)), add(a, mul(v, 1 / n))]
+                out = dot(cross(sub(q[1], q[0]), sub(q[3], q[0])), sub(q[0], c)) > 0
+                if out == inward:
+                    q = q[::-1]
+                tris += [(q[0], q[1], q[2]), (q[0], q[2], q[3])]
+    return tris

@@ -47,6 +47,8 @@ pub struct Suite {
     pub quick: bool,
     /// The budget, in words.
     pub budget_note: String,
+    /// 1-, 5- and 15-minute load averages at the start (Linux), to qualify the timings.
+    pub load: Option<String>,
     /// Loaded cases in run order.
     pub cases: Vec<Case>,
     /// Case folders without a reference file.
@@ -75,6 +77,9 @@ pub fn run(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Suite> {
             "Monte Carlo {} rays per case (at least {} per patch), hemicube/single-plane R = {}, auto goal {:e}, seed {}",
             budget.rays_per_case, budget.min_samples, budget.resolution, budget.auto_tolerance, budget.seed
         ),
+        load: std::fs::read_to_string("/proc/loadavg")
+            .ok()
+            .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(", ")),
         without_reference: bare.iter().filter_map(|d| d.file_name()).map(|n| n.to_string_lossy().into_owned()).collect(),
         ..Suite::default()
     };

@@ -130,6 +130,10 @@ pub fn markdown(suite: &Suite) -> String {
         failed
     );
     let _ = writeln!(s, "Budget: {}.\n", suite.budget_note);
+    if let Some(load) = &suite.load {
+        let _ =
+            writeln!(s, "Timings are wall-clock on a shared machine; load average at the start: {load}.\n");
+    }
     s.push_str("Tolerances come from each method's error model (`src/validate/tolerance.rs`): analytic 1e-9 relative; `auto` its accuracy goal; Monte Carlo 4 reported standard errors; hemicube and single plane the point-sampling bias of the case plus 2·√F/R, and for the single plane the missed grazing fraction. `n/a` means the method refused the case (never a pass); `skip` means the case excludes it, with the reason; `known` is a failure with a known, reported defect, listed but not counted (it turns into a failure once it passes, so the marker gets removed).\n\n");
     s.push_str("## Summary\n\n");
     s.push_str(&summary_table(&suite.checks));

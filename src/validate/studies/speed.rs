@@ -10,8 +10,9 @@ use crate::viewfactor::{Method, Params, ViewFactors};
 use crate::Result;
 use std::path::Path;
 
-/// A run longer than this stops the sweep of that method (larger knobs only cost more).
-const TIME_CAP_S: f64 = 60.0;
+/// A run longer than this stops the sweep of that method: the next knob step costs 2–4×
+/// more, so no single run much exceeds a minute.
+const TIME_CAP_S: f64 = 20.0;
 
 /// A study scene: file stem, title, scene, error measure.
 type Study = (&'static str, String, Scene, Box<dyn Fn(&ViewFactors) -> f64>);
@@ -52,7 +53,7 @@ fn sweep(
             let p = measure(scene, &params, knob, error);
             let stop = p.error.is_none() || p.seconds > TIME_CAP_S;
             progress(&format!(
-                "  {:<13} knob {:<8} {:>8.3} s  error {}",
+                "  {:<13} knob {:<8e} {:>8.3} s  error {}",
                 method.name(),
                 knob,
                 p.seconds,

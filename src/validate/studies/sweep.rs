@@ -44,11 +44,13 @@ pub fn series(
         .iter()
         .filter_map(|&m| {
             let pts: Vec<(f64, f64)> = points.iter().filter(|p| p.method == m).filter_map(&xy).collect();
+            // `auto` often coincides with analytic: dashed, drawn over it, both stay visible.
+            let style = if m == Method::Auto { Style::Dashed } else { Style::LinePoints };
             (!pts.is_empty()).then(|| Series {
                 name: m.name().to_string(),
                 points: pts,
                 color: method_color(m.name()),
-                style: Style::LinePoints,
+                style,
             })
         })
         .collect()
@@ -59,11 +61,16 @@ pub fn table(points: &[Point], knob: &str, error: &str) -> String {
     let mut s = format!("| method | {knob} | time [s] | {error} | note |\n|---|---:|---:|---:|---|\n");
     for p in points {
         let e = p.error.map(|e| format!("{e:.3e}")).unwrap_or_else(|| "–".into());
+        let knob = if p.knob.fract() == 0.0 && p.knob.abs() < 1e9 {
+            format!("{}", p.knob)
+        } else {
+            format!("{:e}", p.knob)
+        };
         let _ = writeln!(
             s,
             "| {} | {} | {:.4} | {} | {} |",
             p.method,
-            p.knob,
+            knob,
             p.seconds,
             e,
             p.note.as_deref().unwrap_or("").replace('|', "/")
