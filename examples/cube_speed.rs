@@ -9,9 +9,9 @@ mod scenes;
 
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, Rung, GAUSS_REL_TOL};
 use lambert::viewfactor::closed_form::{parallel_opposed_rectangles, perpendicular_common_edge};
+use lambert::viewfactor::{compute, Level, Method, Params};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
-use lambert::viewfactor::{compute, Level, Method, Params};
 
 fn vm_hwm_mb() -> f64 {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
