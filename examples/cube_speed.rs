@@ -2,12 +2,16 @@
 //! pairs, per-surface output. Prints wall time, pairs/s, face-total errors against the closed
 //! forms (C-11, C-14), the largest patch row-sum error and peak RSS (VmHWM).
 //!
-//! `cargo run --release --example cube_speed -- [n=36] [threads]`
+//! `cargo run --release --example cube_speed -- [n=36] [threads] [rungs]`; with `rungs`, a
+//! second (untimed) pass counts the pairs per ladder rung.
 #[path = "../tests/support/analytic_scenes.rs"]
 mod scenes;
 
+use lambert::viewfactor::analytic::kernel::{AnalyticKernel, Rung, GAUSS_REL_TOL};
 use lambert::viewfactor::closed_form::{parallel_opposed_rectangles, perpendicular_common_edge};
 use lambert::viewfactor::{compute, Level, Method, Params};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
 
 fn vm_hwm_mb() -> f64 {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
@@ -50,4 +54,31 @@ fn main() {
     );
     println!("  max |F_opp - C-11| = {e_opp:.3e}, max |F_adj - C-14| = {e_adj:.3e}, max |row sum - 1| = {row_err:.3e}");
     println!("  peak RSS (VmHWM) = {:.1} MB", vm_hwm_mb());
+    if args.get(3).is_some_and(|a| a == "rungs") {
+        let kernel = AnalyticKernel::new(&scene, GAUSS_REL_TOL);
+        let n = scene.patches.len();
+        let census = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let mut c = BTreeMap::new();
+                for j in i + 1..n {
+                    let key = match kernel.rung(i, j) {
+                        Rung::Zero => "zero (coplanar / back-facing)".to_string(),
+                        Rung::Gauss(a, b) => format!("gauss {}x{}", a.min(b), a.max(b)),
+                        Rung::Exact => "exact contour".to_string(),
+                    };
+                    *c.entry(key).or_insert(0u64) += 1;
+                }
+                c
+            })
+            .reduce(BTreeMap::new, |mut a, b| {
+                for (k, v) in b {
+                    *a.entry(k).or_insert(0) += v;
+                }
+                a
+            });
+        for (k, v) in census {
+            println!("  {k:>30}: {v:>10} pairs ({:.2} %)", 100.0 * v as f64 / vf.pairs as f64);
+        }
+    }
 }

@@ -5,8 +5,10 @@
 //! |Q|), and negative entries, for every enforcement method.
 //!
 //! Run: `cargo run --release --example enforcement_study`
+
+// Dense matrix sums read clearest with (i, j) indices.
+#![allow(clippy::needless_range_loop)]
 #[path = "../tests/support/mod.rs"]
-#[allow(dead_code)]
 mod support;
 
 use lambert::exchange::{enforce, ClosureMethod, Diagnostics, Enforce, EnforceParams, Exchange};

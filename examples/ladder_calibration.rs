@@ -1,21 +1,38 @@
-//! Calibrates the Gauss-ladder error model (src/viewfactor/analytic/ladder.rs): for each order m
-//! on one patch (the other integrated to round-off) it sweeps worst-case geometries and prints
-//! the largest relative error seen per separation bin λ = D/L, next to the model bound.
+//! Calibrates the Gauss-ladder error model of src/viewfactor/analytic/ladder.rs.
+//!
+//! For four emitter shapes (square, 5:1 rectangle, triangle, skinny triangle) and 20 000 random
+//! receivers (parallel, offset, perpendicular and grazing, tilted, random; sides 0.02–3), it
+//! integrates the emitter with the order-m rule and the receiver to round-off, and records the
+//! relative error against λ = D/L (D as the kernel bounds it) and ν (the variation of the
+//! receiver's cosine factor over the emitter). It prints, per piece kind and order, the
+//! envelope constants A, B of err ≤ A·ρ^(−p) + B·ν·ρ^(1−p) (the values in `MODEL_A/MODEL_B`),
+//! and per emitter the largest ratio of error to the current bound (must stay below 1/SAFETY;
+//! errors at round-off, below 3e-14, are left out: the bound covers quadrature error only).
 //!
 //! `cargo run --release --example ladder_calibration`
 use glam::{DQuat, DVec3};
 use lambert::geometry::quadrature::AreaRule;
 use lambert::geometry::Polygon;
-use lambert::viewfactor::analytic::ladder::{gauss_exchange, ErrorModel, PatchRules, Points, MAX_ORDER};
+use lambert::viewfactor::analytic::ladder::{
+    gauss_exchange, rho, ErrorModel, PatchRules, Points, MAX_ORDER, SAFETY,
+};
 use rand::{Rng, SeedableRng};
 
-/// Reference order per sub-piece; with 2×2 sub-pieces it is at round-off for λ ≥ 0.25.
+/// Receivers drawn per emitter.
+const TRIALS: usize = 20000;
+/// Reference order per sub-triangle (4 sub-triangles per emitter triangle): round-off for λ ≥ 0.25.
 const REF_ORDER: usize = 16;
+/// Separations below this go to the exact contour integral in any case.
+const LAMBDA_MIN: f64 = 0.5;
+/// Errors below this are round-off of the reference, not quadrature error.
+const ROUNDOFF: f64 = 3e-14;
+/// Samples with ρ above this (λ ≳ 25) fix the slow ν-term of the envelope.
+const RHO_ASYMPTOTIC: f64 = 100.0;
 
-fn points_of(poly: &Polygon, order: usize, split: usize) -> Points {
+/// Reference points: each triangle of `poly` split `split`-fold (midpoints), order `order`.
+fn reference_points(poly: &Polygon, order: usize, split: usize) -> Points {
     let mut p = Points::default();
     for [a, b, c] in poly.triangulate() {
-        // Split each triangle into split² similar triangles (midpoint refinement).
         let mut tris = vec![[a, b, c]];
         for _ in 1..split {
             tris = tris
@@ -37,12 +54,32 @@ fn plane(poly: &Polygon) -> (DVec3, f64) {
     (poly.normal(), poly.normal().dot(poly.centroid()))
 }
 
-/// D lower bound as the kernel computes it.
+/// Extent of `p`'s vertex distances to `q`'s plane, as the kernel computes it (bounding sphere
+/// when it decides the sign).
+fn extent(p: &Polygon, q: &Polygon) -> (f64, f64) {
+    let (d, r) = (q.plane_distance(p.centroid()), p.bounding_radius());
+    if d.abs() >= r {
+        return (d - r, d + r);
+    }
+    p.vertices()
+        .iter()
+        .map(|v| q.plane_distance(*v))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| (a.min(d), b.max(d)))
+}
+
+/// The kernel's lower bound of the distance between two front-facing patches.
 fn d_lower(pi: &Polygon, pj: &Polygon) -> f64 {
     let sphere = pi.centroid().distance(pj.centroid()) - pi.bounding_radius() - pj.bounding_radius();
-    let dj = pj.vertices().iter().map(|v| pi.plane_distance(*v)).fold(f64::INFINITY, f64::min);
-    let di = pi.vertices().iter().map(|v| pj.plane_distance(*v)).fold(f64::INFINITY, f64::min);
-    sphere.max(dj).max(di).max(0.0)
+    sphere.max(extent(pj, pi).0).max(extent(pi, pj).0).max(0.0)
+}
+
+/// ν as the kernel computes it.
+fn variation(lo: f64, hi: f64) -> f64 {
+    if lo > 0.0 {
+        (2.0 * (hi - lo) / (hi + lo)).min(2.0)
+    } else {
+        2.0
+    }
 }
 
 fn square(c: DVec3, n: DVec3, side: f64, spin: f64) -> Polygon {
@@ -53,133 +90,7 @@ fn square(c: DVec3, n: DVec3, side: f64, spin: f64) -> Polygon {
 }
 
 fn front_facing(pi: &Polygon, pj: &Polygon) -> bool {
-    pj.vertices().iter().all(|v| pi.plane_distance(*v) >= -1e-12)
-        && pi.vertices().iter().all(|v| pj.plane_distance(*v) >= -1e-12)
-}
-
-fn main() {
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
-    // Emitters i (the side whose order varies), each of parameter length ~1.
-    let emitters: Vec<(&str, Polygon)> = vec![
-        ("square", square(DVec3::ZERO, DVec3::Z, 1.0, 0.0)),
-        ("rect1x0.2", {
-            let v = [(-0.5, -0.1), (0.5, -0.1), (0.5, 0.1), (-0.5, 0.1)];
-            Polygon::new(v.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect()).unwrap()
-        }),
-        (
-            "triangle",
-            Polygon::new(vec![
-                DVec3::new(-0.5, -0.4, 0.0),
-                DVec3::new(0.5, -0.4, 0.0),
-                DVec3::new(0.1, 0.5, 0.0),
-            ])
-            .unwrap(),
-        ),
-        (
-            "skinny-tri",
-            Polygon::new(vec![
-                DVec3::new(-0.5, 0.0, 0.0),
-                DVec3::new(0.5, -0.05, 0.0),
-                DVec3::new(0.5, 0.05, 0.0),
-            ])
-            .unwrap(),
-        ),
-    ];
-    let mut samples: [Vec<Vec<(f64, f64, f64)>>; 2] =
-        [vec![Vec::new(); MAX_ORDER + 1], vec![Vec::new(); MAX_ORDER + 1]];
-    for (name, pi) in &emitters {
-        let rules_i = PatchRules::new([pi]);
-        let li = rules_i.param_len(0);
-        let tri = pi.vertices().len() == 3;
-        let ref_i = points_of(pi, REF_ORDER, 2);
-        let (ni, hi) = plane(pi);
-        let mut worst = vec![0.0f64; MAX_ORDER + 1];
-        for trial in 0..TRIALS {
-            let pj = receiver(trial, &mut rng);
-            if !front_facing(pi, &pj) {
-                continue;
-            }
-            let dl = d_lower(pi, &pj);
-            let lam = dl / li;
-            if lam < LAMBDA_MIN {
-                continue;
-            }
-            // ν: relative variation over patch i of its distance to j's plane (2 on triangles).
-            let (lo, hi_) = extent(pi, &pj);
-            let nu = if tri { 2.0 } else { variation(lo, hi_) };
-            let (nj, hj) = plane(&pj);
-            let side = pj.bounding_radius();
-            let ref_j = points_of(&pj, REF_ORDER, if side > 0.25 * dl { 2 } else { 1 });
-            let exact = gauss_exchange(ref_i.view(), ni, hi, ref_j.view(), nj, hj, &mut Vec::new());
-            if !(exact > 0.0) {
-                continue;
-            }
-            let mut buf = Points::default();
-            for m in 1..=MAX_ORDER {
-                let pts = rules_i.points(0, m, &mut buf);
-                let s = gauss_exchange(pts, ni, hi, ref_j.view(), nj, hj, &mut Vec::new());
-                let e = ((s - exact) / exact).abs();
-                worst[m] = worst[m].max(e / ErrorModel::side_error(m, tri, lam, nu));
-                if e > ROUNDOFF {
-                    samples[tri as usize][m].push((rho(lam), nu, e));
-                }
-            }
-        }
-        print!("{name:>12} L={li:.3}: max error / current model per order:");
-        for m in 1..=MAX_ORDER {
-            print!(" {:.2e}", worst[m]);
-        }
-        println!();
-    }
-    // Envelope fit per piece kind: err ≤ A ρ^(−p) + B ν ρ^(1−p), p = 2m (parallelograms) or
-    // 2m − 1 (Duffy triangles). B from the asymptotic regime ρ ≥ RHO_ASYMPTOTIC, then the least A.
-    for (kind, name) in [(0, "parallelogram"), (1, "triangle")] {
-        println!("\n# {name}: p, samples, B, A (envelope constants before SAFETY)");
-        for m in 1..=MAX_ORDER {
-            let p = 2 * m as i32 - kind;
-            let s = &samples[kind as usize][m];
-            let b = s
-                .iter()
-                .filter(|&&(r, nu, _)| r >= RHO_ASYMPTOTIC && nu > 0.0)
-                .map(|&(r, nu, e)| e * r.powi(p - 1) / nu)
-                .fold(0.0, f64::max);
-            let a = s.iter().map(|&(r, nu, e)| (e - b * nu * r.powi(1 - p)) * r.powi(p)).fold(0.0, f64::max);
-            println!("m={m} p={p} n={:>6} B={b:.3e} A={a:.3e}", s.len());
-        }
-    }
-}
-
-/// Samples with ρ above this (λ ≳ 25) fix the slow ν-term of the envelope.
-const RHO_ASYMPTOTIC: f64 = 100.0;
-const TRIALS: usize = 20000;
-/// Separations below this go to the exact contour integral in any case.
-const LAMBDA_MIN: f64 = 0.5;
-/// Errors below this are round-off of the reference, not quadrature error.
-const ROUNDOFF: f64 = 3e-14;
-
-fn rho(lam: f64) -> f64 {
-    1.0 + 2.0 * lam + 2.0 * (lam * lam + lam).sqrt()
-}
-
-fn variation(lo: f64, hi: f64) -> f64 {
-    if hi + lo > 0.0 {
-        (2.0 * (hi - lo) / (hi + lo)).min(2.0)
-    } else {
-        2.0
-    }
-}
-
-/// Extent of patch i's vertex distances to j's plane, as the kernel computes it.
-fn extent(pi: &Polygon, pj: &Polygon) -> (f64, f64) {
-    let d = pj.plane_distance(pi.centroid());
-    let r = pi.bounding_radius();
-    if d.abs() >= r {
-        return (d - r, d + r);
-    }
-    pi.vertices()
-        .iter()
-        .map(|v| pj.plane_distance(*v))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| (a.min(d), b.max(d)))
+    extent(pj, pi).0 >= 0.0 && extent(pi, pj).0 >= 0.0
 }
 
 fn receiver(trial: usize, rng: &mut rand_pcg::Pcg64) -> Polygon {
@@ -202,9 +113,7 @@ fn receiver(trial: usize, rng: &mut rand_pcg::Pcg64) -> Polygon {
             )
         }
         3 => {
-            // Cube-like: emitter on the floor, receiver on a wall x = 0.5 + g facing −x...
-            // placed so the emitter is grazing for the receiver (receiver plane through an
-            // emitter edge).
+            // Receiver plane through an emitter edge (ν = 2 on the emitter).
             let h = rng.random_range(0.0..2.0) * d;
             square(DVec3::new(0.5, rng.random_range(-1.0..1.0) * d, d + h + side / 2.0), -DVec3::X, side, 0.0)
         }
@@ -219,22 +128,82 @@ fn receiver(trial: usize, rng: &mut rand_pcg::Pcg64) -> Polygon {
             )
         }
         _ => {
-            let dir = DVec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(0.0..1.0),
-            )
-            .normalize();
+            let mut r = || rng.random_range(-1.0..1.0);
+            let dir = DVec3::new(r(), r(), r().abs()).normalize();
             let c = dir * (d + 0.7 + side);
-            let n = (-c.normalize()
-                + 0.8
-                    * DVec3::new(
-                        rng.random_range(-1.0..1.0),
-                        rng.random_range(-1.0..1.0),
-                        rng.random_range(-1.0..1.0),
-                    ))
-            .normalize();
+            let n = (-c.normalize() + 0.8 * DVec3::new(r(), r(), r())).normalize();
             square(c, n, side, rng.random_range(0.0..1.0))
+        }
+    }
+}
+
+fn main() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+    let at =
+        |pts: &[(f64, f64)]| Polygon::new(pts.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect()).unwrap();
+    let emitters = [
+        ("square", square(DVec3::ZERO, DVec3::Z, 1.0, 0.0)),
+        ("rect1x0.2", at(&[(-0.5, -0.1), (0.5, -0.1), (0.5, 0.1), (-0.5, 0.1)])),
+        ("triangle", at(&[(-0.5, -0.4), (0.5, -0.4), (0.1, 0.5)])),
+        ("skinny-tri", at(&[(-0.5, 0.0), (0.5, -0.05), (0.5, 0.05)])),
+    ];
+    // samples[kind][order] = (ρ, ν, relative error), kind 0 = parallelogram, 1 = triangles.
+    let mut samples = vec![vec![Vec::new(); MAX_ORDER + 1]; 2];
+    for (name, pi) in &emitters {
+        let rules = PatchRules::new([pi]);
+        let (li, tri) = (rules.param_len(0), rules.triangulated(0));
+        let ref_i = reference_points(pi, REF_ORDER, 2);
+        let (ni, hi) = plane(pi);
+        let mut worst = [0.0f64; MAX_ORDER + 1];
+        let (mut buf, mut scratch) = (Points::default(), Vec::new());
+        for trial in 0..TRIALS {
+            let pj = receiver(trial, &mut rng);
+            if !front_facing(pi, &pj) {
+                continue;
+            }
+            let dl = d_lower(pi, &pj);
+            let lambda = dl / li;
+            if lambda < LAMBDA_MIN {
+                continue;
+            }
+            let (lo, hi_) = extent(pi, &pj);
+            let nu = if tri { 2.0 } else { variation(lo, hi_) };
+            let (nj, hj) = plane(&pj);
+            let ref_j =
+                reference_points(&pj, REF_ORDER, if pj.bounding_radius() > 0.25 * dl { 2 } else { 1 });
+            let exact = gauss_exchange(ref_i.view(), ni, hi, ref_j.view(), nj, hj, &mut scratch);
+            if exact <= 0.0 {
+                continue;
+            }
+            for (m, w) in worst.iter_mut().enumerate().skip(1) {
+                let s =
+                    gauss_exchange(rules.points(0, m, &mut buf), ni, hi, ref_j.view(), nj, hj, &mut scratch);
+                let e = ((s - exact) / exact).abs();
+                if e > ROUNDOFF {
+                    *w = w.max(e / ErrorModel::side_error(m, tri, lambda, nu));
+                    samples[tri as usize][m].push((rho(lambda), nu, e));
+                }
+            }
+        }
+        let ratios: Vec<String> = worst[1..].iter().map(|w| format!("{w:.2e}")).collect();
+        println!(
+            "{name:>11}: max error / bound, orders 1..{MAX_ORDER}: {} (limit {:.2})",
+            ratios.join(" "),
+            1.0 / SAFETY
+        );
+    }
+    // Envelope per kind: B from the asymptotic regime, then the least A covering every sample.
+    for (kind, name) in ["parallelogram", "triangle"].iter().enumerate() {
+        println!("\n{name}: order, exponent p, samples above round-off, B, A (before SAFETY)");
+        for (m, s) in samples[kind].iter().enumerate().skip(1) {
+            let p = 2 * m as i32 - kind as i32;
+            let b = s
+                .iter()
+                .filter(|&&(r, nu, _)| r >= RHO_ASYMPTOTIC && nu > 0.0)
+                .map(|&(r, nu, e)| e * r.powi(p - 1) / nu)
+                .fold(0.0, f64::max);
+            let a = s.iter().map(|&(r, nu, e)| (e - b * nu * r.powi(1 - p)) * r.powi(p)).fold(0.0, f64::max);
+            println!("  m={m} p={p:>2} n={:>6} B={b:.3e} A={a:.3e}", s.len());
         }
     }
 }

@@ -2,12 +2,14 @@
 //! scene and rays (research/crates.md §1.5: a 10 m box with 65×65 quads per face plus 250
 //! interior boxes of 4×4 quads per face, 98,700 triangles).
 //!
-//! `cargo run --release --example rays [rays_per_patch]` — numbers go to validation/rays.md.
+//! `cargo run --release --example rays [rays_per_patch] [all]` — numbers go to validation/rays.md.
 //! Variants: obvhs build presets, CWBVH vs BVH2, ray order (patch order, shuffled, sorted by
 //! direction octant within a patch), our watertight visibility layer, the full engine.
-use glam::{DVec2, DVec3, Vec3A};
-use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame, PolygonSampler};
-use lambert::geometry::Polygon;
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{bench_scene, cosine_rays};
+use glam::Vec3A;
 use lambert::scene::Scene;
 use lambert::viewfactor::monte_carlo::{compute_with, McOptions, Sampler};
 use lambert::viewfactor::{Level, Method, Params};
@@ -17,60 +19,6 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use std::time::Instant;
-
-fn rect_grid(o: DVec3, u: DVec3, v: DVec3, n: usize) -> Vec<Polygon> {
-    let (du, dv) = (u / n as f64, v / n as f64);
-    (0..n)
-        .flat_map(|a| (0..n).map(move |b| o + du * a as f64 + dv * b as f64))
-        .map(|p| Polygon::new(vec![p, p + du, p + du + dv, p + dv]).unwrap())
-        .collect()
-}
-
-/// Faces of an axis-aligned box [lo, lo + size], n × n quads each, normals in or out.
-fn box_faces(lo: DVec3, size: DVec3, inward: bool, n: usize) -> Vec<Vec<Polygon>> {
-    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
-    let mut out = Vec::new();
-    for a in 0..3 {
-        let (eb, ec) = (axes[(a + 1) % 3] * size, axes[(a + 2) % 3] * size);
-        for hi in [false, true] {
-            let o = if hi { lo + axes[a] * size } else { lo };
-            let (u, v) = if hi != inward { (eb, ec) } else { (ec, eb) };
-            out.push(rect_grid(o, u, v, n));
-        }
-    }
-    out
-}
-
-/// The crates.md §1.5 scene: one surface per big-box face and per small box.
-pub fn bench_scene() -> Scene {
-    let mut b = Scene::builder();
-    for (k, f) in box_faces(DVec3::ZERO, DVec3::splat(10.0), true, 65).into_iter().enumerate() {
-        b = b.surface(&format!("wall{k}"), f, 0.9, None);
-    }
-    let mut rng = Pcg64Mcg::seed_from_u64(17);
-    for k in 0..250 {
-        let size =
-            DVec3::new(rng.random_range(0.2..0.8), rng.random_range(0.2..0.8), rng.random_range(0.2..0.8));
-        let lo = DVec3::new(rng.random(), rng.random(), rng.random()) * (DVec3::splat(9.0) - size) + 0.5;
-        b = b.surface(&format!("box{k}"), box_faces(lo, size, false, 4).concat(), 0.9, None);
-    }
-    b.build()
-}
-
-/// Cosine rays, `n` per patch in patch order: (patch, origin, direction).
-fn make_rays(scene: &Scene, n: usize) -> Vec<(u32, DVec3, DVec3)> {
-    let mut rng = Pcg64Mcg::seed_from_u64(5);
-    let mut rays = Vec::with_capacity(scene.patches.len() * n);
-    for (p, patch) in scene.patches.iter().enumerate() {
-        let (s, f) = (PolygonSampler::new(&patch.polygon), Frame::from_normal(patch.polygon.normal()));
-        for _ in 0..n {
-            let x = s.sample(DVec2::new(rng.random(), rng.random()));
-            let d = f.to_world(sample_cosine_hemisphere(DVec2::new(rng.random(), rng.random())));
-            rays.push((p as u32, x, d.normalize()));
-        }
-    }
-    rays
-}
 
 struct PaddedBox(Aabb);
 impl Boundable for PaddedBox {
@@ -106,37 +54,51 @@ fn bare(scene: &Scene) -> Bare {
     Bare { tris, owner, boxes }
 }
 
-fn timed<F: Fn() -> u64 + Sync>(threads: usize, f: F) -> (f64, u64) {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-    let t = Instant::now();
-    let hits = pool.install(&f);
-    (t.elapsed().as_secs_f64(), hits)
+/// CPU seconds (user + system) of this process so far, from /proc/self/stat (100 Hz ticks).
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+    let tick = |k: usize| fields.get(k).and_then(|x| x.parse::<f64>().ok()).unwrap_or(0.0);
+    (tick(11) + tick(12)) / 100.0
 }
 
-fn report(label: &str, rays: usize, base: &mut Option<[f64; 2]>, f: impl Fn() -> u64 + Sync) -> [f64; 2] {
-    let mut out = [0.0; 2];
+/// (wall s, CPU s, hits) of one run on a pool of `threads`.
+fn timed<F: Fn() -> u64 + Sync>(threads: usize, f: F) -> (f64, f64, u64) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let (t, c) = (Instant::now(), cpu_seconds());
+    let hits = pool.install(&f);
+    (t.elapsed().as_secs_f64(), cpu_seconds() - c, hits)
+}
+
+/// Prints wall-clock Mrays/s on 1 and 2 threads and Mrays per CPU-second (load-independent).
+fn report(label: &str, rays: usize, base: &mut Option<f64>, f: impl Fn() -> u64 + Sync) {
+    let mut wall = [0.0; 2];
+    let mut cpu = f64::INFINITY;
     let mut hits = 0;
     for (k, th) in [1, 2].into_iter().enumerate() {
         // Best of two runs: the machine is shared.
-        let (t, h) = (0..2).map(|_| timed(th, &f)).min_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
-        out[k] = rays as f64 / t / 1e6;
-        hits = h;
+        let runs: Vec<_> = (0..2).map(|_| timed(th, &f)).collect();
+        wall[k] = rays as f64 / runs.iter().map(|r| r.0).fold(f64::INFINITY, f64::min) / 1e6;
+        cpu = runs.iter().map(|r| r.1).fold(cpu, f64::min);
+        hits = runs[0].2;
     }
-    let rel = base.map_or(String::new(), |b| {
-        format!(" | {:.0} % | {:.0} %", 100.0 * out[0] / b[0], 100.0 * out[1] / b[1])
-    });
-    let rel = if rel.is_empty() { " | 100 % | 100 %".to_string() } else { rel };
-    println!("| {label} | {:.2} | {:.2}{rel} | {:.4} |", out[0], out[1], hits as f64 / rays as f64);
-    if base.is_none() {
-        *base = Some(out);
-    }
-    out
+    let per_cpu = rays as f64 / cpu / 1e6;
+    let b = *base.get_or_insert(per_cpu);
+    let rel = 100.0 * per_cpu / b;
+    println!(
+        "| {label} | {:.2} | {:.2} | {per_cpu:.2} | {rel:.0} % | {:.4} |",
+        wall[0],
+        wall[1],
+        hits as f64 / rays as f64
+    );
 }
 
 fn main() {
     let per_patch: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(24);
+    // `all` adds the tuning sweep: build presets, ray orders, BVH2.
+    let sweep = std::env::args().nth(2).is_some_and(|a| a == "all");
     let scene = bench_scene();
-    let rays = make_rays(&scene, per_patch);
+    let rays = cosine_rays(&scene, per_patch);
     let b = bare(&scene);
     println!("scene: {} patches, {} triangles, {} rays", scene.patches.len(), b.tris.len(), rays.len());
     println!(
@@ -144,18 +106,20 @@ fn main() {
         std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim()
     );
     println!();
-    println!("| variant | Mrays/s 1T | Mrays/s 2T | vs bare 1T | vs bare 2T | hit fraction |");
+    println!(
+        "| variant | wall Mrays/s 1T | wall Mrays/s 2T | Mrays per CPU-s | vs bare medium | hit fraction |"
+    );
     println!("|---|---|---|---|---|---|");
     let f32_rays: Vec<(u32, Vec3A, Vec3A)> =
         rays.iter().map(|&(p, o, d)| (p, o.as_vec3a(), d.as_vec3a())).collect();
     let mut base = None;
     let presets = [
+        ("medium", BvhBuildParams::medium_build()),
         ("fastest", BvhBuildParams::fastest_build()),
         ("fast", BvhBuildParams::fast_build()),
-        ("medium", BvhBuildParams::medium_build()),
         ("very_slow", BvhBuildParams::very_slow_build()),
     ];
-    for (name, preset) in presets {
+    for (name, preset) in presets.into_iter().take(if sweep { 4 } else { 1 }) {
         let t = Instant::now();
         let bvh = obvhs::cwbvh::builder::build_cwbvh(&b.boxes, preset, &mut Default::default());
         let build = t.elapsed().as_secs_f64() * 1e3;
@@ -180,7 +144,7 @@ fn main() {
                 .sum()
         };
         let name = format!("bare obvhs CWBVH {name} (build {build:.0} ms), patch order");
-        if name.contains("medium") {
+        if name.contains("medium") && sweep {
             report(&name, rays.len(), &mut base, || cast(&f32_rays));
             let mut shuffled = f32_rays.clone();
             let mut rng = Pcg64Mcg::seed_from_u64(1);
@@ -197,7 +161,7 @@ fn main() {
             report(&name, rays.len(), &mut base, || cast(&f32_rays));
         }
     }
-    {
+    if sweep {
         let bvh = obvhs::bvh2::builder::build_bvh2(
             &b.boxes,
             BvhBuildParams::medium_build(),

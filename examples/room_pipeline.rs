@@ -63,6 +63,8 @@ fn main() {
     let t = Instant::now();
     let mut ex = Exchange::from_viewfactors(&vf);
     drop(vf);
+    // Sobol rows report replicate spreads, not ray counts: give ML the rays per patch (as the CLI does).
+    ex.samples = vec![samples as u32; ex.len()];
     let rep =
         enforce(&mut ex, &EnforceParams { mode: Enforce::Closure, ..Default::default() }).expect("closure");
     println!(

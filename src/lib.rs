@@ -12,7 +12,8 @@
 //! - [`viewfactor`]: the view-factor methods behind one `Method` enum and one engine.
 //! - [`exchange`]: symmetric exchange areas S = A·F, ambient node, enforcement, diagnostics.
 //! - [`solve`]: the net-radiation system K = D − S and its solvers.
-//! - [`report`]: CSV writers; the one place that turns results into bytes.
+//! - [`report`]: CSV writers and charts; the one place that turns results into bytes.
+//! - [`validate`]: the textbook validation suite, its error models and studies.
 #![warn(missing_docs)]
 // `!(x > tol)` is the NaN-safe way to reject degenerate or non-finite measures; keep it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -23,6 +24,7 @@ pub mod geometry;
 pub mod report;
 pub mod scene;
 pub mod solve;
+pub mod validate;
 pub mod viewfactor;
 pub mod visibility;
 

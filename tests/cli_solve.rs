@@ -258,3 +258,19 @@ fn viewfactors_enforce_closure_is_exact() {
         }
     }
 }
+
+#[test]
+fn patches_flag_reports_patch_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string("tests/data/e3_cube.toml")
+        .unwrap()
+        .replace("temperature = 1000.0\n", "temperature = 1000.0\nsubdivide = [2, 2]\n");
+    let scene = write(dir.path(), "cube.toml", &scene);
+    let o = run(&["solve", &scene, "-m", "mc-cosine", "--samples", "5000", "--patches"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, rows) = table(&String::from_utf8_lossy(&o.stdout));
+    let names: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+    assert_eq!(&names[..5], ["floor#0", "floor#1", "floor#2", "floor#3", "ceiling#0"]);
+    assert!((rows.iter().take(4).map(|r| r.1[0]).sum::<f64>() - 1.0).abs() < 1e-12, "patch areas");
+    assert_heat_rate_sums_to_zero(&rows);
+}

@@ -1,6 +1,8 @@
 //! Exchange matrix and enforcement: exactness of reciprocity and closure, preserved zeros and
 //! signs, ML on multinomial hit counts, the leak refusal, open scenes, bipartite pairs and
 //! thread-count determinism.
+// Dense matrix checks read clearest with (i, j) indices.
+#![allow(clippy::needless_range_loop)]
 mod support;
 
 use lambert::exchange::{enforce, ClosureMethod, Diagnostics, Enforce, EnforceParams, Exchange};

@@ -251,3 +251,62 @@ fn padded_tree_keeps_triangle_tests_per_ray_low_on_axis_aligned_meshes() {
     let tests = vis.tests_per_ray(&rays);
     assert!(tests < 8.0, "{tests} triangle tests per ray");
 }
+
+#[test]
+fn grazing_rays_from_concave_corners_neither_leak_nor_die_on_a_back_side() {
+    // A box at coordinates that f32 cannot hold exactly; origins on the floor within 1e-9..1e-6
+    // of the wall x = max (concave corner), rays nearly parallel to that wall, both ways.
+    let (c, side) = (DVec3::new(0.3, 0.7, 0.1), 1.3);
+    let faces = cube_faces(c, side, true, 1);
+    let scene = scene_of(faces.concat());
+    let vis = Visibility::new(&scene);
+    let (floor, h) = (5, 0.5 * side);
+    assert!(scene.patches[floor].polygon.normal().z > 0.99);
+    let mut rng = Pcg64Mcg::new(21);
+    let mut checked = 0;
+    for _ in 0..2000 {
+        let gap = 10f64.powf(rng.random_range(-9.0..-6.0));
+        let o = DVec3::new(c.x + h - gap, c.y + rng.random_range(-0.6..0.6), c.z - h);
+        for eps in [-1e-3, -1e-5, -1e-7, 1e-7, 1e-5, 1e-3] {
+            let d = (DVec3::Z * 0.5 - DVec3::X * eps + DVec3::Y * rng.random_range(-0.5..0.5)).normalize();
+            let hit = vis.first_hit(o, d, f64::INFINITY, Some(floor));
+            assert!(matches!(hit, Some(h) if h.front_facing), "origin {o}, dir {d} (eps {eps}): {hit:?}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 12_000);
+}
+
+#[test]
+fn origins_rounded_onto_a_corner_line_still_hit_the_neighbour() {
+    // Found by a 115 M-ray run: a wall origin 4e-9 above the floor rounds onto the corner line
+    // in f32; a ray heading into the floor then meets the floor's edge exactly edge-on.
+    let faces = cube_faces(DVec3::splat(0.5), 1.0, true, 8);
+    let scene = scene_of(faces.concat());
+    let vis = Visibility::new(&scene);
+    let samplers: Vec<PolygonSampler> =
+        scene.patches.iter().map(|p| PolygonSampler::new(&p.polygon)).collect();
+    let mut rng = Pcg64Mcg::new(8);
+    for k in 0..20_000 {
+        let mut o = DVec3::new(1.0, rng.random_range(0.01..0.99), 10f64.powf(rng.random_range(-10.0..-7.5)));
+        if k == 0 {
+            o = DVec3::new(1.0, 0.04668651873988524, 4.174100047935716e-9);
+        }
+        // Source: the x = 1 wall patch that holds o (normal −x).
+        let src = (0..scene.patches.len())
+            .find(|&p| scene.patches[p].polygon.normal().x < -0.5 && samplers[p].contains(o))
+            .expect("a wall patch holds the origin");
+        let d = if k == 0 {
+            DVec3::new(-0.21831577956829956, -0.9457566391641795, -0.24058802935383475)
+        } else {
+            DVec3::new(
+                -rng.random_range(0.01..1.0),
+                rng.random_range(-1.0..1.0),
+                -rng.random_range(0.01..1.0),
+            )
+            .normalize()
+        };
+        let hit = vis.first_hit(o, d, f64::INFINITY, Some(src));
+        assert!(matches!(hit, Some(h) if h.front_facing), "origin {o}, dir {d}: {hit:?}");
+    }
+}

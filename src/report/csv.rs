@@ -21,8 +21,8 @@ pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &
             w.write_record([
                 vf.names[i].as_str(),
                 vf.names[e.to as usize].as_str(),
-                &e.factor.to_string(),
-                &e.std_error.to_string(),
+                &super::fmt_f64(e.factor),
+                &super::fmt_f64(e.std_error),
                 &e.method.to_string(),
             ])
             .map_err(err)?;
@@ -36,8 +36,8 @@ pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &
                 w.write_record([
                     vf.names[i].as_str(),
                     AMBIENT,
-                    &rest.to_string(),
-                    &var.sqrt().to_string(),
+                    &super::fmt_f64(rest),
+                    &super::fmt_f64(var.sqrt()),
                     &method.to_string(),
                 ])
                 .map_err(err)?;

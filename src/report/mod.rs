@@ -1,7 +1,42 @@
-//! Reports: the one place that turns results into bytes (CSV) and reads saved results back.
+//! Reports: the one place that turns results into bytes (CSV, charts) and reads saved results
+//! back.
 //! - [`csv`]: the `viewfactors` matrix;
 //! - [`solve_csv`]: the `solve` table and radiative conductances;
-//! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`).
+//! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`);
+//! - [`charts`]: log–log charts of the validation studies (SVG, PNG).
+pub mod charts;
 pub mod csv;
 pub mod read_vf;
 pub mod solve_csv;
+
+/// Characters the exponent form must save before it replaces the plain form (keeps "1000").
+const EXPONENT_MIN_SAVING: usize = 3;
+
+/// Full-precision text for an f64 (SPEC.md): the shortest round-trip digits, in plain form unless
+/// the exponent form is clearly shorter (tiny or huge magnitudes); both forms round-trip exactly.
+pub fn fmt_f64(x: f64) -> String {
+    let plain = x.to_string();
+    let sci = format!("{x:e}");
+    if sci.len() + EXPONENT_MIN_SAVING <= plain.len() {
+        sci
+    } else {
+        plain
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fmt_f64;
+
+    #[test]
+    fn shortest_round_trip() {
+        for x in [0.0, 1.0, -0.5, 7.275957614183426e-12, 1e300, 0.19982489569838732, 21386.617834354303] {
+            let s = fmt_f64(x);
+            assert_eq!(s.parse::<f64>().unwrap(), x, "{s}");
+            assert!(s.len() <= x.to_string().len(), "{s}");
+        }
+        assert_eq!(fmt_f64(7.275957614183426e-12), "7.275957614183426e-12");
+        assert_eq!(fmt_f64(1000.0), "1000");
+        assert_eq!(fmt_f64(1e300), "1e300");
+    }
+}

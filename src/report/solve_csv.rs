@@ -37,7 +37,7 @@ pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<(
             r.irradiation,
         ];
         let mut rec = vec![sol.names[k].clone()];
-        rec.extend(f.iter().map(|v| v.to_string()));
+        rec.extend(f.iter().map(|v| super::fmt_f64(*v)));
         w.write_record(&rec).map_err(&err)?;
     }
     if let Some((t, q)) = sol.ambient {
@@ -47,10 +47,10 @@ pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<(
             crate::solve::AMBIENT,
             "",
             "1",
-            &t.to_string(),
+            &super::fmt_f64(t),
             "",
-            &q.to_string(),
-            &e.to_string(),
+            &super::fmt_f64(q),
+            &super::fmt_f64(e),
             "",
         ])
         .map_err(&err)?;
@@ -66,7 +66,8 @@ pub fn write_conductances<W: Write>(out: W, c: &Conductances, path: &Path) -> Re
     for (i, row) in c.radk.iter().enumerate() {
         for (j, v) in row.iter().enumerate() {
             if *v != 0.0 {
-                w.write_record([c.names[i].as_str(), c.names[j].as_str(), &v.to_string()]).map_err(&err)?;
+                w.write_record([c.names[i].as_str(), c.names[j].as_str(), &super::fmt_f64(*v)])
+                    .map_err(&err)?;
             }
         }
     }

@@ -9,9 +9,10 @@ use faer::sparse::linalg::solvers::{Llt as SpLlt, Lu as SpLu, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
 
-/// Largest unknown count solved densely. Measured (benches/solve.rs, validation/solve.md):
-/// on full view-factor fill dense LLT beats sparse LLT by ~3× at N = 2,000 and stays ahead to
-/// N ≈ 5,000 (crates.md), where the dense matrix already costs 200 MB; 3,000 keeps it at 72 MB.
+/// Largest unknown count solved densely. Measured (validation/solve.md; crates.md §2): on full
+/// view-factor fill dense LLT factors faster than sparse LLT at N = 2,000 (70 vs 229 ms
+/// unloaded; 0.47 vs 0.64 s on a loaded machine) and stays ahead to N ≈ 5,000, where the
+/// dense matrix already costs 200 MB; 3,000 caps it at 72 MB.
 pub const DENSE_MAX: usize = 3000;
 
 /// Cached sparse symbolic LLT, keyed by the pattern it was built for.

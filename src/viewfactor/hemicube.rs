@@ -3,12 +3,12 @@
 //! faces) with an item buffer of patch ids, and each patch collects the precomputed delta
 //! form factors of the pixels it wins.
 //!
-//! - [`prepare`](self::prepare): the flattened scene and the per-eye gather (receiver /
+//! - `prepare`: the flattened scene and the per-eye gather (receiver /
 //!   blocker rules: front faces receive; back faces and obstructions only block);
-//! - [`clip`](self::clip): homogeneous clipping to each face's pyramid before the divide;
-//! - [`raster`](self::raster): scanline item buffer, point sampled at pixel centres;
-//! - [`delta`](self::delta): the delta form factor tables, one per resolution;
-//! - [`positions`](self::positions): one or several projection positions per patch.
+//! - `clip`: homogeneous clipping to each face's pyramid before the divide;
+//! - `raster`: scanline item buffer, point sampled at pixel centres;
+//! - `delta`: the delta form factor tables, one per resolution;
+//! - `positions`: one or several projection positions per patch.
 //!
 //! Error behaviour (literature.md §4, measured in tests/hemicube.rs): the delta factors are
 //! a midpoint rule, O(h²) for a receiver whose projection edges align with pixels; edges

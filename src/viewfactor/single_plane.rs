@@ -2,9 +2,9 @@
 //! plane parallel to the patch at unit height, of half-width s, and resolved there by
 //! Warnock-style adaptive subdivision.
 //!
-//! - [`grid`](self::grid): the R × R pixel grid and its exact cell factors (node table of
+//! - `grid`: the R × R pixel grid and its exact cell factors (node table of
 //!   the corner factor; it replaces per-level delta tables and serves every level);
-//! - [`warnock`](self::warnock): projection and the subdivision itself.
+//! - `warnock`: projection and the subdivision itself.
 //!
 //! Scene gathering, clipping and the receiver/blocker rules are the hemicube's
 //! ([`super::hemicube`]): front faces receive, back faces and obstructions only block.

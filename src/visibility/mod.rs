@@ -25,11 +25,14 @@
 //! such triangles (coplanar neighbours, the far face of a two-sided thin plate, the other faces
 //! of a convex solid) are skipped, whatever f32 rounding of the origin says; occlusion queries
 //! do the same for both end planes.
-//! Near the origin (|t| < [`NEAR_REL`] of the scene size, the f32 rounding scale) only
-//! front-side crossings of other surfaces count: the true origin lies in front of every
-//! surface that meets its patch at an edge, so such a crossing is a real contact seen from the
-//! front (a wall at a concave corner, a box standing on the floor) or rounding noise from
-//! behind. The same rule, mirrored, applies next to the target point of an occlusion query.
+//! Sides are decided by the origin's distance to a triangle's plane, not by t: a point
+//! within [`NEAR_REL`] of the scene size behind a plane (the f32 rounding scale) counts as in
+//! front of it, because the true origin lies in front of every surface that meets its patch
+//! at an edge. A ray then hits a front side only from a front origin (at t = 0 when rounding
+//! put the crossing just behind: a wall at a concave corner, a box standing on the floor) and a
+//! back side only from a truly-behind origin; grazing rays cannot slip through a neighbour's
+//! plane in either direction. An occlusion blocker must separate the two end points by the
+//! same rule.
 //! Coincident surfaces facing the *same* way are ambiguous; model a covering as a solid.
 use crate::geometry::DVec3;
 use crate::scene::Scene;
@@ -47,6 +50,10 @@ pub const PAD_REL: f64 = 1e-5;
 /// Half-width of the "near the origin" band, as a fraction of the scene half-diagonal: about 32
 /// f32 ulps of the largest normalised coordinate (vertex rounding plus the test's own error).
 pub const NEAR_REL: f64 = 4e-6;
+/// Farthest a crossing may lie behind an origin (or beyond a target) and still count as a
+/// contact there, as a fraction of the half-diagonal: grazing rays from an origin that
+/// rounding put just behind a neighbour's plane cross it this far back.
+pub const FAR_REL: f64 = 1e-3;
 /// The normalised scene's half-diagonal lies in [TARGET/2, TARGET).
 const TARGET_HALF_EXTENT: f64 = 1024.0;
 /// obvhs's own node-interval floor (cwbvh::node::EPSILON); the padding must dwarf it.
@@ -111,8 +118,10 @@ pub struct Visibility {
     pub(crate) patch_plane: Vec<(Vec3A, f32)>,
     center: DVec3,
     scale: f64,
-    /// Near-origin band in normalised units.
+    /// Rounding band in normalised units.
     pub(crate) near: f32,
+    /// Contact reach behind an origin in normalised units.
+    pub(crate) far: f32,
     stats: BuildStats,
 }
 
@@ -149,6 +158,7 @@ impl Visibility {
         let half = scene_half_extent(&tris);
         let pad = Vec3A::splat((PAD_REL * 2.0 * half) as f32);
         let near = (NEAR_REL * half) as f32;
+        let far = (FAR_REL * half) as f32;
         debug_assert!(tris.is_empty() || pad.x > near + OBVHS_NODE_EPSILON);
         let boxes: Vec<PaddedBox> = tris
             .iter()
@@ -186,6 +196,7 @@ impl Visibility {
             center,
             scale,
             near,
+            far,
             stats,
         }
     }

@@ -40,29 +40,38 @@ impl Visibility {
         tmax: f32,
         skip: u32,
     ) -> Option<(usize, TriHit)> {
-        let near = self.near;
+        let (near, far) = (self.near, self.far);
         let plane = self.patch_plane.get(skip as usize).copied();
         let sheared = ShearedRay::new(o, d);
         let mut best: Option<(usize, TriHit)> = None;
         let mut hit = RayHit::none();
-        self.bvh.ray_traverse(Ray::new(o, d, -near, tmax), &mut hit, |r, id| {
+        self.bvh.ray_traverse(Ray::new(o, d, -far, tmax), &mut hit, |r, id| {
             if self.owner[id] == skip {
                 return f32::INFINITY;
             }
             match sheared.intersect(&self.tris[id]) {
-                Some(h)
-                    if h.t > -near
-                        && h.t < r.tmax
-                        && (h.front || h.t >= near)
-                        && !plane.is_some_and(|pl| self.behind(id, pl)) =>
-                {
-                    best = Some((id, h));
-                    h.t
+                Some(h) if h.t > -far && h.t < r.tmax && !plane.is_some_and(|pl| self.behind(id, pl)) => {
+                    // Sides by the origin's distance to the plane, rounding band counted as front.
+                    let front_origin = self.side(id, o) > -near;
+                    if h.front == front_origin {
+                        let t = h.t.max(0.0);
+                        best = Some((id, TriHit { t, front: h.front }));
+                        t
+                    } else {
+                        f32::INFINITY
+                    }
                 }
                 _ => f32::INFINITY,
             }
         });
         best
+    }
+
+    /// Signed distance of `p` from triangle `id`'s plane, positive on its front side.
+    #[inline]
+    fn side(&self, id: usize, p: Vec3A) -> f32 {
+        let [a, b, c] = self.tris[id];
+        (b - a).cross(c - a).normalize_or_zero().dot(p - a)
     }
 
     /// True when triangle `id` lies behind or in `plane` (unit normal, offset), to within the
@@ -91,23 +100,23 @@ impl Visibility {
     /// Occlusion in the normalised frame along unit `d` over length `len`.
     #[inline]
     pub(crate) fn occluded_frame(&self, o: Vec3A, d: Vec3A, len: f32, skip_i: u32, skip_j: u32) -> bool {
-        let near = self.near;
+        let (near, far) = (self.near, self.far);
         let planes = [self.patch_plane[skip_i as usize], self.patch_plane[skip_j as usize]];
         let sheared = ShearedRay::new(o, d);
-        let ray = Ray::new(o, d, -near, len + near);
+        let q = o + d * len;
+        let ray = Ray::new(o, d, -far, len + far);
         !self.bvh.ray_traverse_miss(ray, |_, id| {
             let who = self.owner[id];
             if who == skip_i || who == skip_j {
                 return f32::INFINITY;
             }
             match sheared.intersect(&self.tris[id]) {
-                // Near p only front crossings block; near q only crossings that face q.
+                // A blocker separates p from q, sides taken with the rounding band as front.
                 Some(h)
-                    if h.t > -near
-                        && h.t < len + near
-                        && (h.front || h.t >= near)
-                        && (!h.front || h.t <= len - near)
-                        && !planes.iter().any(|&pl| self.behind(id, pl)) =>
+                    if h.t > -far
+                        && h.t < len + far
+                        && !planes.iter().any(|&pl| self.behind(id, pl))
+                        && (self.side(id, o) > -near) != (self.side(id, q) > -near) =>
                 {
                     0.0
                 }

@@ -7,17 +7,21 @@
 //! Exact zeros are re-evaluated in f64, as the paper prescribes.
 use glam::Vec3A;
 
-/// One ray prepared for many triangle tests: origin, axis permutation and shear.
+/// One ray prepared for many triangle tests: origin and the shear as three SIMD columns, so
+/// that M·(v − o) = (v−o)[kx] − Sx·(v−o)[kz], (v−o)[ky] − Sy·(v−o)[kz], Sz·(v−o)[kz].
 #[derive(Debug, Clone, Copy)]
 pub struct ShearedRay {
     origin: Vec3A,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    cols: [Vec3A; 3],
+    /// Axis permutation (kx, ky, kz) and shear (Sx, Sy) for the f64 re-evaluation.
+    k: [usize; 3],
+    s: [f32; 2],
 }
+
+/// An f32 edge function smaller than this fraction of its two products may have the wrong
+/// sign (each product carries ~2⁻²⁴ relative rounding, the shear a few more): re-evaluate in
+/// f64. This catches a ray whose origin lies on the line of an edge (a concave corner).
+const EDGE_CANCEL: f32 = 1.0 / (1 << 20) as f32;
 
 /// A hit: parameter t along the (unit) ray direction and the side that was hit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,33 +54,55 @@ impl ShearedRay {
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        Self { origin, kx, ky, kz, sx: dir[kx] / dir[kz], sy: dir[ky] / dir[kz], sz: 1.0 / dir[kz] }
+        let (sx, sy, sz) = (dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+        let mut cols = [Vec3A::ZERO; 3];
+        cols[kx].x = 1.0;
+        cols[ky].y = 1.0;
+        cols[kz] = Vec3A::new(-sx, -sy, sz);
+        Self { origin, cols, k: [kx, ky, kz], s: [sx, sy] }
+    }
+
+    /// Vertex in ray space: sheared x, y and scaled z.
+    #[inline(always)]
+    fn shear(&self, v: Vec3A) -> Vec3A {
+        let p = v - self.origin;
+        self.cols[0] * p.x + self.cols[1] * p.y + self.cols[2] * p.z
+    }
+
+    /// Sheared x, y of a vertex in f64.
+    #[cold]
+    fn shear64(&self, v: Vec3A) -> (f64, f64) {
+        let p = v - self.origin;
+        let [kx, ky, kz] = self.k;
+        let z = p[kz] as f64;
+        (p[kx] as f64 - self.s[0] as f64 * z, p[ky] as f64 - self.s[1] as f64 * z)
     }
 
     /// Intersects triangle (v0, v1, v2); `None` when the ray's line misses it.
     #[inline(always)]
     pub fn intersect(&self, v: &[Vec3A; 3]) -> Option<TriHit> {
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = v[0] - self.origin;
-        let b = v[1] - self.origin;
-        let c = v[2] - self.origin;
-        // Shear and scale the vertices into ray space.
-        let ax = a[kx] - self.sx * a[kz];
-        let ay = a[ky] - self.sy * a[kz];
-        let bx = b[kx] - self.sx * b[kz];
-        let by = b[ky] - self.sy * b[kz];
-        let cx = c[kx] - self.sx * c[kz];
-        let cy = c[ky] - self.sy * c[kz];
+        let (a, b, c) = (self.shear(v[0]), self.shear(v[1]), self.shear(v[2]));
+        let (ax, ay, bx, by, cx, cy) = (a.x, a.y, b.x, b.y, c.x, c.y);
         // Scaled barycentric edge functions.
         let mut u = cx * by - cy * bx;
         let mut w_ = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
-        if u == 0.0 || w_ == 0.0 || w == 0.0 {
-            // Fall back to f64 on exact zeros (edge or vertex hits).
-            let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
-            u = (cx * by - cy * bx) as f32;
-            w_ = (ax * cy - ay * cx) as f32;
-            w = (bx * ay - by * ax) as f32;
+        let tiny = |e: f32, p: f32, q: f32| e.abs() <= EDGE_CANCEL * (p.abs() + q.abs());
+        let (tu, tv, tw) = (tiny(u, cx * by, cy * bx), tiny(w_, ax * cy, ay * cx), tiny(w, bx * ay, by * ax));
+        if tu || tv || tw {
+            // Re-evaluate those edges in f64 (edge or vertex hits, origins on an edge's line):
+            // f32 inputs make the shear products exact, so collinear cases come out exactly 0.
+            // Per edge, so two triangles sharing an edge still agree on it bit for bit.
+            let [(ax, ay), (bx, by), (cx, cy)] = [v[0], v[1], v[2]].map(|x| self.shear64(x));
+            if tu {
+                u = (cx * by - cy * bx) as f32;
+            }
+            if tv {
+                w_ = (ax * cy - ay * cx) as f32;
+            }
+            if tw {
+                w = (bx * ay - by * ax) as f32;
+            }
         }
         if (u < 0.0 || w_ < 0.0 || w < 0.0) && (u > 0.0 || w_ > 0.0 || w > 0.0) {
             return None;
@@ -86,7 +112,7 @@ impl ShearedRay {
             return None;
         }
         // Scaled hit distance, then divide once.
-        let t = (u * (self.sz * a[kz]) + w_ * (self.sz * b[kz]) + w * (self.sz * c[kz])) / det;
+        let t = (u * a.z + w_ * b.z + w * c.z) / det;
         // With this shear, counter-clockwise triangles seen from the origin give det > 0.
         Some(TriHit { t, front: det > 0.0 })
     }

@@ -1,7 +1,11 @@
 //! Scenes with closed-form view factors, shared by the integration tests, benches and examples.
 #![allow(dead_code)]
+use glam::DVec2;
+use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame, PolygonSampler};
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
 
 /// C-11, unit squares 1 apart (literature.md V1).
 pub const F_PARALLEL: f64 = 0.1998248957;
@@ -151,4 +155,50 @@ pub fn inward_sphere(center: DVec3, radius: f64, level: u32) -> Vec<Polygon> {
             Polygon::triangle(center + v[c] * radius, center + v[b] * radius, center + v[a] * radius)
         })
         .collect()
+}
+
+/// Faces of an axis-aligned box [lo, lo + size], n × n quads each, normals in or out.
+pub fn box_faces(lo: DVec3, size: DVec3, inward: bool, n: usize) -> Vec<Vec<Polygon>> {
+    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+    let mut out = Vec::new();
+    for a in 0..3 {
+        let (eb, ec) = (axes[(a + 1) % 3] * size, axes[(a + 2) % 3] * size);
+        for hi in [false, true] {
+            let o = if hi { lo + axes[a] * size } else { lo };
+            let (u, v) = if hi != inward { (eb, ec) } else { (ec, eb) };
+            out.push(rect_grid(o, u, v, n));
+        }
+    }
+    out
+}
+
+/// The crates.md §1.5 scene: one surface per big-box face and per small box.
+pub fn bench_scene() -> Scene {
+    let mut b = Scene::builder();
+    for (k, f) in box_faces(DVec3::ZERO, DVec3::splat(10.0), true, 65).into_iter().enumerate() {
+        b = b.surface(&format!("wall{k}"), f, 0.9, None);
+    }
+    let mut rng = Pcg64Mcg::seed_from_u64(17);
+    for k in 0..250 {
+        let size =
+            DVec3::new(rng.random_range(0.2..0.8), rng.random_range(0.2..0.8), rng.random_range(0.2..0.8));
+        let lo = DVec3::new(rng.random(), rng.random(), rng.random()) * (DVec3::splat(9.0) - size) + 0.5;
+        b = b.surface(&format!("box{k}"), box_faces(lo, size, false, 4).concat(), 0.9, None);
+    }
+    b.build()
+}
+
+/// Cosine rays, `n` per patch in patch order: (patch, origin, direction).
+pub fn cosine_rays(scene: &Scene, n: usize) -> Vec<(u32, DVec3, DVec3)> {
+    let mut rng = Pcg64Mcg::seed_from_u64(5);
+    let mut rays = Vec::with_capacity(scene.patches.len() * n);
+    for (p, patch) in scene.patches.iter().enumerate() {
+        let (s, f) = (PolygonSampler::new(&patch.polygon), Frame::from_normal(patch.polygon.normal()));
+        for _ in 0..n {
+            let x = s.sample(DVec2::new(rng.random(), rng.random()));
+            let d = f.to_world(sample_cosine_hemisphere(DVec2::new(rng.random(), rng.random())));
+            rays.push((p as u32, x, d.normalize()));
+        }
+    }
+    rays
 }

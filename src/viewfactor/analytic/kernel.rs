@@ -22,7 +22,7 @@ use super::occlusion::Occlusion;
 use super::planes::PlaneGroups;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
-use crate::viewfactor::MethodSet;
+use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::Result;
 use glam::DVec3;
 use std::cell::RefCell;
@@ -30,6 +30,20 @@ use std::sync::OnceLock;
 
 /// Relative tolerance for "these patches share a plane" (coplanar pairs exchange nothing).
 const COPLANAR_TOL: f64 = 1e-12;
+
+/// A closed scene's row computed by this method alone that falls short of 1 by more than this
+/// leaks (a gap, a flipped normal): every pair is exact or within [`GAUSS_REL_TOL`], so rows
+/// close to 5e-8; 1e-6 leaves a 20× margin.
+pub const LEAK_TOL: f64 = 1e-6;
+
+/// Output rows of `vf` (made by this method) whose sum falls short of 1 by more than
+/// [`LEAK_TOL`], worst first, with their sums. Meaningful for closed scenes only.
+pub fn leaks(vf: &ViewFactors) -> Vec<(usize, f64)> {
+    let mut out: Vec<(usize, f64)> =
+        vf.row_sums().into_iter().enumerate().filter(|&(_, s)| 1.0 - s > LEAK_TOL).collect();
+    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    out
+}
 
 /// Per-pair relative error target of the Gauss rungs: 5e-8 keeps every surface total within
 /// 5e-8·F_IJ ≤ 1e-8 for F_IJ ≤ 0.2 (the cube's faces) and every row sum within 5e-8, while
@@ -46,20 +60,10 @@ struct PatchInfo {
     radius: f64,
     /// Unoriented plane group.
     plane: u32,
-    /// Gauss parameter length (the L of the error model).
-    param_len: f64,
+    /// 1 / Gauss parameter length (the L of the error model).
+    inv_len: f64,
     /// Gauss rules on Duffy triangles (not one parallelogram).
     triangles: bool,
-}
-
-/// ν of the error model: relative variation (hi − lo)/mean of a non-negative linear factor
-/// whose extremes over a patch are lo, hi; 2 when it vanishes somewhere.
-fn variation(lo: f64, hi: f64) -> f64 {
-    if lo > 0.0 {
-        (2.0 * (hi - lo) / (hi + lo)).min(2.0)
-    } else {
-        2.0
-    }
 }
 
 /// Exact exchange areas for unobstructed planar patches.
@@ -110,7 +114,7 @@ impl<'s> AnalyticKernel<'s> {
                     centroid: poly.centroid(),
                     radius: poly.bounding_radius(),
                     plane: planes.id[p],
-                    param_len: rules.param_len(p),
+                    inv_len: 1.0 / rules.param_len(p),
                     triangles: rules.triangulated(p),
                 }
             })
@@ -153,40 +157,60 @@ impl<'s> AnalyticKernel<'s> {
         )
     }
 
-    /// Unobstructed A_i F_ij for one pair (j ≠ i).
-    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> f64 {
+    /// Which rung of the ladder treats the unobstructed pair (i, j), j ≠ i.
+    pub fn rung(&self, i: usize, j: usize) -> Rung {
         let (a, b) = (&self.info[i], &self.info[j]);
         if a.plane == b.plane {
-            return 0.0;
+            return Rung::Zero;
         }
         // j seen from i's plane, and i from j's.
         let (jlo, jhi) = self.extent(a, j);
         if jhi <= 0.0 {
-            return 0.0;
+            return Rung::Zero;
         }
         let (ilo, ihi) = self.extent(b, i);
         if ihi <= 0.0 {
-            return 0.0;
+            return Rung::Zero;
         }
         if jlo >= 0.0 && ilo >= 0.0 {
             let sphere = a.centroid.distance(b.centroid) - a.radius - b.radius;
             let d = sphere.max(jlo).max(ilo);
             // Each patch's cosine factor varies over the *other* patch: ν_i from i's extent in
-            // j's plane, ν_j from j's extent in i's plane (2 on Duffy triangles).
-            let nu_i = if a.triangles { 2.0 } else { variation(ilo, ihi) };
-            let nu_j = if b.triangles { 2.0 } else { variation(jlo, jhi) };
-            let mi = self.model.order(a.triangles, d / a.param_len, nu_i);
-            let mj = self.model.order(b.triangles, d / b.param_len, nu_j);
+            // j's plane, ν_j from j's extent in i's plane.
+            let mi = self.model.order(a.triangles, d * a.inv_len, ilo, ihi);
+            let mj = self.model.order(b.triangles, d * b.inv_len, jlo, jhi);
             if let (Some(mi), Some(mj)) = (mi, mj) {
+                return Rung::Gauss(mi, mj);
+            }
+        }
+        Rung::Exact
+    }
+
+    /// Unobstructed A_i F_ij for one pair (j ≠ i).
+    fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> f64 {
+        match self.rung(i, j) {
+            Rung::Zero => 0.0,
+            Rung::Gauss(mi, mj) => {
+                let (a, b) = (&self.info[i], &self.info[j]);
                 let Scratch { rule_i, rule_j, weights } = scratch;
                 let pi = self.rules.points(i, mi, rule_i);
                 let pj = self.rules.points(j, mj, rule_j);
-                return gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights);
+                gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights)
             }
+            Rung::Exact => polygon_polygon(&self.scene.patches[i].polygon, &self.scene.patches[j].polygon),
         }
-        let patches = &self.scene.patches;
-        polygon_polygon(&patches[i].polygon, &patches[j].polygon)
     }
+}
+
+/// The rung of the ladder that evaluates a pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rung {
+    /// Coplanar or back-facing: exactly 0.
+    Zero,
+    /// Tensor Gauss rules of these orders on patch i and patch j.
+    Gauss(usize, usize),
+    /// The exact double contour integral.
+    Exact,
 }
 
 /// Per-row buffers: generated high-order rules and the receiver weights.
@@ -205,6 +229,7 @@ impl RowKernel for AnalyticKernel<'_> {
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let n = self.info.len();
         let mut scratch = Scratch::default();
+        out.entries.reserve(n - i - 1);
         let Some(shadows) = &self.shadows else {
             for j in i + 1..n {
                 let s = self.pair(i, j, &mut scratch);

@@ -17,6 +17,7 @@
 //!    - **Monte Carlo** ([`mc_pair`]): u·ΣKV/ΣK; its standard error is at most
 //!      u·√(¼/n), so n = ¼(Z·u/(τA_i))² samples (Z = [`MC_SIGMAS`]) always meet the goal,
 //!      at [`MC_SAMPLE_NS`] × (1 + b·[`MC_BLOCKER_FACTOR`]) each, b the number of blockers.
+//!
 //!    The entry records which one produced it (`analytic-shadowed` or `mc-area`).
 //!
 //! Effort therefore goes only where the error needs it: nothing is sampled for clear or fully

@@ -11,14 +11,13 @@ use std::f64::consts::PI;
 pub(crate) struct DeltaTables {
     /// Pixels along the top face (even).
     pub resolution: usize,
-    /// Top face, R × R, row-major from y = −1.
-    pub top: Vec<f64>,
-    /// One side face, R columns × R/2 rows, row-major from z = 0 (all four sides share it).
-    pub side: Vec<f64>,
-    /// Row prefix sums of `top`: R + 1 per row, so a run of pixels sums in one subtraction.
+    /// Top face (R × R, rows from y = −1) as row prefix sums, R + 1 per row starting at 0,
+    /// so a run of pixels sums in one subtraction.
     pub top_prefix: Vec<f64>,
-    /// Row prefix sums of `side`.
+    /// One side face (R columns × R/2 rows from z = 0; all four sides share it), likewise.
     pub side_prefix: Vec<f64>,
+    /// Σ of all five faces' delta factors.
+    total: f64,
 }
 
 impl DeltaTables {
@@ -45,13 +44,13 @@ impl DeltaTables {
                 side.push(z * h * h / (PI * d * d));
             }
         }
-        let (top_prefix, side_prefix) = (row_prefix(&top, r), row_prefix(&side, r));
-        Self { resolution: r, top, side, top_prefix, side_prefix }
+        let total = top.iter().sum::<f64>() + 4.0 * side.iter().sum::<f64>();
+        Self { resolution: r, top_prefix: row_prefix(&top, r), side_prefix: row_prefix(&side, r), total }
     }
 
     /// Σ of all five faces' delta factors (1 + O(h²)).
     pub fn total(&self) -> f64 {
-        self.top.iter().sum::<f64>() + 4.0 * self.side.iter().sum::<f64>()
+        self.total
     }
 }
 

@@ -26,8 +26,8 @@ pub enum Positions {
     /// A fixed q×q Gauss rule on every patch (q = 1 is the centroid of a parallelogram).
     Gauss(usize),
     /// q chosen per patch from its size D (diameter) against a lower bound d on the distance
-    /// from its centroid to the nearest polygon in front: 1 while D ≤ [`NEAR_RATIO_1`]·d,
-    /// 2 while D ≤ [`NEAR_RATIO_2`]·d, else 3 (about 1 % relative proximity error or less).
+    /// from its centroid to the nearest polygon in front: 1 while D ≤ `NEAR_RATIO_1`·d (0.3),
+    /// 2 while D ≤ `NEAR_RATIO_2`·d (1.5), else 3 (about 1 % relative proximity error or less).
     Adaptive,
 }
 

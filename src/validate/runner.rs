@@ -1,0 +1,110 @@
+//! Runs one case with every applicable method and turns the results into [`Check`]s.
+use super::case::Case;
+use super::check::{Check, Status};
+use super::heat;
+use super::tolerance::{self, Budget};
+use crate::scene::{self, Scene};
+use crate::viewfactor::{self, Level, Method, ViewFactors};
+use crate::Error;
+use std::time::{Duration, Instant};
+
+/// Method order in the report: exact first, then the approximations.
+pub const METHODS: [Method; 7] = [
+    Method::Analytic,
+    Method::Auto,
+    Method::Hemicube,
+    Method::SinglePlane,
+    Method::McArea,
+    Method::McUniform,
+    Method::McCosine,
+];
+
+/// All checks of one case.
+pub fn run_case(case: &Case, budget: &Budget) -> Vec<Check> {
+    if budget.quick && !case.reference.quick {
+        return vec![Check::without_value(
+            &case.name,
+            "all",
+            "-",
+            Status::Skipped("not in --quick (heavy case)".into()),
+        )];
+    }
+    let scene = match scene::load(&case.scene) {
+        Ok(s) => s,
+        Err(e) => {
+            return vec![Check::without_value(&case.name, "scene", "-", Status::Fail(e.to_string()))];
+        }
+    };
+    let mut checks = Vec::new();
+    // Heat-only cases (exact factors from a file) have no geometry worth running methods on.
+    let methods = if case.reference.viewfactors.is_empty() { &[][..] } else { &METHODS[..] };
+    for &method in methods {
+        if let Some(why) = case.reference.skip.get(method.name()) {
+            checks.push(Check::without_value(&case.name, "all", method.name(), Status::Skipped(why.clone())));
+            continue;
+        }
+        checks.extend(run_method(case, &scene, method, budget));
+    }
+    checks.extend(heat::file_checks(case, &scene));
+    checks
+}
+
+/// View-factor checks (and heat checks, when the case has them) of one method.
+fn run_method(case: &Case, scene: &Scene, method: Method, budget: &Budget) -> Vec<Check> {
+    let params = budget.params(method, scene.patches.len());
+    let start = Instant::now();
+    let result = viewfactor::compute(scene, &params, Level::Surface);
+    let time = start.elapsed();
+    let vf = match result {
+        Ok(vf) => vf,
+        Err(Error::Unsupported(why)) => {
+            return vec![Check::without_value(&case.name, "all", method.name(), Status::NotApplicable(why))];
+        }
+        Err(e) => {
+            return vec![Check::without_value(&case.name, "all", method.name(), Status::Fail(e.to_string()))]
+        }
+    };
+    let mut checks = view_factor_checks(case, scene, method, &params, &vf, time);
+    checks.extend(heat::method_checks(case, scene, method, &params, &vf, time));
+    match case.reference.known_issue.get(method.name()) {
+        Some(why) if checks.iter().any(|c| matches!(c.status, Status::Fail(_))) => {
+            checks.into_iter().map(|c| c.with_known_issue(why)).collect()
+        }
+        Some(why) => {
+            let stale = format!("every check passes: remove the [known_issue] marker ({why})");
+            checks.push(Check::without_value(&case.name, "known issue", method.name(), Status::Fail(stale)));
+            checks
+        }
+        None => checks,
+    }
+}
+
+fn view_factor_checks(
+    case: &Case,
+    scene: &Scene,
+    method: Method,
+    params: &viewfactor::Params,
+    vf: &ViewFactors,
+    time: Duration,
+) -> Vec<Check> {
+    let mut checks = Vec::new();
+    for r in &case.reference.viewfactors {
+        let quantity = format!("F({}→{})", r.from, r.to);
+        let (Some(i), Some(j)) =
+            (vf.names.iter().position(|n| *n == r.from), vf.names.iter().position(|n| *n == r.to))
+        else {
+            let why = format!("reference names a surface the scene lacks ({} or {})", r.from, r.to);
+            checks.push(Check::without_value(&case.name, &quantity, method.name(), Status::Fail(why)));
+            continue;
+        };
+        let entry = vf.rows[i].iter().find(|e| e.to as usize == j);
+        let (value, sigma) = entry.map(|e| (e.factor, e.std_error)).unwrap_or((0.0, 0.0));
+        let rays = params.samples as f64 * scene.surfaces[i].patches.len() as f64;
+        let tol = match case.reference.tolerance.get(method.name()) {
+            Some(o) => o.abs,
+            None => tolerance::view_factor(method, params, r, sigma, rays),
+        };
+        checks.push(Check::compared(&case.name, quantity, method.name(), value, r.value, tol, time));
+    }
+    checks
+}
