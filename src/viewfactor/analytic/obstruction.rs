@@ -13,6 +13,7 @@
 //! blocker's shadow boundary, not N × blockers.
 use super::blockers::Blockers;
 use super::penumbra::{Build, Class, Region, ShadowVolume};
+use super::polygon_ops::clip_ring;
 use crate::scene::Scene;
 use glam::DVec3;
 
@@ -194,30 +195,9 @@ pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, 
 /// The part of a convex ring with n·x − off ≥ 0 (snapping within `snap`), into `out`; empty
 /// when no vertex is strictly in front.
 pub fn clip_front(ring: &[DVec3], n: DVec3, off: f64, snap: f64, out: &mut Vec<DVec3>) {
-    out.clear();
-    let m = ring.len();
-    let side = |x: DVec3| {
-        let d = n.dot(x) - off;
-        if d.abs() <= snap {
-            0.0
-        } else {
-            d
-        }
-    };
-    let mut a = ring[m - 1];
-    let mut da = side(a);
-    for &b in ring {
-        let db = side(b);
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-        if db >= 0.0 {
-            out.push(b);
-        }
-        a = b;
-        da = db;
-    }
-    if out.len() < 3 || !out.iter().any(|&x| side(x) > 0.0) {
+    let dist = |x: DVec3| n.dot(x) - off;
+    clip_ring(ring, dist, snap, out);
+    if !out.iter().any(|&x| dist(x) > snap) {
         out.clear();
     }
 }

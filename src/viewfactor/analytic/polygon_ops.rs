@@ -1,7 +1,8 @@
 //! 2-D convex polygon operations behind exact shadow clipping.
 //!
 //! - [`HalfPlane`]: a unit-normal line n·q + c ≥ 0 (kept side);
-//! - [`clip_convex`]: Sutherland–Hodgman on a convex ring, with on-line snapping;
+//! - [`clip_ring`]: Sutherland–Hodgman on a convex 2-D or 3-D ring, with on-line snapping
+//!   ([`clip_convex`]: against a [`HalfPlane`]);
 //! - [`subtract_convex`]: piece \ shadow as disjoint convex pieces (View3D's `PolygonOverlap`
 //!   idea, without its 12-vertex limit), so a union of shadows leaves a non-convex remainder
 //!   held as a [`PieceSet`];
@@ -62,20 +63,27 @@ pub fn twice_area(ring: &[DVec2]) -> f64 {
 /// Vertices within `snap` of the line count as on it, so no sliver thinner than `snap` and no
 /// near-duplicate vertex is created.
 pub fn clip_convex(src: &[DVec2], hp: HalfPlane, snap: f64, out: &mut Vec<DVec2>) {
+    clip_ring(src, |q| hp.eval(q), snap, out);
+}
+
+/// Sutherland–Hodgman on a convex ring of 2-D or 3-D points: keeps `dist(x) ≥ 0`, a signed
+/// distance, writing the kept ring to `out` (cleared first; left empty when fewer than three
+/// vertices remain). Distances within `snap` of zero count as on the boundary.
+pub fn clip_ring<P>(src: &[P], dist: impl Fn(P) -> f64, snap: f64, out: &mut Vec<P>)
+where
+    P: Copy + std::ops::Add<Output = P> + std::ops::Sub<Output = P> + std::ops::Mul<f64, Output = P>,
+{
     out.clear();
-    let m = src.len();
-    if m == 0 {
-        return;
-    }
-    let side = |q: DVec2| {
-        let d = hp.eval(q);
+    let Some(&last) = src.last() else { return };
+    let side = |x: P| {
+        let d = dist(x);
         if d.abs() <= snap {
             0.0
         } else {
             d
         }
     };
-    let mut a = src[m - 1];
+    let mut a = last;
     let mut da = side(a);
     for &b in src {
         let db = side(b);

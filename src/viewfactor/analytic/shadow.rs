@@ -22,7 +22,7 @@
 //! the unobstructed value since g ≥ 0.
 use super::lambert::edge_term;
 use super::polygon_ops::{
-    clip_convex, subtract_convex, twice_area, HalfPlane, PieceSet, Scratch as OpsScratch,
+    clip_convex, clip_ring, subtract_convex, twice_area, HalfPlane, PieceSet, Scratch as OpsScratch,
 };
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;
@@ -361,34 +361,7 @@ fn clip_hom(src: &[DVec3], l: DVec3, out: &mut Vec<DVec3>) {
 /// Clips a planar 3-D ring to n·x + c ≥ 0 (snapping within `snap` of the plane).
 fn clip3(src: &[DVec3], n: DVec3, c: f64, snap: f64) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(src.len() + 2);
-    let m = src.len();
-    if m == 0 {
-        return out;
-    }
-    let side = |x: DVec3| {
-        let d = n.dot(x) + c;
-        if d.abs() <= snap {
-            0.0
-        } else {
-            d
-        }
-    };
-    let mut a = src[m - 1];
-    let mut da = side(a);
-    for &b in src {
-        let db = side(b);
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-        if db >= 0.0 {
-            out.push(b);
-        }
-        a = b;
-        da = db;
-    }
-    if out.len() < 3 {
-        out.clear();
-    }
+    clip_ring(src, |x| n.dot(x) + c, snap, &mut out);
     out
 }
 
