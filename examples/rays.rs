@@ -98,6 +98,24 @@ fn main() {
     // `all` adds the tuning sweep: build presets, ray orders, BVH2.
     let sweep = std::env::args().nth(2).is_some_and(|a| a == "all");
     let scene = bench_scene();
+    // `profile-sobol` / `profile-random`: one engine run on one thread, for perf.
+    if let Some(mode) = std::env::args().nth(2).and_then(|a| a.strip_prefix("profile-").map(str::to_owned)) {
+        let sampler = if mode.contains("random") { Sampler::Random } else { Sampler::Sobol };
+        let method = if mode.contains("uniform") { Method::McUniform } else { Method::McCosine };
+        let params = Params { method, samples: per_patch, seed: 1, ..Params::default() };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let c = cpu_seconds();
+        let vf =
+            pool.install(|| compute_with(&scene, &params, Level::Surface, McOptions { sampler }).unwrap());
+        let cpu = cpu_seconds() - c;
+        let rays = (scene.patches.len() * per_patch) as f64;
+        // FNV-1a over every reported factor and standard error: equal bits, equal output.
+        let bits =
+            vf.rows.iter().flatten().flat_map(|e| [e.to as u64, e.factor.to_bits(), e.std_error.to_bits()]);
+        let digest = bits.fold(0xcbf2_9ce4_8422_2325u64, |h, x| (h ^ x).wrapping_mul(0x100_0000_01b3));
+        println!("{mode}: {cpu:.3} CPU-s, {:.2} Mrays per CPU-s, digest {digest:016x}", rays / cpu / 1e6);
+        return;
+    }
     let rays = cosine_rays(&scene, per_patch);
     let b = bare(&scene);
     println!("scene: {} patches, {} triangles, {} rays", scene.patches.len(), b.tris.len(), rays.len());
