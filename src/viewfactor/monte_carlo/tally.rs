@@ -10,8 +10,8 @@
 //!   the cell's entries in proportion to s_ij: the sink's sum of entry variances is then the
 //!   cell's variance. At patch level every cell is one entry.
 //!
-//! Storage: a [`TallyPool`] hands out per-thread buffers. A flat slot table per receiver patch
-//! (4 bytes each, so it stays in cache) points into a dense list of the receivers this row hit;
+//! Storage: a [`TallyPool`] hands out per-thread buffers. A flat table per receiver patch
+//! (its slot and output cell, 8 bytes, so one cache miss per new receiver) points into a dense list of the receivers this row hit;
 //! likewise for output cells. Closing a replicate or a row costs only the receivers actually
 //! hit, and buffers go back to the pool with every slot cleared.
 use super::super::engine::{RawEntry, Row};
@@ -38,8 +38,8 @@ struct Acc {
 /// Buffers of one tally; between rows every slot is [`EMPTY`] and every list empty.
 #[derive(Debug, Default)]
 struct Buffers {
-    /// Per receiver patch: index into `acc`, or [`EMPTY`].
-    slot: Vec<u32>,
+    /// Per receiver patch: [index into `acc` or [`EMPTY`], output cell].
+    slot: Vec<[u32; 2]>,
     /// Sums of the receivers hit in this row, in first-hit order.
     acc: Vec<Acc>,
     /// Receiver patch and output-cell slot of each `acc` entry.
@@ -74,7 +74,7 @@ impl<'a> TallyPool<'a> {
     /// An empty tally for `reps` replicates.
     pub fn tally(&self, reps: u32) -> Tally<'_> {
         let buf = self.lock().pop().unwrap_or_else(|| Buffers {
-            slot: vec![EMPTY; self.cell_of.len()],
+            slot: self.cell_of.iter().map(|&c| [EMPTY, c]).collect(),
             cell_slot: vec![EMPTY; self.n_cells],
             ..Buffers::default()
         });
@@ -103,13 +103,13 @@ impl Tally<'_> {
         if w <= 0.0 {
             return;
         }
-        let mut k = self.buf.slot[j as usize];
+        let [mut k, cell] = self.buf.slot[j as usize];
         if k == EMPTY {
             // Cells matter only for replicate spreads.
-            let c = if self.single_w2 { EMPTY } else { self.cell_slot(j) };
+            let c = if self.single_w2 { EMPTY } else { self.cell_slot(cell) };
             let b = &mut self.buf;
             k = b.acc.len() as u32;
-            b.slot[j as usize] = k;
+            b.slot[j as usize][0] = k;
             b.acc.push(Acc::default());
             b.recv.push((j, c));
         }
@@ -122,10 +122,10 @@ impl Tally<'_> {
         a.w2 += w * w;
     }
 
-    /// Slot of receiver `j`'s output cell, created on first use.
-    fn cell_slot(&mut self, j: u32) -> u32 {
+    /// Slot of output cell `c`, created on first use.
+    fn cell_slot(&mut self, c: u32) -> u32 {
         let b = &mut self.buf;
-        let c = self.pool.cell_of[j as usize] as usize;
+        let c = c as usize;
         if b.cell_slot[c] == EMPTY {
             b.cell_slot[c] = b.cells.len() as u32;
             b.cells.push(Acc::default());
@@ -190,7 +190,7 @@ impl Tally<'_> {
         out.shared_samples = if self.single_w2 { n } else { 0 };
         // Clear what this row touched and hand the buffers back.
         for &(j, _) in recv.iter() {
-            slot[j as usize] = EMPTY;
+            slot[j as usize][0] = EMPTY;
         }
         for &c in cell_ids.iter() {
             cell_slot[c as usize] = EMPTY;
