@@ -3,6 +3,10 @@
 //! interior boxes of 4×4 quads per face, 98,700 triangles).
 //!
 //! `cargo run --release --example rays [rays_per_patch] [all]` — numbers go to validation/rays.md.
+//! Other modes (second argument): `interleave [rounds]` (one thread, the core variants
+//! round-robin, best CPU time of each: ratios robust to a changing load) and
+//! `profile-{sobol,random,uniform-sobol,uniform-random}` (one engine run for perf, with its
+//! CPU time and a digest of the output bits).
 //! Variants: obvhs build presets, CWBVH vs BVH2, ray order (patch order, shuffled, sorted by
 //! direction octant within a patch), our watertight visibility layer, the full engine.
 #[path = "../tests/common/mod.rs"]
