@@ -3,6 +3,10 @@
 //! interior boxes of 4×4 quads per face, 98,700 triangles).
 //!
 //! `cargo run --release --example rays [rays_per_patch] [all]` — numbers go to validation/rays.md.
+//! Other modes (second argument): `interleave [rounds]` (one thread, the core variants
+//! round-robin, best CPU time of each: ratios robust to a changing load) and
+//! `profile-{sobol,random,uniform-sobol,uniform-random}` (one engine run for perf, with its
+//! CPU time and a digest of the output bits).
 //! Variants: obvhs build presets, CWBVH vs BVH2, ray order (patch order, shuffled, sorted by
 //! direction octant within a patch), our watertight visibility layer, the full engine.
 #[path = "../tests/common/mod.rs"]
@@ -98,8 +102,33 @@ fn main() {
     // `all` adds the tuning sweep: build presets, ray orders, BVH2.
     let sweep = std::env::args().nth(2).is_some_and(|a| a == "all");
     let scene = bench_scene();
+    // `profile-sobol` / `profile-random`: one engine run on one thread, for perf.
+    if let Some(mode) = std::env::args().nth(2).and_then(|a| a.strip_prefix("profile-").map(str::to_owned)) {
+        let sampler = if mode.contains("random") { Sampler::Random } else { Sampler::Sobol };
+        let method = if mode.contains("uniform") { Method::McUniform } else { Method::McCosine };
+        let params = Params { method, samples: per_patch, seed: 1, ..Params::default() };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let c = cpu_seconds();
+        let vf =
+            pool.install(|| compute_with(&scene, &params, Level::Surface, McOptions { sampler }).unwrap());
+        let cpu = cpu_seconds() - c;
+        let rays = (scene.patches.len() * per_patch) as f64;
+        // FNV-1a over every reported factor and standard error: equal bits, equal output.
+        let bits =
+            vf.rows.iter().flatten().flat_map(|e| [e.to as u64, e.factor.to_bits(), e.std_error.to_bits()]);
+        let digest = bits.fold(0xcbf2_9ce4_8422_2325u64, |h, x| (h ^ x).wrapping_mul(0x100_0000_01b3));
+        println!("{mode}: {cpu:.3} CPU-s, {:.2} Mrays per CPU-s, digest {digest:016x}", rays / cpu / 1e6);
+        return;
+    }
     let rays = cosine_rays(&scene, per_patch);
     let b = bare(&scene);
+    // `interleave [rounds]`: the core variants on one thread, round-robin so that a changing
+    // machine load hits them alike; best CPU time of each.
+    if std::env::args().nth(2).is_some_and(|a| a == "interleave") {
+        let rounds = std::env::args().nth(3).and_then(|s| s.parse().ok()).unwrap_or(3);
+        interleave(&scene, &b, &rays, per_patch, rounds);
+        return;
+    }
     println!("scene: {} patches, {} triangles, {} rays", scene.patches.len(), b.tris.len(), rays.len());
     println!(
         "load average at start: {}",
@@ -207,4 +236,67 @@ fn main() {
             (vf.patch_row_sums.iter().sum::<f64>() * per_patch as f64).round() as u64
         });
     }
+}
+
+/// Round-robin one-thread runs of the bare loop, `Visibility::first_hit` and the engine (both
+/// samplers); prints the best Mrays per CPU-second of each and its ratio to the bare loop.
+fn interleave(
+    scene: &Scene,
+    b: &Bare,
+    rays: &[(u32, glam::DVec3, glam::DVec3)],
+    per_patch: usize,
+    rounds: usize,
+) {
+    let bvh =
+        obvhs::cwbvh::builder::build_cwbvh(&b.boxes, BvhBuildParams::medium_build(), &mut Default::default());
+    let tris: Vec<RtTriangle> = bvh.primitive_indices.iter().map(|&i| b.tris[i as usize]).collect();
+    let owner: Vec<u32> = bvh.primitive_indices.iter().map(|&i| b.owner[i as usize]).collect();
+    let f32_rays: Vec<(u32, Vec3A, Vec3A)> =
+        rays.iter().map(|&(p, o, d)| (p, o.as_vec3a(), d.as_vec3a())).collect();
+    let vis = Visibility::new(scene);
+    let engine = |sampler| {
+        let params = Params { method: Method::McCosine, samples: per_patch, seed: 1, ..Params::default() };
+        let vf = compute_with(scene, &params, Level::Surface, McOptions { sampler }).unwrap();
+        (vf.patch_row_sums.iter().sum::<f64>() * per_patch as f64).round() as u64
+    };
+    let variants: [(&str, &(dyn Fn() -> u64 + Sync)); 4] = [
+        ("bare obvhs CWBVH medium, patch order", &|| {
+            f32_rays
+                .iter()
+                .filter(|(p, o, d)| {
+                    let mut hit = RayHit::none();
+                    bvh.ray_traverse(Ray::new_inf(*o, *d), &mut hit, |r, id| {
+                        if owner[id] == *p {
+                            f32::INFINITY
+                        } else {
+                            tris[id].intersect(r)
+                        }
+                    })
+                })
+                .count() as u64
+        }),
+        ("lambert Visibility::first_hit", &|| {
+            rays.iter()
+                .filter(|(p, o, d)| vis.first_hit(*o, *d, f64::INFINITY, Some(*p as usize)).is_some())
+                .count() as u64
+        }),
+        ("engine mc-cosine, random, incl. BVH build", &|| engine(Sampler::Random)),
+        ("engine mc-cosine, Sobol, incl. BVH build", &|| engine(Sampler::Sobol)),
+    ];
+    let mut best = [f64::INFINITY; 4];
+    for _ in 0..rounds {
+        for (k, (_, f)) in variants.iter().enumerate() {
+            best[k] = best[k].min(timed(1, f).1);
+        }
+    }
+    println!("| variant | Mrays per CPU-s (1 thread, best of {rounds}) | vs bare |");
+    println!("|---|---|---|");
+    for (k, (label, _)) in variants.iter().enumerate() {
+        println!(
+            "| {label} | {:.2} | {:.0} % |",
+            rays.len() as f64 / best[k] / 1e6,
+            100.0 * best[0] / best[k]
+        );
+    }
+    println!("load average at end: {}", std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim());
 }

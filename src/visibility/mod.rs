@@ -107,8 +107,9 @@ impl Boundable for PaddedBox {
 #[derive(Debug, Clone)]
 pub struct Visibility {
     pub(crate) bvh: CwBvh,
-    /// Triangles in BVH leaf order, normalised frame.
-    pub(crate) tris: Vec<[Vec3A; 3]>,
+    /// Triangles in BVH leaf order, normalised frame, stored transposed (rows x, y, z of the
+    /// three vertices; `triangle::transpose`): the layout of the ray–triangle test.
+    pub(crate) tri_rows: Vec<[Vec3A; 3]>,
     /// Occluder id of each triangle (BVH order): patches are 0..n_patches.
     pub(crate) owner: Vec<u32>,
     /// Occluder id → owner.
@@ -173,8 +174,11 @@ impl Visibility {
             obvhs::cwbvh::builder::build_cwbvh(&boxes, params, &mut Duration::default())
         };
         // Reorder triangles into leaf order so the callback index is direct.
-        let (tris, owner): (Vec<_>, Vec<_>) =
-            bvh.primitive_indices.iter().map(|&k| (tris[k as usize], owner[k as usize])).unzip();
+        let (tri_rows, owner): (Vec<_>, Vec<_>) = bvh
+            .primitive_indices
+            .iter()
+            .map(|&k| (triangle::transpose(&tris[k as usize]), owner[k as usize]))
+            .unzip();
         let (patch_box, patch_plane) = scene
             .patches
             .iter()
@@ -185,10 +189,10 @@ impl Visibility {
                 (Aabb::new(b.min - pad, b.max + pad), (n, n.dot(to_f32(p.polygon.centroid()))))
             })
             .unzip();
-        let stats = BuildStats { triangles: tris.len(), nodes: bvh.nodes.len(), time: start.elapsed() };
+        let stats = BuildStats { triangles: tri_rows.len(), nodes: bvh.nodes.len(), time: start.elapsed() };
         Self {
             bvh,
-            tris,
+            tri_rows,
             owner,
             occluders: polys.into_iter().map(|(_, o)| o).collect(),
             patch_box,
@@ -212,6 +216,15 @@ impl Visibility {
     /// Number of occluder polygons (patches plus obstruction polygons).
     pub fn occluder_count(&self) -> usize {
         self.occluders.len()
+    }
+    /// Vertices of triangle slot `id` (normalised frame).
+    #[inline]
+    pub(crate) fn vertices(&self, id: usize) -> [Vec3A; 3] {
+        triangle::transpose(&self.tri_rows[id])
+    }
+    /// True when the BVH holds no triangle.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.tri_rows.is_empty()
     }
     /// World point → normalised frame (f64).
     pub(crate) fn to_frame(&self, x: DVec3) -> DVec3 {

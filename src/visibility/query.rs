@@ -16,7 +16,7 @@ impl Visibility {
     /// and every triangle behind or in that patch's plane (coplanar neighbours, the far face of
     /// a two-sided thin plate, the other faces of a convex solid).
     pub fn first_hit(&self, origin: DVec3, dir: DVec3, tmax: f64, skip_patch: Option<usize>) -> Option<Hit> {
-        if self.tris.is_empty() {
+        if self.is_empty() {
             return None;
         }
         let skip = skip_patch.map_or(NO_SKIP, |p| p as u32);
@@ -49,7 +49,7 @@ impl Visibility {
             if self.owner[id] == skip {
                 return f32::INFINITY;
             }
-            match sheared.intersect(&self.tris[id]) {
+            match sheared.intersect_rows(&self.tri_rows[id]) {
                 Some(h) if h.t > -far && h.t < r.tmax && !plane.is_some_and(|pl| self.behind(id, pl)) => {
                     // Sides by the origin's distance to the plane, rounding band counted as front.
                     let front_origin = self.side(id, o) > -near;
@@ -70,7 +70,7 @@ impl Visibility {
     /// Signed distance of `p` from triangle `id`'s plane, positive on its front side.
     #[inline]
     fn side(&self, id: usize, p: Vec3A) -> f32 {
-        let [a, b, c] = self.tris[id];
+        let [a, b, c] = self.vertices(id);
         (b - a).cross(c - a).normalize_or_zero().dot(p - a)
     }
 
@@ -79,13 +79,13 @@ impl Visibility {
     /// rounding of its origin says.
     #[inline]
     fn behind(&self, id: usize, (n, off): (Vec3A, f32)) -> bool {
-        self.tris[id].iter().all(|v| n.dot(*v) - off <= self.near)
+        self.vertices(id).iter().all(|v| n.dot(*v) - off <= self.near)
     }
 
     /// True when something other than patches `skip_i` and `skip_j` (and anything behind or in
     /// their planes) blocks the segment p–q; p and q are front-facing points of those patches.
     pub fn occluded(&self, p: DVec3, q: DVec3, skip_i: usize, skip_j: usize) -> bool {
-        if self.tris.is_empty() {
+        if self.is_empty() {
             return false;
         }
         let (pf, qf) = (self.to_frame(p), self.to_frame(q));
@@ -110,7 +110,7 @@ impl Visibility {
             if who == skip_i || who == skip_j {
                 return f32::INFINITY;
             }
-            match sheared.intersect(&self.tris[id]) {
+            match sheared.intersect_rows(&self.tri_rows[id]) {
                 // A blocker separates p from q, sides taken with the rounding band as front.
                 Some(h)
                     if h.t > -far
@@ -130,7 +130,7 @@ impl Visibility {
     /// front of one patch to the front of the other stays in that box and those half-spaces.
     pub fn candidates_between(&self, i: usize, j: usize, out: &mut Vec<u32>) {
         out.clear();
-        if self.tris.is_empty() {
+        if self.is_empty() {
             return;
         }
         let query = self.patch_box[i].union(&self.patch_box[j]);
@@ -143,7 +143,7 @@ impl Visibility {
         obvhs::traverse!(bvh, node, state, node.intersect_aabb(&query, state.oct_inv4), {
             let id = state.primitive_id as usize;
             let who = self.owner[id];
-            let tri = &self.tris[id];
+            let tri = &self.vertices(id);
             if who != skip_i
                 && who != skip_j
                 && tri_aabb(tri).intersect_aabb(&query)
@@ -165,7 +165,7 @@ impl Visibility {
             let sheared = ShearedRay::new(o, d);
             self.bvh.ray_traverse(Ray::new(o, d, -self.near, f32::INFINITY), &mut hit, |r, id| {
                 tests += 1;
-                match sheared.intersect(&self.tris[id]) {
+                match sheared.intersect_rows(&self.tri_rows[id]) {
                     Some(h) if h.t > 0.0 && h.t < r.tmax => h.t,
                     _ => f32::INFINITY,
                 }

@@ -5,17 +5,28 @@
 //! triangles gives the same function with opposite sign, bit for bit, so a ray through a
 //! shared edge or vertex hits at least one of them: no leaks through a watertight mesh.
 //! Exact zeros are re-evaluated in f64, as the paper prescribes.
-use glam::Vec3A;
+//!
+//! Triangles are stored transposed ([`transpose`]: rows x, y, z of the three vertices), so the
+//! shear of all three vertices and the three edge functions are a few SIMD operations; every
+//! lane performs the same IEEE operations as the per-vertex formulation, so the results (and
+//! the bit-for-bit agreement on shared edges) are the same.
+use glam::{Vec3A, Vec3Swizzles};
 
-/// One ray prepared for many triangle tests: origin and the shear as three SIMD columns, so
-/// that M·(v − o) = (v−o)[kx] − Sx·(v−o)[kz], (v−o)[ky] − Sy·(v−o)[kz], Sz·(v−o)[kz].
+/// Vertices (v0, v1, v2) ↔ coordinate rows (x, y, z of v0, v1, v2); its own inverse.
+#[inline(always)]
+pub fn transpose(m: &[Vec3A; 3]) -> [Vec3A; 3] {
+    let [a, b, c] = *m;
+    [Vec3A::new(a.x, b.x, c.x), Vec3A::new(a.y, b.y, c.y), Vec3A::new(a.z, b.z, c.z)]
+}
+
+/// One ray prepared for many triangle tests: origin, axis permutation (kx, ky, kz) and shear
+/// (Sx, Sy, Sz), so that M·(v − o) = ((v−o)[kx] − Sx·(v−o)[kz], (v−o)[ky] − Sy·(v−o)[kz],
+/// Sz·(v−o)[kz]).
 #[derive(Debug, Clone, Copy)]
 pub struct ShearedRay {
-    origin: Vec3A,
-    cols: [Vec3A; 3],
-    /// Axis permutation (kx, ky, kz) and shear (Sx, Sy) for the f64 re-evaluation.
+    origin: [Vec3A; 3],
     k: [usize; 3],
-    s: [f32; 2],
+    s: [Vec3A; 3],
 }
 
 /// An f32 edge function smaller than this fraction of its two products may have the wrong
@@ -55,64 +66,68 @@ impl ShearedRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let (sx, sy, sz) = (dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
-        let mut cols = [Vec3A::ZERO; 3];
-        cols[kx].x = 1.0;
-        cols[ky].y = 1.0;
-        cols[kz] = Vec3A::new(-sx, -sy, sz);
-        Self { origin, cols, k: [kx, ky, kz], s: [sx, sy] }
+        Self {
+            origin: [Vec3A::splat(origin.x), Vec3A::splat(origin.y), Vec3A::splat(origin.z)],
+            k: [kx, ky, kz],
+            s: [Vec3A::splat(sx), Vec3A::splat(sy), Vec3A::splat(sz)],
+        }
     }
 
-    /// Vertex in ray space: sheared x, y and scaled z.
-    #[inline(always)]
-    fn shear(&self, v: Vec3A) -> Vec3A {
-        let p = v - self.origin;
-        self.cols[0] * p.x + self.cols[1] * p.y + self.cols[2] * p.z
-    }
-
-    /// Sheared x, y of a vertex in f64.
+    /// Sheared x, y of vertex `i` in f64, from its f32 offsets `p` (rows x, y, z) to the origin.
     #[cold]
-    fn shear64(&self, v: Vec3A) -> (f64, f64) {
-        let p = v - self.origin;
+    fn shear64(&self, p: &[Vec3A; 3], i: usize) -> (f64, f64) {
         let [kx, ky, kz] = self.k;
-        let z = p[kz] as f64;
-        (p[kx] as f64 - self.s[0] as f64 * z, p[ky] as f64 - self.s[1] as f64 * z)
+        let z = p[kz][i] as f64;
+        (p[kx][i] as f64 - self.s[0].x as f64 * z, p[ky][i] as f64 - self.s[1].x as f64 * z)
     }
 
     /// Intersects triangle (v0, v1, v2); `None` when the ray's line misses it.
-    #[inline(always)]
+    #[inline]
     pub fn intersect(&self, v: &[Vec3A; 3]) -> Option<TriHit> {
-        let (a, b, c) = (self.shear(v[0]), self.shear(v[1]), self.shear(v[2]));
-        let (ax, ay, bx, by, cx, cy) = (a.x, a.y, b.x, b.y, c.x, c.y);
-        // Scaled barycentric edge functions.
-        let mut u = cx * by - cy * bx;
-        let mut w_ = ax * cy - ay * cx;
-        let mut w = bx * ay - by * ax;
-        let tiny = |e: f32, p: f32, q: f32| e.abs() <= EDGE_CANCEL * (p.abs() + q.abs());
-        let (tu, tv, tw) = (tiny(u, cx * by, cy * bx), tiny(w_, ax * cy, ay * cx), tiny(w, bx * ay, by * ax));
-        if tu || tv || tw {
+        self.intersect_rows(&transpose(v))
+    }
+
+    /// Intersects a triangle stored transposed (rows x, y, z of v0, v1, v2).
+    #[inline(always)]
+    pub fn intersect_rows(&self, m: &[Vec3A; 3]) -> Option<TriHit> {
+        let [kx, ky, kz] = self.k;
+        let p = [m[0] - self.origin[0], m[1] - self.origin[1], m[2] - self.origin[2]];
+        let pz = p[kz];
+        // Lanes are the vertices a, b, c: sheared x, y and scaled z.
+        let x = p[kx] - self.s[0] * pz;
+        let y = p[ky] - self.s[1] * pz;
+        let z = self.s[2] * pz;
+        // Scaled barycentric edge functions (u, w', w) = (cx·by − cy·bx, ax·cy − ay·cx,
+        // bx·ay − by·ax), and the products behind them.
+        let (p1, p2) = (x.zxy() * y.yzx(), y.zxy() * x.yzx());
+        let mut e = p1 - p2;
+        let tiny = e.abs().cmple(Vec3A::splat(EDGE_CANCEL) * (p1.abs() + p2.abs()));
+        if tiny.any() {
             // Re-evaluate those edges in f64 (edge or vertex hits, origins on an edge's line):
             // f32 inputs make the shear products exact, so collinear cases come out exactly 0.
             // Per edge, so two triangles sharing an edge still agree on it bit for bit.
-            let [(ax, ay), (bx, by), (cx, cy)] = [v[0], v[1], v[2]].map(|x| self.shear64(x));
-            if tu {
-                u = (cx * by - cy * bx) as f32;
+            let [(ax, ay), (bx, by), (cx, cy)] = [0, 1, 2].map(|i| self.shear64(&p, i));
+            let mask = tiny.bitmask();
+            if mask & 1 != 0 {
+                e.x = (cx * by - cy * bx) as f32;
             }
-            if tv {
-                w_ = (ax * cy - ay * cx) as f32;
+            if mask & 2 != 0 {
+                e.y = (ax * cy - ay * cx) as f32;
             }
-            if tw {
-                w = (bx * ay - by * ax) as f32;
+            if mask & 4 != 0 {
+                e.z = (bx * ay - by * ax) as f32;
             }
         }
-        if (u < 0.0 || w_ < 0.0 || w < 0.0) && (u > 0.0 || w_ > 0.0 || w > 0.0) {
+        if e.cmplt(Vec3A::ZERO).any() && e.cmpgt(Vec3A::ZERO).any() {
             return None;
         }
-        let det = u + w_ + w;
+        let det = e.x + e.y + e.z;
         if det == 0.0 {
             return None;
         }
         // Scaled hit distance, then divide once.
-        let t = (u * a.z + w_ * b.z + w * c.z) / det;
+        let ez = e * z;
+        let t = (ez.x + ez.y + ez.z) / det;
         // With this shear, counter-clockwise triangles seen from the origin give det > 0.
         Some(TriHit { t, front: det > 0.0 })
     }

@@ -15,7 +15,7 @@
 //! no blocker candidates in the BVH (`Visibility::candidates_between`) needs no ray.
 use super::super::engine::{Row, RowKernel};
 use super::super::MethodSet;
-use super::tally::{IdHasher, Tally};
+use super::tally::{IdHasher, TallyPool};
 use super::{replicate_len, stream_key, Common, Points};
 use crate::geometry::sampling::{sample_cosine_hemisphere, Frame, PolygonSampler};
 use crate::geometry::Polygon;
@@ -36,12 +36,13 @@ const FACING_TOL: f64 = 1e-9;
 pub(crate) struct AreaKernel<'a> {
     c: Common<'a>,
     samplers: Vec<PolygonSampler>,
+    pool: TallyPool<'a>,
 }
 
 impl<'a> AreaKernel<'a> {
     pub fn new(c: Common<'a>) -> Self {
         let samplers = c.scene.patches.iter().map(|p| PolygonSampler::new(&p.polygon)).collect();
-        Self { c, samplers }
+        Self { c, samplers, pool: TallyPool::new(c.cell_of) }
     }
 }
 
@@ -81,7 +82,7 @@ impl RowKernel for AreaKernel<'_> {
         let frame = Frame::from_normal(ni);
         let mut blocked: HashMap<usize, bool, BuildHasherDefault<IdHasher>> = HashMap::default();
         let mut scratch = Vec::new();
-        let mut tally = Tally::new(reps, c.cell_of);
+        let mut tally = self.pool.tally(reps);
         for r in 0..reps {
             let n = replicate_len(c.samples, reps, r);
             let mut points = Points::new(kind, stream_key(c.seed, 1, i, r));

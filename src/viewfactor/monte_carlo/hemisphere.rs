@@ -9,7 +9,7 @@
 //! ray that leaves the scene goes to the ambient (open scenes) or shows as a row-sum deficit.
 use super::super::engine::{Row, RowKernel};
 use super::super::MethodSet;
-use super::tally::Tally;
+use super::tally::TallyPool;
 use super::{replicate_len, stream_key, Common, Points};
 use crate::geometry::sampling::{sample_cosine_hemisphere, sample_uniform_hemisphere, Frame, PolygonSampler};
 use crate::Result;
@@ -28,11 +28,12 @@ pub enum Warp {
 pub(crate) struct HemisphereKernel<'a> {
     c: Common<'a>,
     warp: Warp,
+    pool: TallyPool<'a>,
 }
 
 impl<'a> HemisphereKernel<'a> {
     pub fn new(c: Common<'a>, warp: Warp) -> Self {
-        Self { c, warp }
+        Self { c, warp, pool: TallyPool::new(c.cell_of) }
     }
     fn method(&self) -> MethodSet {
         match self.warp {
@@ -61,12 +62,12 @@ impl RowKernel for HemisphereKernel<'_> {
         };
         let skip = i as u32;
         let inf = f32::INFINITY;
-        let mut tally = Tally::new(reps, c.cell_of);
+        let mut tally = self.pool.tally(reps);
         for r in 0..reps {
             let n = replicate_len(c.samples, reps, r);
             let mut points = Points::new(kind, stream_key(c.seed, salt, i, r));
             for _ in 0..n {
-                let u = points.next();
+                let u = points.next4();
                 let x = sampler.sample(DVec2::new(u[0], u[1]));
                 let uv = DVec2::new(u[2], u[3]);
                 let local = match self.warp {

@@ -145,7 +145,72 @@ pub(crate) enum Points {
         key: u64,
         /// Next index.
         index: u32,
+        /// The current block's seed and its hashes.
+        block: SobolBlock,
     },
+}
+
+/// One sobol_burley seed with the hashes `sample_4d` derives from it, computed once per block
+/// instead of once per point (the points are bit-identical to `sobol_burley::sample_4d`).
+#[derive(Clone, Copy)]
+pub(crate) struct SobolBlock {
+    table: &'static SobolTable,
+    seed: u32,
+    index_scramble: u32,
+    dim_scramble: sobol_burley::parts::Int4,
+}
+
+impl SobolBlock {
+    /// The hashes of `seed` for dimension set 0, as in sobol_burley 0.5's `sample_4d`.
+    fn new(key: u64, block: u32) -> Self {
+        use sobol_burley::parts::{hash, hash_int4, Int4};
+        let seed = mix64(key ^ block as u64) as u32;
+        let s: Int4 = [seed.wrapping_mul(0x9c8f_2d3b); 4].into();
+        let dims: Int4 = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8].into();
+        Self {
+            table: SobolTable::get(),
+            seed,
+            index_scramble: hash(seed ^ 0x79c6_8e4a),
+            dim_scramble: hash_int4(s ^ dims),
+        }
+    }
+
+    /// Point `k` (< 2¹⁶) of dimensions 0–3.
+    #[inline]
+    fn sample_4d(&self, k: u32) -> [f32; 4] {
+        use sobol_burley::parts::{owen_scramble_int4_rev, owen_scramble_rev};
+        let shuffled = owen_scramble_rev(k.reverse_bits(), self.index_scramble);
+        owen_scramble_int4_rev(self.table.sobol_rev(shuffled), self.dim_scramble).reverse_bits().to_f32_norm()
+    }
+}
+
+/// Sobol dimensions 0–3 (reversed bits) by index byte: entry b of byte table h is the XOR of
+/// the direction vectors of the set bits of b, so a 16-bit index costs two look-ups instead
+/// of a loop over its bits (`sobol_burley::parts::sobol_int4_rev`, same XORs, same result).
+pub(crate) struct SobolTable([[sobol_burley::parts::Int4; 256]; 2]);
+
+impl SobolTable {
+    /// The shared table, built on first use from the library's own direction vectors.
+    fn get() -> &'static Self {
+        use sobol_burley::parts::{sobol_int4_rev, Int4};
+        static TABLE: std::sync::OnceLock<SobolTable> = std::sync::OnceLock::new();
+        TABLE.get_or_init(|| {
+            // A reversed index with the single bit b (from the top) selects direction vector b.
+            let dir: [Int4; 16] = std::array::from_fn(|b| sobol_int4_rev(0x8000_0000 >> b, 0));
+            let zero: Int4 = [0; 4].into();
+            SobolTable(std::array::from_fn(|h| {
+                std::array::from_fn(|byte| {
+                    (0..8).filter(|i| byte & (0x80 >> i) != 0).fold(zero, |acc, i| acc ^ dir[8 * h + i])
+                })
+            }))
+        })
+    }
+
+    /// `sobol_int4_rev(index_rev, 0)`: only the top 16 bits of the reversed index count.
+    #[inline]
+    fn sobol_rev(&self, index_rev: u32) -> sobol_burley::parts::Int4 {
+        self.0[0][(index_rev >> 24) as usize] ^ self.0[1][((index_rev >> 16) & 0xff) as usize]
+    }
 }
 
 impl Points {
@@ -153,21 +218,47 @@ impl Points {
     pub fn new(sampler: Sampler, key: u64) -> Self {
         match sampler {
             Sampler::Random => Points::Random(Pcg64Mcg::new(((key as u128) << 64) | mix64(!key) as u128 | 1)),
-            Sampler::Sobol => Points::Sobol { key, index: 0 },
+            Sampler::Sobol => Points::Sobol { key, index: 0, block: SobolBlock::new(key, 0) },
         }
     }
+
+    /// Advances a Sobol stream: (index within the block, the block).
+    #[inline]
+    fn step(key: u64, index: &mut u32, block: &mut SobolBlock) -> u32 {
+        let k = *index & ((1 << SOBOL_BLOCK_BITS) - 1);
+        if k == 0 && *index != 0 {
+            *block = SobolBlock::new(key, *index >> SOBOL_BLOCK_BITS);
+        }
+        *index += 1;
+        k
+    }
+
+    /// The first four coordinates of [`Points::next`], for estimators that select no receiver
+    /// (the Sobol stream skips its fifth dimension; the random stream still draws it, so both
+    /// streams match `next` point for point).
+    #[inline]
+    pub fn next4(&mut self) -> [f64; 4] {
+        match self {
+            Points::Random(_) => {
+                let [a, b, c, d, _] = self.next();
+                [a, b, c, d]
+            }
+            Points::Sobol { key, index, block } => {
+                let k = Self::step(*key, index, block);
+                block.sample_4d(k).map(|x| x as f64 + SOBOL_HALF_CELL)
+            }
+        }
+    }
+
     /// Next point: coordinates 0–1 and 2–3 drive the two 2-D warps, 4 selects a receiver.
     #[inline]
     pub fn next(&mut self) -> [f64; 5] {
         match self {
             Points::Random(rng) => std::array::from_fn(|_| rng.random::<f64>()),
-            Points::Sobol { key, index } => {
-                let block = *index >> SOBOL_BLOCK_BITS;
-                let seed = mix64(*key ^ block as u64) as u32;
-                let k = *index & ((1 << SOBOL_BLOCK_BITS) - 1);
-                *index += 1;
-                let [a, b, c, d] = sobol_burley::sample_4d(k, 0, seed);
-                let e = sobol_burley::sample(k, 4, seed);
+            Points::Sobol { key, index, block } => {
+                let k = Self::step(*key, index, block);
+                let [a, b, c, d] = block.sample_4d(k);
+                let e = sobol_burley::sample(k, 4, block.seed);
                 // Centre each 2⁻²⁴ cell: never exactly 0, so no warp lands on its boundary.
                 [a, b, c, d, e].map(|x| x as f64 + SOBOL_HALF_CELL)
             }
@@ -189,6 +280,29 @@ mod tests {
             assert_eq!(pa, pb);
             assert_ne!(pa, pc);
             assert!(pa.iter().all(|&x| x > 0.0 && x < 1.0));
+        }
+    }
+
+    #[test]
+    fn sobol_blocks_reproduce_the_library_points() {
+        // Every index of one block, a few of others.
+        for (block, step) in [(0u32, 1), (1, 97), (7, 1013)] {
+            let b = SobolBlock::new(42, block);
+            let seed = mix64(42 ^ block as u64) as u32;
+            for k in (0..1u32 << SOBOL_BLOCK_BITS).step_by(step) {
+                assert_eq!(b.sample_4d(k), sobol_burley::sample_4d(k, 0, seed), "block {block}, k {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn next4_is_the_first_four_coordinates_of_next() {
+        for sampler in [Sampler::Random, Sampler::Sobol] {
+            let (mut a, mut b) = (Points::new(sampler, 9), Points::new(sampler, 9));
+            for _ in 0..100 {
+                let (p, q) = (a.next(), b.next4());
+                assert_eq!(p[..4], q);
+            }
         }
     }
 
