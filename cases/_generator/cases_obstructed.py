@@ -37,9 +37,6 @@ def o2():
     c.rect("plate_down", (0.25, 0.25, 0.5), (0, 0.5, 0), (0.5, 0, 0), subdivide=(2, 2))
     c.rect("plate_up", (0.25, 0.25, 0.5), (0.5, 0, 0), (0, 0.5, 0), subdivide=(2, 2))
     u = 2 * err + 1e-15
-    why = ("closest-hit ties between the coincident plate_down front and plate_up back faces: about 2/3 of the "
-           "rays from `bottom` that reach the plate are credited to plate_up's back side (F 0.040 instead of 0.129)")
-    c.known = {"mc-uniform": why, "mc-cosine": why}
     c.vf("bottom", "top", s, f"{SHADOW}; converged to {err:.0e}", uncertainty=u, blocker=plate(blk))
     sp = closed.parallel_general((0, 1, 0, 1), (0.25, 0.75, 0.25, 0.75), 0.5)
     c.vf("bottom", "plate_down", float(sp), "C-13 corner sum " + CF)

@@ -53,13 +53,24 @@ impl Visibility {
                 Some(h) if h.t > -far && h.t < r.tmax && !plane.is_some_and(|pl| self.behind(id, pl)) => {
                     // Sides by the origin's distance to the plane, rounding band counted as front.
                     let front_origin = self.side(id, o) > -near;
-                    if h.front == front_origin {
-                        let t = h.t.max(0.0);
-                        best = Some((id, TriHit { t, front: h.front }));
-                        t
-                    } else {
-                        f32::INFINITY
+                    if h.front != front_origin {
+                        return f32::INFINITY;
                     }
+                    let t = h.t.max(0.0);
+                    // Coincident faces (a two-sided plate as two opposite surfaces) cross within
+                    // the rounding band: the face turned towards the ray takes the hit.
+                    let wins = best.is_none_or(|(_, b)| {
+                        if (t - b.t).abs() <= near && h.front != b.front {
+                            h.front
+                        } else {
+                            t < b.t
+                        }
+                    });
+                    if wins {
+                        best = Some((id, TriHit { t, front: h.front }));
+                    }
+                    // Keep the band beyond the best hit open for such a tie.
+                    best.map_or(f32::INFINITY, |(_, b)| b.t + near)
                 }
                 _ => f32::INFINITY,
             }
