@@ -411,3 +411,23 @@ fn cli_reports_closure_and_warns_about_leaks() {
         err.lines().find(|l| l.contains("leaks")).unwrap_or_else(|| panic!("no leak warning: {err}"));
     assert!(warning.contains("north"), "the north wall borders the gap: {warning}");
 }
+
+#[test]
+fn auto_on_a_closed_obstructed_room_does_not_cry_leak() {
+    // Sampled pairs carry `auto`'s 1e-4 goal, not the exact method's 1e-6 leak threshold:
+    // a watertight room with a block must not be reported as leaking, at either level.
+    let room = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/o3_obstructed_room/scene.toml");
+    for extra in [None, Some("--patches")] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_lambert"))
+            .arg("viewfactors")
+            .arg(&room)
+            .args(["-o", "-"])
+            .args(extra)
+            .output()
+            .expect("run lambert");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{err}");
+        assert!(err.contains("method auto") && err.contains("max |row sum - 1| = "), "{err}");
+        assert!(!err.contains("leaks"), "{extra:?}: {err}");
+    }
+}

@@ -36,11 +36,11 @@ const COPLANAR_TOL: f64 = 1e-12;
 /// close to 5e-8; 1e-6 leaves a 20× margin.
 pub const LEAK_TOL: f64 = 1e-6;
 
-/// Output rows of `vf` (made by this method) whose sum falls short of 1 by more than
-/// [`LEAK_TOL`], worst first, with their sums. Meaningful for closed scenes only.
-pub fn leaks(vf: &ViewFactors) -> Vec<(usize, f64)> {
+/// Output rows of `vf` whose sum falls short of 1 by more than `tol` ([`LEAK_TOL`] for this
+/// method's own rows), worst first, with their sums. Meaningful for closed scenes only.
+pub fn leaks(vf: &ViewFactors, tol: f64) -> Vec<(usize, f64)> {
     let mut out: Vec<(usize, f64)> =
-        vf.row_sums().into_iter().enumerate().filter(|&(_, s)| 1.0 - s > LEAK_TOL).collect();
+        vf.row_sums().into_iter().enumerate().filter(|&(_, s)| 1.0 - s > tol).collect();
     out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
     out
 }
