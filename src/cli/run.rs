@@ -93,15 +93,17 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
     // The exact method's error is far below the general threshold: check against its own.
     // `auto` is exact only where every entry came from the ladder, to LADDER_SHARE × its goal;
     // its sampled and shadow-integrated entries are covered by the general check alone.
-    let exact = |vf: &ViewFactors| vf.rows.iter().flatten().all(|e| e.method == MethodSet::ANALYTIC);
     if leaks.is_empty() {
-        use viewfactor::analytic::kernel::{leaks as below_one, LEAK_TOL};
-        match method {
-            Method::Analytic => leaks = below_one(vf, LEAK_TOL),
-            Method::Auto if exact(vf) => {
-                leaks = below_one(vf, LEAK_TOL.max(viewfactor::auto::LADDER_SHARE * tolerance))
+        use viewfactor::analytic::kernel::LEAK_TOL;
+        let own = match method {
+            Method::Analytic => Some(LEAK_TOL),
+            Method::Auto if vf.rows.iter().flatten().all(|e| e.method == MethodSet::ANALYTIC) => {
+                Some(LEAK_TOL.max(viewfactor::auto::LADDER_SHARE * tolerance))
             }
-            _ => {}
+            _ => None,
+        };
+        if let Some(tol) = own {
+            leaks = viewfactor::analytic::kernel::leaks(vf, tol);
         }
     }
     if !leaks.is_empty() {
