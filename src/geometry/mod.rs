@@ -24,3 +24,24 @@ pub const PLANARITY_TOL: f64 = 1e-6;
 /// Relative collinearity tolerance: a polygon whose area is below this fraction of its
 /// diameter squared is degenerate (zero area or collinear vertices).
 pub const DEGENERACY_TOL: f64 = 1e-12;
+
+/// Shapes shared by the unit tests.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use glam::DVec3;
+
+    /// The square [x0, x0 + s] × [y0, y0 + s] at height z, counter-clockwise seen from +z
+    /// (normal +z) when `up`, reversed (normal −z) otherwise.
+    pub(crate) fn square(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Vec<DVec3> {
+        let mut v = vec![
+            DVec3::new(x0, y0, z),
+            DVec3::new(x0 + s, y0, z),
+            DVec3::new(x0 + s, y0 + s, z),
+            DVec3::new(x0, y0 + s, z),
+        ];
+        if !up {
+            v.reverse();
+        }
+        v
+    }
+}

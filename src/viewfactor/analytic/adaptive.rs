@@ -441,18 +441,7 @@ mod tests {
     /// C-11, unit squares at gap 1 (literature V1).
     const PARALLEL_UNIT: f64 = 0.199_824_895_698;
 
-    fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Vec<DVec3> {
-        let mut v = vec![
-            DVec3::new(x0, y0, z),
-            DVec3::new(x0 + s, y0, z),
-            DVec3::new(x0 + s, y0 + s, z),
-            DVec3::new(x0, y0 + s, z),
-        ];
-        if !up {
-            v.reverse();
-        }
-        v
-    }
+    use crate::geometry::fixtures::square as sq;
 
     fn shaded(blocker: &[DVec3], tol: f64, min_depth: u32) -> AdaptInfo {
         let e = sq(0.0, 0.0, 0.0, 1.0, true);

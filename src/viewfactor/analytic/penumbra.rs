@@ -416,18 +416,7 @@ pub fn plane_of(ring: &[DVec3]) -> Option<Plane> {
 mod tests {
     use super::*;
 
-    fn square(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Vec<DVec3> {
-        let mut v = vec![
-            DVec3::new(x0, y0, z),
-            DVec3::new(x0 + s, y0, z),
-            DVec3::new(x0 + s, y0 + s, z),
-            DVec3::new(x0, y0 + s, z),
-        ];
-        if !up {
-            v.reverse();
-        }
-        v
-    }
+    use crate::geometry::fixtures::square;
 
     #[test]
     fn centred_blocker_is_partial_small_receiver_behind_it_is_full() {

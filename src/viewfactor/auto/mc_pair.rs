@@ -186,16 +186,7 @@ mod tests {
     use super::*;
 
     fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
-        let mut v = vec![
-            DVec3::new(x0, y0, z),
-            DVec3::new(x0 + s, y0, z),
-            DVec3::new(x0 + s, y0 + s, z),
-            DVec3::new(x0, y0 + s, z),
-        ];
-        if !up {
-            v.reverse();
-        }
-        Polygon::new(v).unwrap()
+        Polygon::new(crate::geometry::fixtures::square(z, x0, y0, s, up)).unwrap()
     }
 
     #[test]
