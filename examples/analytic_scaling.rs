@@ -66,6 +66,8 @@ fn main() {
     } else {
         let kernel = AnalyticKernel::new(&scene, GAUSS_REL_TOL);
         let prep = t1.elapsed().as_secs_f64();
+        let (unique, served) = kernel.reuse().stats();
+        println!("  set-up {prep:.2} s; translated-pair tables: {unique} entries serve {served} pairs");
         let t2 = Instant::now();
         let sampled: u64 = (0..n)
             .step_by(stride)

@@ -16,6 +16,7 @@
 //!    meeting the tolerance for `auto`).
 use super::contour::polygon_polygon;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
+use super::lattice::{Reuse, RowLookup};
 use super::obstructed::{Policy, ShadowScratch, Shadows, EXACT_REL_TOL};
 use super::obstruction::Status;
 use super::occlusion::Occlusion;
@@ -75,6 +76,8 @@ pub struct AnalyticKernel<'s> {
     occlusion: OnceLock<Occlusion>,
     /// Blockers and the policy for partly blocked pairs; `None` when nothing can block.
     shadows: Option<Shadows<'s>>,
+    /// Unobstructed values shared by translated pairs of gridded surfaces.
+    reuse: Reuse,
 }
 
 thread_local! {
@@ -93,6 +96,18 @@ impl<'s> AnalyticKernel<'s> {
 
     /// As [`Self::new`], with the given policy for partly blocked pairs.
     pub fn with_policy(scene: &'s Scene, rel_tol: f64, policy: Policy) -> Self {
+        let mut kernel = Self::direct(scene, rel_tol, policy);
+        kernel.reuse = Reuse::new(
+            scene,
+            |i, j| kernel.info[i].plane == kernel.info[j].plane,
+            |scratch: &mut Scratch, i, j| kernel.pair(i, j, scratch),
+        );
+        kernel
+    }
+
+    /// As [`Self::with_policy`], evaluating every pair itself (no translated-pair tables): the
+    /// reference for the tables' tests and benchmarks.
+    pub fn direct(scene: &'s Scene, rel_tol: f64, policy: Policy) -> Self {
         let polys = scene.patches.iter().map(|p| &p.polygon);
         let scale = polys.clone().map(|p| p.bounding_radius()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
         let extent = scene
@@ -126,7 +141,13 @@ impl<'s> AnalyticKernel<'s> {
             model: ErrorModel::new(rel_tol),
             occlusion: OnceLock::new(),
             shadows: Shadows::new(scene, policy),
+            reuse: Reuse::default(),
         }
+    }
+
+    /// The table of translated pairs (for diagnostics).
+    pub fn reuse(&self) -> &Reuse {
+        &self.reuse
     }
 
     /// The blocker detector (for diagnostics and tests), built on first use.
@@ -186,7 +207,17 @@ impl<'s> AnalyticKernel<'s> {
         Rung::Exact
     }
 
-    /// Unobstructed A_i F_ij for one pair (j ≠ i).
+    /// Unobstructed A_i F_ij for one pair (j ≠ i), from the translated-pair tables when
+    /// they hold it.
+    #[inline]
+    fn unobstructed(&self, i: usize, j: usize, reuse: &mut RowLookup, scratch: &mut Scratch) -> f64 {
+        match reuse.get(j) {
+            Some(s) => s,
+            None => self.pair(i, j, scratch),
+        }
+    }
+
+    /// Unobstructed A_i F_ij for one pair (j ≠ i), evaluated.
     fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> f64 {
         match self.rung(i, j) {
             Rung::Zero => 0.0,
@@ -229,10 +260,11 @@ impl RowKernel for AnalyticKernel<'_> {
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let n = self.info.len();
         let mut scratch = Scratch::default();
+        let mut reuse = self.reuse.row(i);
         out.entries.reserve(n - i - 1);
         let Some(shadows) = &self.shadows else {
             for j in i + 1..n {
-                let s = self.pair(i, j, &mut scratch);
+                let s = self.unobstructed(i, j, &mut reuse, &mut scratch);
                 if s > 0.0 {
                     out.entries.push(RawEntry { j: j as u32, method: MethodSet::ANALYTIC, s, var: 0.0 });
                 }
@@ -248,11 +280,11 @@ impl RowKernel for AnalyticKernel<'_> {
                     Status::Clear => RawEntry {
                         j: j as u32,
                         method: MethodSet::ANALYTIC,
-                        s: self.pair(i, j, &mut scratch),
+                        s: self.unobstructed(i, j, &mut reuse, &mut scratch),
                         var: 0.0,
                     },
                     Status::Partial(partial) => {
-                        let u = self.pair(i, j, &mut scratch);
+                        let u = self.unobstructed(i, j, &mut reuse, &mut scratch);
                         if !(u > 0.0) {
                             continue;
                         }

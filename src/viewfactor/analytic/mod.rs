@@ -24,6 +24,7 @@
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`occlusion`]: detection of pairs whose view is partly blocked;
 //! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes);
+//! - [`lattice`]: one evaluation per offset for translated pairs of gridded surfaces;
 //! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
 pub mod adaptive;
 pub mod angle;
@@ -35,6 +36,7 @@ pub mod gauss;
 pub mod kernel;
 pub mod ladder;
 pub mod lambert;
+pub mod lattice;
 pub mod obstructed;
 pub mod obstruction;
 pub mod occlusion;
