@@ -172,10 +172,6 @@ impl<'a> Sink<'a> {
             row_s += e.s;
             if self.symmetric {
                 self.patch_s[j] += e.s;
-                let a = self.store.cell(oj, oi);
-                a.s += e.s;
-                a.var += e.var;
-                a.method = a.method.union(e.method);
             }
             let t = &mut self.fold[oj as usize];
             if !t.hit {
@@ -191,6 +187,13 @@ impl<'a> Sink<'a> {
         let n = row.shared_samples as f64;
         for oj in self.touched.drain(..) {
             let t = std::mem::take(&mut self.fold[oj as usize]);
+            if self.symmetric {
+                // Reciprocity s_ji = s_ij: the row's entries in column J, mirrored into row J.
+                let a = self.store.cell(oj, oi);
+                a.s += t.s;
+                a.var += t.var;
+                a.method = a.method.union(t.method);
+            }
             // Multinomial union: Var(Σ s_j) = Σ var_j + (Σ s_j² − (Σ s_j)²)/n.
             let var = if n > 0.0 { (t.var + (t.s2 - t.s * t.s) / n).max(0.0) } else { t.var };
             let a = self.store.cell(oi, oj);
