@@ -14,6 +14,9 @@
 //! 6. partly blocked → the unobstructed value of 4–5 minus the shadowed part, under the
 //!    kernel's [`Policy`] (exact shadow integration for `analytic`, the cheapest estimator
 //!    meeting the tolerance for `auto`).
+//!
+//! The unobstructed value of 1–5 between two gridded surfaces whose grid steps match comes
+//! from a table built once per lattice offset ([`super::lattice`]), not from the ladder.
 use super::contour::polygon_polygon;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
