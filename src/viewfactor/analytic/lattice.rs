@@ -8,17 +8,19 @@
 //! than there are pairs: the exchange area of each offset is computed once, from a fixed
 //! representative pair, and looked up for every other pair with that offset.
 //!
-//! Detection is exact up to [`LATTICE_TOL`]: congruent pairs differ by round-off only, so a
-//! looked-up value differs from a direct evaluation by round-off, and it is the same on any
-//! thread count (the representative is fixed by the offset alone).
+//! Detection holds to [`LATTICE_TOL`] of the grid step (grids computed in f64 are exact to
+//! ~1e-15), so a looked-up value differs from a direct evaluation by the effect of that shift:
+//! round-off, except for a pair sitting on a ladder rung threshold, where congruent pairs may
+//! take different rungs, both within the ladder's error bound. Values are the same on any thread
+//! count: the representative is fixed by the offset alone.
 use crate::geometry::Polygon;
 use crate::scene::Scene;
 use glam::DVec3;
 use rayon::prelude::*;
 
 /// Relative tolerance (of the grid step) for "translate of the template" and "on the grid":
-/// f64 grids built as o + x·u are exact to ~1e-15 of the step, while f32 CAD grids (1e-7)
-/// are rejected, so a looked-up value differs from the direct one by round-off only.
+/// f64 grids built as o + x·u are exact to ~1e-15 of the step; f32 CAD grids (1e-7) are
+/// rejected and evaluated pair by pair.
 pub const LATTICE_TOL: f64 = 1e-10;
 /// A table is built only when it holds at most this fraction of the pairs it serves.
 const MIN_GAIN: usize = 2;
@@ -73,6 +75,16 @@ impl Reuse {
         same_plane: impl Fn(usize, usize) -> bool,
         pair: impl Fn(&mut W, usize, usize) -> f64 + Sync,
     ) -> Self {
+        Self::with_budget(scene, MAX_ENTRIES, same_plane, pair)
+    }
+
+    /// As [`Self::new`], with at most `budget` table entries.
+    fn with_budget<W: Default + Send>(
+        scene: &Scene,
+        budget: usize,
+        same_plane: impl Fn(usize, usize) -> bool,
+        pair: impl Fn(&mut W, usize, usize) -> f64 + Sync,
+    ) -> Self {
         let mut at = vec![(NONE, 0, 0); scene.patches.len()];
         let mut lattices: Vec<(usize, Lattice)> = Vec::new();
         for surface in &scene.surfaces {
@@ -107,7 +119,7 @@ impl Reuse {
             let (gx, gy) = (x.0 as u128 * y.3.size as u128, y.0 as u128 * x.3.size as u128);
             gy.cmp(&gx).then((x.1, x.2).cmp(&(y.1, y.2)))
         });
-        let mut budget = MAX_ENTRIES;
+        let mut budget = budget;
         let mut plans = Vec::new();
         for (_, s, t, plan) in candidates {
             if plan.size <= budget {
@@ -412,6 +424,59 @@ mod tests {
         assert!(!refs(&tri), "triangles");
         // Too few patches to be worth a table.
         assert!(!refs(&base[..3]));
+    }
+
+    /// The closed box [0,2]×[0,1]×[0,1.5] with faces split into 0.25 m squares (grid steps of
+    /// mixed signs and orders; 8, 4 and 6 patches along x, y and z).
+    fn gridded_box() -> Scene {
+        let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
+        let faces =
+            [(DVec3::ZERO, x, y), (z, y, x), (DVec3::ZERO, y, z), (x, z, y), (DVec3::ZERO, z, x), (y, x, z)];
+        let mut s = Scene::builder();
+        for (k, (o, u, v)) in faces.into_iter().enumerate() {
+            let (nu, nv) = ((u.length() * 4.0) as usize, (v.length() * 4.0) as usize);
+            s = s.surface(&format!("f{k}"), parallelogram_grid(o, u, v, nu, nv).unwrap(), 1.0, None);
+        }
+        s.build()
+    }
+
+    /// Every served pair gets the value of a pair between the same two surfaces with the same
+    /// offset; the budget keeps the tables of largest gain.
+    #[test]
+    fn lookups_return_a_congruent_pair_and_the_budget_keeps_the_best_tables() {
+        let scene = gridded_box();
+        let n = scene.patches.len();
+        let same_plane = |i: usize, j: usize| scene.patches[i].surface == scene.patches[j].surface;
+        // The "exchange area" of the representative pair encodes it: i·n + j.
+        let encode = |_: &mut (), i: usize, j: usize| (i * n + j) as f64;
+        let centroid = |p: usize| scene.patches[p].polygon.centroid();
+        for budget in [MAX_ENTRIES, 165, 164, 0] {
+            let reuse = Reuse::with_budget(&scene, budget, same_plane, encode);
+            let mut served = 0u64;
+            for i in 0..n {
+                let mut row = reuse.row(i);
+                for j in i + 1..n {
+                    let Some(v) = row.get(j) else { continue };
+                    served += 1;
+                    let (i0, j0) = (v as usize / n, v as usize % n);
+                    assert_eq!(scene.patches[i0].surface, scene.patches[i].surface);
+                    assert_eq!(scene.patches[j0].surface, scene.patches[j].surface);
+                    let (d, d0) = (centroid(j) - centroid(i), centroid(j0) - centroid(i0));
+                    assert!((d - d0).length() < 1e-14, "pair ({i}, {j}) served by ({i0}, {j0})");
+                }
+            }
+            assert_eq!(served, reuse.stats().1, "budget {budget}");
+            match budget {
+                // All 15 face pairs are worth a table (gain ≥ 2.29): every cross-face pair,
+                // ((Σ faces)² − Σ faces²)/2 with faces of 32, 32, 24, 24, 48 and 48 patches.
+                MAX_ENTRIES => assert_eq!(served, 17_728),
+                // Room for one table: south–north, the largest gain (2,304 pairs from 11·15 offsets).
+                165 => assert_eq!(reuse.stats(), (165, 2_304)),
+                // One short of it: the next best that fits, floor–ceiling (1,024 pairs, 7·15).
+                164 => assert_eq!(reuse.stats(), (105, 1_024)),
+                _ => assert_eq!(served, 0),
+            }
+        }
     }
 
     /// Every (a, b, c, d) of a plan maps into the table; two pairs share an entry exactly when
