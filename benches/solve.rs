@@ -24,7 +24,8 @@ fn bench(c: &mut Criterion) {
         ("sparse_llt", Solver::Direct, 0),
         ("gauss_seidel", Solver::GaussSeidel, 0),
     ] {
-        let p = Params { solver, dense_max, tolerance: 1e-10, ..Params::default() };
+        let p =
+            Params { solver, dense_max, dense_full_max: dense_max, tolerance: 1e-10, ..Params::default() };
         g.bench_function(name, |b| b.iter(|| solve::solve_gray(&scene, &ex, &p).unwrap()));
     }
     g.bench_function("closure_symmetric_scaling", |b| {

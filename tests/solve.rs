@@ -99,7 +99,7 @@ fn e3_cube_furnace_every_solver() {
     let (scene, s) = support::box_scene([1.0; 3], 1, &e3_props());
     let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
     for (solver, dense_max) in SOLVERS {
-        let p = Params { solver, dense_max, ..Params::default() };
+        let p = Params { solver, dense_max, dense_full_max: dense_max, ..Params::default() };
         check_e3(&solve::solve_gray(&scene, &ex, &p).expect("solve").by_surface(&scene));
     }
 }
@@ -115,7 +115,7 @@ fn subdivided_cube_solvers_agree_and_balance() {
     let sols: Vec<Solution> = SOLVERS
         .iter()
         .map(|&(solver, dense_max)| {
-            let p = Params { solver, dense_max, ..Params::default() };
+            let p = Params { solver, dense_max, dense_full_max: dense_max, ..Params::default() };
             solve::solve_gray(&scene, &ex, &p).expect("solve")
         })
         .collect();

@@ -1,7 +1,6 @@
 //! Residuals of an exchange matrix: closure (row sums), reciprocity and sign, with the worst
 //! rows by name. Computed before and after enforcement and printed by the CLI.
 use super::Exchange;
-use rayon::prelude::*;
 use std::fmt;
 
 /// How many worst rows are named.
@@ -33,20 +32,9 @@ impl Diagnostics {
         let max_row_error = err.iter().copied().fold(0.0, f64::max);
         let rms_row_error =
             if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
-        let ip = ex.indptr();
-        let (num, den) = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                let (mut num, mut den) = (0.0f64, 0.0f64);
-                for k in ip[i]..ip[i + 1] {
-                    let j = ex.s.indices()[k];
-                    let s = ex.s.data()[k];
-                    num = num.max((s - ex.get(j, i)).abs());
-                    den = den.max(s.abs());
-                }
-                (num, den)
-            })
-            .reduce(|| (0.0, 0.0), |a, b| (a.0.max(b.0), a.1.max(b.1)));
+        let (num, den) = ex.fold_mirrored((0.0f64, 0.0f64), |(num, den), s, sji| {
+            (num.max((s - sji).abs()), den.max(s.abs()))
+        });
         let reciprocity = if den > 0.0 { num / den } else { 0.0 };
         let amb_neg = ex.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
         let negatives = ex.s.data().iter().filter(|&&x| x < 0.0).count() + amb_neg;

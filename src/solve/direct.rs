@@ -1,10 +1,15 @@
 //! Direct solvers (faer), research/crates.md §2:
 //! - N ≤ [`DENSE_MAX`]: dense LLT (partial-pivot LU if K is not SPD or not symmetric);
-//! - above: sparse LLT (AMD ordering) with the symbolic analysis cached in [`Cache`] and reused
-//!   when only the values change (bands, conductances); sparse LU as the fallback.
+//! - N ≤ [`DENSE_FULL_MAX`] when the Cholesky factor would be mostly full anyway (K itself at
+//!   least [`DENSE_FILL`] full, or the symbolic analysis predicts at least that share of the
+//!   lower triangle): dense as well. Enclosures couple almost every patch pair, and sparse LLT
+//!   then does dense work at sparse-kernel speed and memory;
+//! - otherwise sparse LLT (AMD ordering) with the symbolic analysis cached in [`Cache`] and
+//!   reused when only the values change (bands, conductances); sparse LU as the fallback.
 use super::system::Csr;
 use crate::{Error, Result};
 use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::cholesky;
 use faer::sparse::linalg::solvers::{Llt as SpLlt, Lu as SpLu, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
@@ -14,13 +19,21 @@ use faer::{Mat, Side};
 /// unloaded; 0.47 vs 0.64 s on a loaded machine) and stays ahead to N ≈ 5,000, where the
 /// dense matrix already costs 200 MB; 3,000 caps it at 72 MB.
 pub const DENSE_MAX: usize = 3000;
+/// Largest unknown count solved densely when the factor would be mostly full: K and its dense
+/// factor take 2·N²·8 bytes, 2.3 GB at 12,000 (sparse LLT of a 7,776-patch cube interior
+/// took 7.5 GB and 59 s; dense LLT takes ~1 GB and seconds, validation/solve.md).
+pub const DENSE_FULL_MAX: usize = 12_000;
+/// Share of the lower triangle (of K, or of its predicted Cholesky factor) above which the
+/// dense factorisation is used up to [`DENSE_FULL_MAX`].
+pub const DENSE_FILL: f64 = 0.25;
 
-/// Cached sparse symbolic LLT, keyed by the pattern it was built for.
+/// Cached layout decision (and sparse symbolic LLT), keyed by the pattern it was made for.
 #[derive(Debug, Clone)]
 pub struct SymbolicCache {
     indptr: Vec<usize>,
     indices: Vec<usize>,
-    symbolic: SymbolicLlt<usize>,
+    /// `None`: the factor would be mostly full, factor densely.
+    symbolic: Option<SymbolicLlt<usize>>,
 }
 
 /// Reusable solver state across solves on one pattern.
@@ -71,13 +84,42 @@ impl Factor {
     }
 }
 
-/// Factorises K: dense below `dense_max` unknowns, sparse above; LLT first, LU on failure.
-pub fn factor(k: &Csr, dense_max: usize, cache: &mut Cache) -> Result<Factor> {
+/// Factorises K: dense up to `dense_max` unknowns, and up to `dense_full_max` when the factor
+/// would be mostly full ([`DENSE_FILL`]); sparse otherwise. LLT first, LU on failure.
+pub fn factor(k: &Csr, dense_max: usize, dense_full_max: usize, cache: &mut Cache) -> Result<Factor> {
     let n = k.n();
     if n == 0 {
         return Ok(Factor::Empty);
     }
-    if n <= dense_max {
+    let triangle = (n * (n + 1) / 2) as f64;
+    let full = n <= dense_full_max && (k.indices.len() + n) as f64 / 2.0 >= DENSE_FILL * triangle;
+    // CSR of K is the CSC of Kᵀ; for a symmetric K that is K itself.
+    let sym = SymbolicSparseColMatRef::new_checked(n, n, &k.indptr, None, &k.indices);
+    if n > dense_max && !full && k.symmetric {
+        let reuse = matches!(cache, Some(c) if c.indptr == k.indptr && c.indices == k.indices);
+        if !reuse {
+            let symbolic = if n <= dense_full_max {
+                // The fill-reducing analysis predicts the factor's size; if mostly full, go dense.
+                let pre = cholesky::factorize_symbolic_cholesky(
+                    sym,
+                    Side::Lower,
+                    Default::default(),
+                    Default::default(),
+                )
+                .map_err(|e| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}")))?;
+                (pre.len_val() as f64) < DENSE_FILL * triangle
+            } else {
+                true
+            }
+            .then(|| SymbolicLlt::try_new(sym, Side::Lower))
+            .transpose()
+            .map_err(|e| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}")))?;
+            *cache = Some(SymbolicCache { indptr: k.indptr.clone(), indices: k.indices.clone(), symbolic });
+        }
+    }
+    let sparse = cache.as_ref().and_then(|c| c.symbolic.clone());
+    let dense = n <= dense_max || full || (k.symmetric && sparse.is_none());
+    if dense {
         let mut a = Mat::<f64>::zeros(n, n);
         for i in 0..n {
             for p in k.indptr[i]..k.indptr[i + 1] {
@@ -91,16 +133,7 @@ pub fn factor(k: &Csr, dense_max: usize, cache: &mut Cache) -> Result<Factor> {
         }
         return Ok(Factor::DenseLu(a.partial_piv_lu()));
     }
-    // CSR of K is the CSC of Kᵀ; for a symmetric K that is K itself.
-    let sym = SymbolicSparseColMatRef::new_checked(n, n, &k.indptr, None, &k.indices);
-    if k.symmetric {
-        let reuse = matches!(cache, Some(c) if c.indptr == k.indptr && c.indices == k.indices);
-        if !reuse {
-            let symbolic = SymbolicLlt::try_new(sym, Side::Lower)
-                .map_err(|e| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}")))?;
-            *cache = Some(SymbolicCache { indptr: k.indptr.clone(), indices: k.indices.clone(), symbolic });
-        }
-        let symbolic = cache.as_ref().map(|c| c.symbolic.clone()).expect("cache set above");
+    if let (true, Some(symbolic)) = (k.symmetric, sparse) {
         if let Ok(f) = SpLlt::try_new_with_symbolic(symbolic, SparseColMatRef::new(sym, &k.data), Side::Lower)
         {
             return Ok(Factor::SparseLlt(f));
@@ -137,4 +170,59 @@ fn transpose(k: &Csr) -> Csr {
         }
     }
     Csr { indptr, indices, data, symmetric: k.symmetric }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// A symmetric, diagonally dominant K of order n with off-diagonal entries where `link(i, j)`.
+    fn spd(n: usize, link: impl Fn(usize, usize) -> bool) -> Csr {
+        let (mut indptr, mut indices, mut data) = (vec![0], Vec::new(), Vec::new());
+        for i in 0..n {
+            let row: Vec<usize> = (0..n).filter(|&j| j != i && (link(i, j) || link(j, i))).collect();
+            for j in 0..n {
+                if j == i {
+                    indices.push(j);
+                    data.push(1.0 + row.len() as f64);
+                } else if row.binary_search(&j).is_ok() {
+                    indices.push(j);
+                    data.push(-1.0 / (1.0 + (i + j) as f64));
+                }
+            }
+            indptr.push(indices.len());
+        }
+        Csr { indptr, indices, data, symmetric: true }
+    }
+
+    fn residual(k: &Csr, f: &Factor) -> f64 {
+        let b: Vec<f64> = (0..k.n()).map(|i| 1.0 + i as f64 % 7.0).collect();
+        k.residual(&f.solve(&b), &b)
+    }
+
+    #[test]
+    fn the_factor_is_dense_when_it_would_fill_and_sparse_otherwise() {
+        let n = 300;
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(3);
+        let random: Vec<bool> = (0..n * n).map(|_| rng.random_bool(0.04)).collect();
+        let cases = [
+            // Every pair coupled (a closed enclosure): dense without analysis.
+            ("full", spd(n, |_, _| true), n, "dense LLT"),
+            // 4 % random coupling: K is sparse, but its factor fills (no separators).
+            ("random", spd(n, |i, j| random[i * n + j]), n, "dense LLT"),
+            // A chain: the factor stays as sparse as K.
+            ("chain", spd(n, |i, j| i + 1 == j), n, "sparse LLT"),
+            // Dense factoring disabled above dense_max.
+            ("full, dense_full_max 0", spd(n, |_, _| true), 0, "sparse LLT"),
+        ];
+        for (what, k, full_max, want) in cases {
+            let mut cache = None;
+            let f = factor(&k, 10, full_max, &mut cache).expect("SPD");
+            assert_eq!(f.name(), want, "{what}");
+            assert!(residual(&k, &f) < 1e-13, "{what}");
+            // The decision is cached with the pattern and holds on refactoring.
+            assert_eq!(factor(&k, 10, full_max, &mut cache).unwrap().name(), want, "{what} (cached)");
+        }
+    }
 }

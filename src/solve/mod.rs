@@ -73,8 +73,10 @@ pub struct Params {
     pub tolerance: f64,
     /// Iteration cap of the iterative solvers.
     pub max_iterations: usize,
-    /// Largest unknown count solved densely.
+    /// Largest unknown count always solved densely.
     pub dense_max: usize,
+    /// Largest unknown count solved densely when the factor would be mostly full (0: never).
+    pub dense_full_max: usize,
 }
 
 impl Default for Params {
@@ -84,6 +86,7 @@ impl Default for Params {
             tolerance: ITERATIVE_TOL,
             max_iterations: MAX_ITERATIONS,
             dense_max: direct::DENSE_MAX,
+            dense_full_max: direct::DENSE_FULL_MAX,
         }
     }
 }
@@ -232,7 +235,7 @@ pub fn solve_system(
     };
     match params.solver {
         Solver::Direct => {
-            let f = direct::factor(&sys.k, params.dense_max, cache)?;
+            let f = direct::factor(&sys.k, params.dense_max, params.dense_full_max, cache)?;
             let x = f.solve(&sys.b);
             let r = sys.k.residual(&x, &sys.b);
             Ok((x, info(f.name(), 0, r)))

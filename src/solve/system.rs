@@ -153,10 +153,7 @@ impl System {
 
 /// True when S_ij = S_ji exactly for every stored entry.
 pub fn is_symmetric(ex: &Exchange) -> bool {
-    let ip = ex.indptr();
-    (0..ex.len())
-        .into_par_iter()
-        .all(|i| (ip[i]..ip[i + 1]).all(|k| ex.get(ex.s.indices()[k], i) == ex.s.data()[k]))
+    ex.fold_mirrored(true, |same, s, sji| same && s == sji)
 }
 
 /// Assembles K J = b for per-node emissivities, row kinds and ambient emissive power.
