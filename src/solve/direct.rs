@@ -11,7 +11,7 @@ use crate::{Error, Result};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::cholesky;
 use faer::sparse::linalg::solvers::{Llt as SpLlt, Lu as SpLu, SymbolicLlt};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
 
 /// Largest unknown count solved densely. Measured (validation/solve.md; crates.md §2): on full
@@ -98,22 +98,20 @@ pub fn factor(k: &Csr, dense_max: usize, dense_full_max: usize, cache: &mut Cach
     if n > dense_max && !full && k.symmetric {
         let reuse = matches!(cache, Some(c) if c.indptr == k.indptr && c.indices == k.indices);
         if !reuse {
-            let symbolic = if n <= dense_full_max {
-                // The fill-reducing analysis predicts the factor's size; if mostly full, go dense.
+            let failed = |e: FaerError| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}"));
+            // The fill-reducing analysis predicts the factor's size; if mostly full, go dense.
+            let sparse = n > dense_full_max || {
                 let pre = cholesky::factorize_symbolic_cholesky(
                     sym,
                     Side::Lower,
                     Default::default(),
                     Default::default(),
                 )
-                .map_err(|e| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}")))?;
+                .map_err(failed)?;
                 (pre.len_val() as f64) < DENSE_FILL * triangle
-            } else {
-                true
-            }
-            .then(|| SymbolicLlt::try_new(sym, Side::Lower))
-            .transpose()
-            .map_err(|e| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}")))?;
+            };
+            let symbolic =
+                sparse.then(|| SymbolicLlt::try_new(sym, Side::Lower)).transpose().map_err(failed)?;
             *cache = Some(SymbolicCache { indptr: k.indptr.clone(), indices: k.indices.clone(), symbolic });
         }
     }

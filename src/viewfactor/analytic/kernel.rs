@@ -212,7 +212,7 @@ impl<'s> AnalyticKernel<'s> {
 
     /// Unobstructed A_i F_ij for one pair (j ≠ i), from the translated-pair tables when
     /// they hold it.
-    #[inline(always)]
+    #[inline]
     fn unobstructed(&self, i: usize, j: usize, reuse: &mut RowLookup, scratch: &mut Scratch) -> f64 {
         match reuse.get(j) {
             Some(s) => s,
@@ -221,7 +221,6 @@ impl<'s> AnalyticKernel<'s> {
     }
 
     /// Unobstructed A_i F_ij for one pair (j ≠ i), evaluated.
-    #[inline(never)]
     fn pair(&self, i: usize, j: usize, scratch: &mut Scratch) -> f64 {
         match self.rung(i, j) {
             Rung::Zero => 0.0,
