@@ -162,7 +162,7 @@ fn properties() {
     expect(&one(&format!("{SQUARE}\ntemperature = 0 #<")), Some("a"), "must be positive");
     expect(&one(&format!("{SQUARE}\ntemperature = -20 #<")), Some("a"), "temperature is -20 K");
     expect(&one(&format!("{SQUARE}\nrole = \"blocker\" #<")), Some("a"), "unknown role 'blocker'");
-    expect(&format!("[ambient]\ntemperature = 0 #<\n{}", one(SQUARE)), None, "ambient temperature is 0 K");
+    expect(&format!("[ambient]\ntemperature = -1 #<\n{}", one(SQUARE)), None, "ambient temperature is -1 K");
     expect(&format!("[ambient] #<\n{}", one(SQUARE)), None, "in [ambient]: missing field `temperature`");
     expect(&format!("[defaults]\nemissivity = 2 #<\n{}", one(SQUARE)), None, "[defaults]: emissivity is 2");
     // Obstructions only block rays.

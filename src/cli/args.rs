@@ -37,7 +37,7 @@ pub struct CommonArgs {
     /// Pixels along a hemicube face or the single plane.
     #[arg(long)]
     pub resolution: Option<usize>,
-    /// Absolute accuracy goal on each F for `auto`.
+    /// Absolute accuracy goal on each F for `auto` [default: 1e-4].
     #[arg(long)]
     pub tolerance: Option<f64>,
     /// Random seed; the same seed gives the same result on any thread count.
@@ -46,7 +46,8 @@ pub struct CommonArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// none, reciprocity or closure.
+    /// none, reciprocity or closure [default: none for `viewfactors`; for `solve`, closure in a
+    /// closed scene and reciprocity in an open one, where the ambient takes the rest].
     #[arg(long)]
     pub enforce: Option<String>,
     /// Report per patch (`surface#k`) instead of per surface.

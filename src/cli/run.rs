@@ -66,7 +66,6 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         at_level(&scene, &ex, level).to_viewfactors(raw.wall)
     };
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
-    let (worst, at) = vf.max_patch_row_error();
     let secs = vf.wall.as_secs_f64();
     eprintln!(
         "lambert: {} patches, {} pairs, {:.3} s ({:.3e} pairs/s), method {}",
@@ -74,12 +73,43 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         vf.pairs,
         secs,
         vf.pairs as f64 / secs.max(1e-9),
-        cfg.params.method
+        method_summary(cfg.params.method, &vf)
     );
     if scene.is_closed() && !scene.patches.is_empty() {
-        eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} (patch {})", scene.patch_name(at));
+        eprintln!("lambert: closed scene, {}", row_error_summary(&vf));
     }
     Ok(())
+}
+
+/// The requested method and, when it chooses per pair (`auto`), what produced the entries:
+/// the `method` column's values, so stderr and the rows agree.
+fn method_summary(method: Method, vf: &ViewFactors) -> String {
+    let used = vf.rows.iter().flatten().fold(MethodSet::default(), |m, e| m.union(e.method));
+    if method == Method::Auto && !used.is_empty() {
+        format!("auto (entries by {})", used.to_string().replace('+', ", "))
+    } else {
+        method.to_string()
+    }
+}
+
+/// The worst |row sum − 1| at the run's level: a surface in a per-surface run, a patch with
+/// `--patches`.
+fn row_error_summary(vf: &ViewFactors) -> String {
+    match vf.level {
+        Level::Patch => {
+            let (worst, at) = vf.max_patch_row_error();
+            format!("max |row sum - 1| = {worst:.3e} (patch {})", vf.names[at])
+        }
+        Level::Surface => {
+            let (worst, at) = vf
+                .row_sums()
+                .iter()
+                .enumerate()
+                .map(|(i, s)| ((s - 1.0).abs(), i))
+                .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+            format!("max |row sum - 1| = {worst:.3e} (surface {})", vf.names[at])
+        }
+    }
 }
 
 /// SPEC: `viewfactors` warns about a leaking closed scene and names the worst rows.
@@ -107,13 +137,34 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
         }
     }
     if !leaks.is_empty() {
+        let surface_of = |i: usize| match vf.level {
+            Level::Surface => i,
+            Level::Patch => scene.patches[i].surface,
+        };
+        let outward = scene::orientation::outward_closed_meshes(scene);
+        let mut named: Vec<usize> =
+            leaks.iter().map(|&(i, _)| surface_of(i)).filter(|s| outward.contains(s)).collect();
+        named.dedup();
+        for s in named {
+            eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
+        }
         let worst: Vec<String> =
-            leaks.iter().take(5).map(|&(i, s)| format!("{} ({s:.6})", vf.names[i])).collect();
+            leaks.iter().take(5).map(|&(i, s)| format!("{} (row sum {})", vf.names[i], row_sum(s))).collect();
         eprintln!(
             "lambert: warning: closed scene leaks: {} row(s) sum to less than 1 beyond the method's error; worst: {}",
             leaks.len(),
             worst.join(", ")
         );
+    }
+}
+
+/// A row sum for a message: six decimals, and a sum that rounds to zero (a surface that sees
+/// nothing, with round-off of either sign) as `0`, never `-0.000000`.
+fn row_sum(s: f64) -> String {
+    if s.abs() < 5e-7 {
+        "0".into()
+    } else {
+        format!("{s:.6}")
     }
 }
 
@@ -130,7 +181,7 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
     }
     let p =
         EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
-    let rep = exchange::enforce(&mut ex, &p)?;
+    let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
     eprintln!("lambert: exchange before enforcement: {}", rep.before);
     eprintln!(
         "lambert: enforce {} ({}, {} iterations): {}",
@@ -140,6 +191,20 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
         rep.after
     );
     Ok(ex)
+}
+
+/// Adds the outward-normal hint to a refusal that names a row of a closed mesh surface whose
+/// normals all face outward.
+fn with_outward_hint(scene: &Scene, e: Error) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    let named = ie.surface.as_deref().map(|n| n.split('#').next().unwrap_or(n).to_string());
+    let outward = scene::orientation::outward_closed_meshes(scene);
+    if let Some(s) = outward.into_iter().find(|&s| named.as_deref() == Some(scene.surfaces[s].name.as_str()))
+    {
+        ie.problem =
+            format!("{}. Note: {}", ie.problem, scene::orientation::outward_hint(&scene.surfaces[s].name));
+    }
+    Error::Input(ie)
 }
 
 /// Rays per patch when the method counts hits with equal weights.
@@ -170,6 +235,9 @@ fn solve(a: SolveArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
     let scene = scene::load(&cfg.scene)?;
+    for w in &scene.warnings {
+        eprintln!("lambert: warning: {w}");
+    }
     scene.check_boundary_conditions()?;
     let mode = match cfg.enforce.as_deref() {
         Some(e) => e.parse()?,
@@ -203,7 +271,7 @@ fn solve(a: SolveArgs) -> Result<()> {
     let (sum, max) = out.heat_balance();
     let ok = sum.abs() <= solve::BALANCE_TOL * max;
     eprintln!(
-        "lambert: energy balance: sum of heat_rate = {sum:.3e} W ({:.1e} of max |heat_rate| = {max:.6e} W){}",
+        "lambert: energy balance: sum of heat_rate = {sum:e} W ({:.1e} of max |heat_rate| = {max} W){}",
         if max > 0.0 { sum.abs() / max } else { 0.0 },
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     );

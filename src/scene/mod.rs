@@ -9,6 +9,7 @@
 //! - [`props`]: property layers (surface → node extras → model → defaults) and their resolution;
 //! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
 //! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`];
+//! - [`orientation`]: closed mesh surfaces whose normals face outward (leak hints);
 //! - [`bands`]: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
 use crate::error::InputError;
 use crate::geometry::Polygon;
@@ -19,6 +20,7 @@ use std::path::PathBuf;
 pub mod assemble;
 pub mod bands;
 pub mod gltf_scene;
+pub mod orientation;
 pub mod patching;
 pub mod props;
 pub mod schema;
@@ -289,6 +291,13 @@ fn is_planar_set(polys: &[Polygon]) -> bool {
 /// every mesh node a surface with the built-in defaults (emissivity 1, no boundary condition),
 /// its node `extras` applied.
 pub fn load(path: &std::path::Path) -> crate::Result<Scene> {
+    let mut scene = load_file(path)?;
+    let suspects = validate::celsius_suspects(&scene);
+    scene.warnings.extend(suspects);
+    Ok(scene)
+}
+
+fn load_file(path: &std::path::Path) -> crate::Result<Scene> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("toml") => toml_scene::load(path),

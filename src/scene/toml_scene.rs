@@ -45,10 +45,7 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
     let ambient = match &raw.ambient {
         Some(a) => {
             let t = &a.get_ref().temperature;
-            Some(
-                v::temperature(*t.get_ref(), "the ambient temperature")
-                    .map_err(|p| err(None, t.span().start, p))?,
-            )
+            Some(v::ambient_temperature(*t.get_ref()).map_err(|p| err(None, t.span().start, p))?)
         }
         None => None,
     };

@@ -82,6 +82,59 @@ pub fn temperature(t: f64, what: &str) -> Result<f64, String> {
     }
 }
 
+/// Ambient (environment) temperature in [0, [`MAX_TEMPERATURE`]] K: deep space at 0 K is the
+/// usual sink of a spacecraft radiator, and every net-radiation formula stays finite there
+/// (E_b∞ = 0).
+pub fn ambient_temperature(t: f64) -> Result<f64, String> {
+    finite(t, "the ambient temperature")?;
+    if (0.0..=MAX_TEMPERATURE).contains(&t) {
+        Ok(t)
+    } else {
+        Err(format!(
+            "the ambient temperature is {t} K; it must be at least 0 (kelvin) and at most {MAX_TEMPERATURE:e} K"
+        ))
+    }
+}
+
+/// A surface below this temperature in a scene that reaches [`CELSIUS_HOT`] was probably
+/// given in °C: 100 K is colder than liquid oxygen, 250 K colder than any heated room.
+pub const CELSIUS_COLD: f64 = 100.0;
+/// See [`CELSIUS_COLD`].
+pub const CELSIUS_HOT: f64 = 250.0;
+
+/// Warnings for surface temperatures below [`CELSIUS_COLD`] K in a scene whose surfaces or
+/// ambient reach [`CELSIUS_HOT`] K: °C written where kelvin is meant. The run goes on.
+pub fn celsius_suspects(scene: &super::Scene) -> Vec<String> {
+    use super::BoundaryCondition::Temperature;
+    let given = |s: &super::Surface| match s.condition {
+        Some(Temperature(t)) => Some(t),
+        _ => None,
+    };
+    let hottest = scene
+        .surfaces
+        .iter()
+        .filter_map(given)
+        .chain(scene.ambient.map(|a| a.temperature))
+        .fold(0.0, f64::max);
+    if hottest < CELSIUS_HOT {
+        return Vec::new();
+    }
+    scene
+        .surfaces
+        .iter()
+        .filter_map(|s| given(s).filter(|&t| t < CELSIUS_COLD).map(|t| (s, t)))
+        .map(|(s, t)| {
+            format!(
+                "{}: surface '{}': temperature {t} K is below {CELSIUS_COLD} K while the scene reaches \
+                 {hottest} K; temperatures are in kelvin: was {t} °C ({} K) meant?",
+                scene.source.display(),
+                s.name,
+                t + 273.15
+            )
+        })
+        .collect()
+}
+
 /// Net outgoing flux, any finite value, W/m².
 pub fn heat_flux(q: f64) -> Result<f64, String> {
     finite(q, "heat_flux")

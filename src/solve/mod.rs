@@ -11,7 +11,7 @@
 //! - [`bands`]: semi-gray bands, temperatures coupled across bands by Newton;
 //! - [`conductance`]: radiative conductances RADK_ij = A_i ε_i B_ij (Gebhart).
 use crate::exchange::Exchange;
-use crate::scene::Scene;
+use crate::scene::{BoundaryCondition, Scene};
 use crate::viewfactor::Level;
 use crate::{Error, Result};
 use std::str::FromStr;
@@ -178,6 +178,17 @@ impl Solution {
                     (t.temperature / a, t.radiosity / a, t.irradiation / a);
                 t.heat_flux = t.heat_rate / a;
                 eps[s] /= a;
+            }
+            // Values read from the input are written back as given, not as area-weighted
+            // means that differ from them by round-off.
+            let surface = &scene.surfaces[s];
+            match surface.condition {
+                Some(BoundaryCondition::Temperature(t)) => results[s].temperature = t,
+                Some(BoundaryCondition::HeatFlux(q)) => results[s].heat_flux = q,
+                None => {}
+            }
+            if scene.spectral.is_none() {
+                eps[s] = surface.emissivity;
             }
         }
         Solution {

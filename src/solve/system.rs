@@ -298,9 +298,11 @@ pub fn recover(
             let h = inc / a;
             let q = j[i] - h;
             let eps = nodes[i].emissivity;
-            let temperature = match rows[i] {
-                RowKind::Temperature(eb) => (eb / SIGMA).powf(0.25),
-                RowKind::Flux(qp) => {
+            let temperature = match (rows[i], nodes[i].condition) {
+                // The given temperature as given (σT⁴ and back would add round-off).
+                (RowKind::Temperature(_), BoundaryCondition::Temperature(t)) => t,
+                (RowKind::Temperature(eb), _) => (eb / SIGMA).powf(0.25),
+                (RowKind::Flux(qp), _) => {
                     let eb = j[i] + (1.0 - eps) / eps * qp;
                     if eb < 0.0 {
                         return Err(Error::Compute(format!(
@@ -311,9 +313,15 @@ pub fn recover(
                     (eb / SIGMA).powf(0.25)
                 }
             };
+            // A given flux is written back as given; the heat rate stays the solved one, so a
+            // solve residual shows in the energy balance instead of being hidden.
+            let heat_flux = match rows[i] {
+                RowKind::Flux(qp) => qp,
+                RowKind::Temperature(_) => q,
+            };
             Ok(super::NodeResult {
                 temperature,
-                heat_flux: q,
+                heat_flux,
                 heat_rate: a * q,
                 radiosity: j[i],
                 irradiation: h,

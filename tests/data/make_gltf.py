@@ -193,8 +193,21 @@ def box_interior():
     write_glb(os.path.join(out, "box.glb"), doc, b.data)
 
 
+def outward_box():
+    """gltf/outward_box.gltf: a unit cube as one mesh with every normal facing outward, the
+    wrong winding for an enclosure (the leak hint of tests/cli_rough_edges.rs)."""
+    corners = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1)]
+    # The box_interior faces with their winding reversed: counter-clockwise seen from outside.
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    idx = []
+    for a, b_, c, d in faces:
+        idx += [a, c, b_, a, d, c]
+    one_mesh("outward_box.gltf", corners, idx, nodes=[{"name": "room", "mesh": 0}])
+
+
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     hierarchy()
     bad_files()
     box_interior()
+    outward_box()
