@@ -274,3 +274,81 @@ fn patches_flag_reports_patch_rows() {
     assert!((rows.iter().take(4).map(|r| r.1[0]).sum::<f64>() - 1.0).abs() < 1e-12, "patch areas");
     assert_heat_rate_sums_to_zero(&rows);
 }
+
+/// Parses a SINDA (`-id, a, b, G`) or ESATAN (`GR(a, b) = G;`) conductor line into (a, b, G).
+fn conductor(line: &str) -> Option<(usize, usize, f64)> {
+    let t = line.trim();
+    let f: Vec<&str> = if let Some(rest) = t.strip_prefix("GR(") {
+        rest.split([',', ')', '=', ';']).map(str::trim).filter(|s| !s.is_empty()).collect()
+    } else if t.starts_with('-') {
+        t.split(',').map(str::trim).skip(1).collect()
+    } else {
+        return None;
+    };
+    Some((f[0].parse().ok()?, f[1].parse().ok()?, f[2].parse().ok()?))
+}
+
+#[test]
+fn conductances_as_sinda_and_esatan_decks_match_the_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "plates.toml", PLATES);
+    let vf = write(dir.path(), "vf.csv", "from,to,factor\nbottom,top,0.19982489569838732\nbottom,ambient,0.8\ntop,bottom,0.19982489569838732\n");
+    let csv = dir.path().join("radk.csv");
+    let o = run(&["solve", &scene, "--viewfactors", &vf, "--conductances", csv.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut want = std::collections::HashMap::new();
+    for l in std::fs::read_to_string(&csv).unwrap().lines().skip(1) {
+        let f: Vec<&str> = l.split(',').collect();
+        want.insert((f[0].to_string(), f[1].to_string()), f[2].parse::<f64>().unwrap());
+    }
+    let names = ["bottom", "top"];
+    let name = |k: usize| if k == 99999 { "ambient" } else { names[k - 1] };
+    for (file, format, header) in [
+        ("radk.sin", None, "HEADER CONDUCTOR DATA"),
+        ("radk.d", None, "$CONDUCTORS"),
+        ("radk.txt", Some("sinda"), "HEADER CONDUCTOR DATA"),
+    ] {
+        let path = dir.path().join(file);
+        let mut args = vec!["solve", &scene, "--viewfactors", &vf, "--conductances", path.to_str().unwrap()];
+        if let Some(f) = format {
+            args.extend(["--format", f]);
+        }
+        let o = run(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.contains(header) && text.contains("sigma = 5.670374419E-8") && text.contains("plates.toml"),
+            "{text}"
+        );
+        assert!(
+            text.contains("1 = bottom") && text.contains("2 = top") && text.contains("99999 = ambient"),
+            "{text}"
+        );
+        let got: Vec<(usize, usize, f64)> = text.lines().filter_map(conductor).collect();
+        // One conductor per unordered pair, no self terms: bottom–top, bottom–space, top–space.
+        assert_eq!(got.len(), 3, "{text}");
+        let mut seen = std::collections::HashSet::new();
+        for (a, b, g) in got {
+            assert!(a != b && seen.insert((a.min(b), a.max(b))), "{text}");
+            let csv_value = want[&(name(a).to_string(), name(b).to_string())];
+            assert!((g - csv_value).abs() <= 1e-12 * csv_value, "{a}-{b}: {g} vs {csv_value}");
+        }
+    }
+    // A format that cannot be told from the extension, or an unknown --format: exit 2.
+    let bad = dir.path().join("radk.txt");
+    let o = run(&["solve", &scene, "--viewfactors", &vf, "--conductances", bad.to_str().unwrap()]);
+    assert_exit(&o, 2, &["cannot tell the conductance format", "--format"]);
+    let o = run(&[
+        "solve",
+        &scene,
+        "--viewfactors",
+        &vf,
+        "--conductances",
+        bad.to_str().unwrap(),
+        "--format",
+        "nastran",
+    ]);
+    assert_exit(&o, 2, &["unknown --format 'nastran'"]);
+    let o = run(&["solve", &scene, "--viewfactors", &vf, "--format", "sinda"]);
+    assert_exit(&o, 2, &["--format applies to --conductances"]);
+}

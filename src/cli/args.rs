@@ -75,9 +75,13 @@ pub struct SolveArgs {
     /// Reuse a `viewfactors` CSV instead of recomputing.
     #[arg(long)]
     pub viewfactors: Option<PathBuf>,
-    /// Write radiative conductances RADK_ij = A_i ε_i B_ij as CSV `from,to,radk`.
+    /// Write radiative conductances RADK_ij = A_i ε_i B_ij: CSV `from,to,radk`, a SINDA/FLUINT
+    /// conductor block or an ESATAN GR block, chosen by the extension or --format.
     #[arg(long)]
     pub conductances: Option<PathBuf>,
+    /// Format of --conductances: csv, sinda or esatan [default: from the file extension].
+    #[arg(long)]
+    pub format: Option<String>,
     /// direct, jacobi or gauss-seidel.
     #[arg(long, default_value = "direct")]
     pub solver: String,

@@ -3,6 +3,7 @@ use super::args::{Command, SolveArgs, ValidateArgs, ViewfactorsArgs};
 use super::config::{Config, Output};
 use lambert::exchange::{self, Enforce, EnforceParams, Exchange};
 use lambert::report;
+use lambert::report::decks::{DeckFormat, DeckInfo};
 use lambert::scene::{self, Scene};
 use lambert::solve;
 use lambert::viewfactor::{self, Level, Method, MethodSet, ViewFactors};
@@ -234,6 +235,14 @@ fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
 fn solve(a: SolveArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
+    let deck = match (&a.format, &a.conductances) {
+        (Some(f), Some(_)) => DeckFormat::from_name(f)?,
+        (Some(_), None) => {
+            return Err(Error::Usage("--format applies to --conductances, which is not given".into()))
+        }
+        (None, Some(path)) => DeckFormat::from_path(path)?,
+        (None, None) => DeckFormat::Csv,
+    };
     let scene = scene::load(&cfg.scene)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
@@ -289,7 +298,8 @@ fn solve(a: SolveArgs) -> Result<()> {
             }
             c.aggregate(&group, names)
         };
-        write_output(&Config::file_output(path), |w, p| report::solve_csv::write_conductances(w, &c, p))?;
+        let info = DeckInfo { scene: cfg.scene.display().to_string(), title: scene.title.clone() };
+        write_output(&Config::file_output(path), |w, p| report::decks::write(deck, w, &c, &info, p))?;
     }
     Ok(())
 }

@@ -2,10 +2,12 @@
 //! back.
 //! - [`csv`]: the `viewfactors` matrix;
 //! - [`solve_csv`]: the `solve` table and radiative conductances;
+//! - [`decks`]: conductances as SINDA/FLUINT and ESATAN network decks;
 //! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`);
 //! - [`charts`]: log–log charts of the validation studies (SVG, PNG).
 pub mod charts;
 pub mod csv;
+pub mod decks;
 pub mod read_vf;
 pub mod solve_csv;
 
