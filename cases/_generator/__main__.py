@@ -7,7 +7,8 @@ Pure Python (stdlib + mpmath); independent of lambert's Rust code. Modules:
 - radiation.py: dense net-radiation solve (mpmath) with the E3 self-test;
 - gltf.py: glTF writer and meshes (icospheres, cylinder mantles, annuli);
 - casekit.py: scene.toml / reference.toml writer, point-sampling bias from the scene's patches;
-- cases_view.py, cases_curved.py, cases_obstructed.py, cases_heat.py: the case definitions.
+- cases_view.py, cases_curved.py, cases_obstructed.py, cases_heat.py, cases_view3d.py: the case
+  definitions (cases_view3d: View3D .vs3 models).
 """
 import os
 import sys
@@ -17,7 +18,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import closed  # noqa: E402
 import radiation  # noqa: E402
-import cases_view, cases_curved, cases_obstructed, cases_heat  # noqa: E402,E401
+import cases_view, cases_curved, cases_obstructed, cases_heat, cases_view3d  # noqa: E402,E401
 
 
 def main():
@@ -25,7 +26,7 @@ def main():
     radiation.selftest()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     wanted = sys.argv[1:]
-    for module in (cases_view, cases_curved, cases_obstructed, cases_heat):
+    for module in (cases_view, cases_curved, cases_obstructed, cases_heat, cases_view3d):
         for name, make in module.CASES:
             if wanted and not any(name.startswith(w) for w in wanted):
                 continue

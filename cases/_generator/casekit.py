@@ -162,6 +162,13 @@ class Case:
             self.surfaces.append(Surface(n, None, [list(tri) for tri in t]))
         return self
 
+    def view3d(self, file, text, rings):
+        """A View3D `.vs3` model: its text, and (name, ring) for every radiating surface."""
+        self.models.append((file, text))
+        for n, ring in rings:
+            self.surfaces.append(Surface(n, None, [list(ring)]))
+        return self
+
     def obstruction(self, name, ring):
         self.obstructions.append((name, ring))
         return self
@@ -203,7 +210,11 @@ class Case:
             s.append("\n[defaults]\n" + "".join(f"{k} = {fmt(v)}\n" for k, v in self.defaults.items()))
         for file, meshes in self.models:
             s.append(f"\n[[model]]\nfile = {fmt(file)}\n")
-            gltf.write(os.path.join(d, file), meshes)
+            if isinstance(meshes, str):
+                with open(os.path.join(d, file), "w") as f:
+                    f.write(meshes)
+            else:
+                gltf.write(os.path.join(d, file), meshes)
         for srf in self.surfaces:
             if srf.fields is None:
                 continue

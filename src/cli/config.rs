@@ -27,6 +27,8 @@ pub struct Config {
     pub enforce: Option<String>,
     /// Output target.
     pub output: Output,
+    /// `--tolerance` as given (`None`: the default, or the scene file's).
+    pub tolerance_given: Option<f64>,
 }
 
 impl Config {
@@ -80,6 +82,13 @@ impl Config {
             Some(p) if p.as_os_str() == "-" => Output::Stdout,
             Some(p) => Output::File(p.clone()),
         };
-        Ok(Self { scene: a.scene.clone(), params, patches: a.patches, enforce: a.enforce.clone(), output })
+        Ok(Self {
+            scene: a.scene.clone(),
+            params,
+            patches: a.patches,
+            enforce: a.enforce.clone(),
+            output,
+            tolerance_given: a.tolerance,
+        })
     }
 }

@@ -49,13 +49,15 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
 }
 
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
-    let cfg = Config::from_args(&a.common)?;
+    let mut cfg = Config::from_args(&a.common)?;
     let scene = scene::load(&cfg.scene)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
+    apply_scene_defaults(&mut cfg, &scene);
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
-    let mode: Enforce = cfg.enforce.as_deref().unwrap_or("none").parse()?;
+    let fallback = if scene.run_defaults.closure { "closure" } else { "none" };
+    let mode: Enforce = cfg.enforce.as_deref().unwrap_or(fallback).parse()?;
     let vf = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
@@ -80,6 +82,18 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         eprintln!("lambert: closed scene, {}", row_error_summary(&vf));
     }
     Ok(())
+}
+
+/// Run settings the scene file asks for (a View3D model's `eps`), where the command line is
+/// silent; said on stderr so the run is reproducible from the command alone.
+fn apply_scene_defaults(cfg: &mut Config, scene: &Scene) {
+    if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
+        cfg.params.tolerance = t;
+        eprintln!("lambert: tolerance {t} from the scene file (View3D eps)");
+    }
+    if cfg.enforce.is_none() && scene.run_defaults.closure {
+        eprintln!("lambert: enforce closure: the scene file declares a closed enclosure (View3D encl = 1)");
+    }
 }
 
 /// The requested method and, when it chooses per pair (`auto`), what produced the entries:
@@ -233,7 +247,7 @@ fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
 }
 
 fn solve(a: SolveArgs) -> Result<()> {
-    let cfg = Config::from_args(&a.common)?;
+    let mut cfg = Config::from_args(&a.common)?;
     let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
     let deck = match (&a.format, &a.conductances) {
         (Some(f), Some(_)) => DeckFormat::from_name(f)?,
@@ -246,6 +260,9 @@ fn solve(a: SolveArgs) -> Result<()> {
     let scene = scene::load(&cfg.scene)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
+    }
+    if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
+        cfg.params.tolerance = t;
     }
     scene.check_boundary_conditions()?;
     let mode = match cfg.enforce.as_deref() {

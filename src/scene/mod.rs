@@ -10,6 +10,7 @@
 //! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
 //! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`];
 //! - [`orientation`]: closed mesh surfaces whose normals face outward (leak hints);
+//! - [`vs3`]: View3D `.vs3` input files (F 3, F 3a) as a model or a whole scene;
 //! - [`bands`]: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
 use crate::error::InputError;
 use crate::geometry::Polygon;
@@ -27,6 +28,7 @@ pub mod schema;
 pub mod toml_errors;
 pub mod toml_scene;
 pub mod validate;
+pub mod vs3;
 
 /// Boundary condition of an exchanging surface (used by `solve`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -137,6 +139,18 @@ pub struct Scene {
     pub warnings: Vec<String>,
     /// `[[band]]` table and per-surface band emissivities (semi-gray solve), when given.
     pub spectral: Option<bands::Spectral>,
+    /// Run settings the scene file asks for where the command line is silent (View3D's
+    /// `eps` and `encl`).
+    pub run_defaults: RunDefaults,
+}
+
+/// Run settings a scene file may suggest; command-line options win.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RunDefaults {
+    /// The `auto` tolerance.
+    pub tolerance: Option<f64>,
+    /// Enforce closure in `viewfactors` by default (a View3D `encl = 1` model).
+    pub closure: bool,
 }
 
 impl Scene {
@@ -306,8 +320,37 @@ fn load_file(path: &std::path::Path) -> crate::Result<Scene> {
             let entry = assemble::ModelEntry { model, layer: props::Layer::new("the glTF file", path, None) };
             assemble::assemble(path, None, None, &props::Layer::default(), Vec::new(), vec![entry])
         }
+        Some("vs3") => {
+            // encl = 1: a closed enclosure whose rows View3D normalises (closure here);
+            // otherwise open to a black environment at 0 K, which takes what leaves the scene.
+            let v = vs3::load(path)?;
+            let c = v.controls;
+            let entry = assemble::ModelEntry {
+                model: v.model,
+                layer: props::Layer::new("the View3D file", path, None),
+            };
+            let ambient = (!c.enclosure).then_some(0.0);
+            let mut scene = assemble::assemble(
+                path,
+                v.title,
+                ambient,
+                &props::Layer::default(),
+                Vec::new(),
+                vec![entry],
+            )?;
+            scene.warnings.extend(v.warnings);
+            if c.emittances {
+                scene.warnings.push(format!(
+                    "{}: emit = 1 asks View3D for script-F exchange factors; lambert writes view factors \
+                     here, and `solve --conductances` writes RADK_ij = A_i ε_i B_ij = A_i 𝓕_ij",
+                    path.display()
+                ));
+            }
+            scene.run_defaults = RunDefaults { tolerance: c.eps, closure: c.enclosure };
+            Ok(scene)
+        }
         _ => {
-            Err(InputError::file(path, "unknown scene file type; expected a .toml, .gltf or .glb file")
+            Err(InputError::file(path, "unknown scene file type; expected a .toml, .gltf, .glb or .vs3 file")
                 .into())
         }
     }

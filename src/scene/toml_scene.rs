@@ -63,6 +63,7 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
 
     let dir = path.parent().unwrap_or(Path::new(""));
     let mut models = Vec::with_capacity(raw.model.len());
+    let mut model_warnings = Vec::new();
     for m in &raw.model {
         let (m, start) = (m.get_ref(), m.span().start);
         let file = m.file.get_ref();
@@ -81,7 +82,21 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
             )
             .into());
         }
-        let model = gltf_scene::load_model(&full)?;
+        let is_vs3 = full.extension().is_some_and(|e| e.eq_ignore_ascii_case("vs3"));
+        let model = if is_vs3 {
+            let v = super::vs3::load(&full)?;
+            model_warnings.extend(v.warnings);
+            if v.controls != super::vs3::Controls::default() {
+                model_warnings.push(format!(
+                    "{}: the View3D control values (encl, emit, eps) of a [[model]] are ignored: the scene file \
+                     decides [ambient], and --tolerance and --enforce set the run",
+                    full.display()
+                ));
+            }
+            v.model
+        } else {
+            gltf_scene::load_model(&full)?
+        };
         models.push(ModelEntry { model, layer });
     }
 
@@ -91,6 +106,7 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
     }
     let title = raw.title.map(|t| t.into_inner());
     let mut scene = assemble::assemble(path, title, ambient, &defaults, surfaces, models)?;
+    scene.warnings.extend(model_warnings);
     scene.spectral = super::bands::from_raw(path, &text, &raw.band, &raw.surface, &scene)?;
     Ok(scene)
 }
