@@ -320,3 +320,69 @@ pub fn build(
     let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
     Ok(Some(DenseExchange { t, names, ambient: None }))
 }
+
+/// Surface-level view factors of a patch-level store: S_IJ = Σ_{i∈I, j∈J} s̄_ij (variances
+/// add, methods unite), F_IJ = S_IJ / A_I, accumulated in one n_s × n_s table.
+pub fn to_surface_viewfactors(
+    d: &DenseExchange,
+    scene: &crate::scene::Scene,
+    wall: std::time::Duration,
+) -> crate::viewfactor::ViewFactors {
+    use crate::viewfactor::{Entry, Level, ViewFactors};
+    let t = &d.t;
+    let m = scene.surfaces.len();
+    let group: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
+    let mut s = vec![0.0; m * m];
+    let mut var = vec![0.0; m * m];
+    let mut met = vec![MethodSet::default(); m * m];
+    for i in 0..t.n {
+        let gi = group[i];
+        let mut ex = t.exceptions[i].iter().peekable();
+        for (k, &x) in t.row(i).iter().enumerate() {
+            let j = i + k;
+            let (mut me, mut v) = (t.row_method[i], 0.0);
+            if ex.peek().is_some_and(|e| e.j as usize == j) {
+                let e = ex.next().expect("peeked");
+                (me, v) = (e.method, e.var);
+            }
+            if x == 0.0 {
+                continue;
+            }
+            let gj = group[j];
+            let mut add = |a: usize, b: usize| {
+                s[a * m + b] += x;
+                var[a * m + b] += v;
+                met[a * m + b] = met[a * m + b].union(me);
+            };
+            add(gi, gj);
+            if j != i {
+                add(gj, gi);
+            }
+        }
+    }
+    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area).collect();
+    let rows: Vec<Vec<Entry>> = (0..m)
+        .map(|a| {
+            (0..m)
+                .filter(|&b| s[a * m + b] != 0.0)
+                .map(|b| Entry {
+                    to: b as u32,
+                    factor: s[a * m + b] / areas[a],
+                    std_error: var[a * m + b].sqrt() / areas[a],
+                    method: met[a * m + b],
+                })
+                .collect()
+        })
+        .collect();
+    let patch_row_sums = t.row_sums().iter().zip(&t.areas).map(|(s, a)| s / a).collect();
+    ViewFactors {
+        level: Level::Surface,
+        names: scene.surfaces.iter().map(|s| s.name.clone()).collect(),
+        areas,
+        rows,
+        patch_row_sums,
+        patch_samples: vec![0; t.n],
+        pairs: t.pairs,
+        wall,
+    }
+}

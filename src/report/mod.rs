@@ -8,6 +8,7 @@
 pub mod charts;
 pub mod csv;
 pub mod decks;
+pub mod dense_csv;
 pub mod read_vf;
 pub mod solve_csv;
 
@@ -26,9 +27,73 @@ pub fn fmt_f64(x: f64) -> String {
     }
 }
 
+/// Appends exactly [`fmt_f64`]`(x)` to `out` with one shortest-digits conversion: the plain
+/// form is rebuilt from the exponent form's digits (both forms print the same shortest digits).
+pub fn push_f64(out: &mut String, x: f64) {
+    use std::fmt::Write;
+    if x == 0.0 || !x.is_finite() {
+        out.push_str(&fmt_f64(x));
+        return;
+    }
+    let start = out.len();
+    let _ = write!(out, "{x:e}");
+    let sci = out[start..].to_string();
+    let (mant, exp) = sci.split_once('e').expect("exponent form");
+    let exp: i64 = exp.parse().expect("exponent");
+    let (neg, mant) = mant.strip_prefix('-').map_or((false, mant), |m| (true, m));
+    let digits: String = mant.chars().filter(|c| *c != '.').collect();
+    let m = digits.len() as i64;
+    let sign = usize::from(neg);
+    let plain_len = sign as i64
+        + if exp < 0 {
+            2 + (-exp - 1) + m
+        } else if m <= exp + 1 {
+            exp + 1
+        } else {
+            m + 1
+        };
+    if sci.len() as i64 + EXPONENT_MIN_SAVING as i64 <= plain_len {
+        return;
+    }
+    out.truncate(start);
+    if neg {
+        out.push('-');
+    }
+    if exp < 0 {
+        out.push_str("0.");
+        out.extend(std::iter::repeat_n('0', (-exp - 1) as usize));
+        out.push_str(&digits);
+    } else if m <= exp + 1 {
+        out.push_str(&digits);
+        out.extend(std::iter::repeat_n('0', (exp + 1 - m) as usize));
+    } else {
+        out.push_str(&digits[..(exp + 1) as usize]);
+        out.push('.');
+        out.push_str(&digits[(exp + 1) as usize..]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::fmt_f64;
+    use super::{fmt_f64, push_f64};
+
+    #[test]
+    fn push_f64_equals_fmt_f64() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(11);
+        let mut xs = vec![0.0, -0.0, 1.0, -1.0, 1000.0, 1e300, 1e-300, 0.001, 12345.678, -7.5e-5, 1e21, 1e22];
+        for _ in 0..20000 {
+            let e: i32 = rng.random_range(-30..30);
+            let x: f64 = rng.random_range(-1.0..1.0) * 10f64.powi(e);
+            xs.push(x);
+            xs.push(x.round());
+        }
+        for x in xs {
+            let mut s = String::from("prefix,");
+            push_f64(&mut s, x);
+            assert_eq!(&s[7..], fmt_f64(x), "{x:e}");
+        }
+    }
 
     #[test]
     fn shortest_round_trip() {
