@@ -60,7 +60,7 @@ pub fn write_triangle<W: Write>(
 
 /// The records of row i; `col[j]` = s̄_ji for the columns j before the block.
 fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize, col: &[f64]) -> String {
-    let mut out = String::new();
+    let mut out = String::with_capacity(64 * t.n);
     let a = t.areas[i];
     let (mut sum, mut var_sum, mut methods) = (0.0, 0.0, MethodSet::default());
     let mut last: Option<(MethodSet, String)> = None;

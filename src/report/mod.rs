@@ -35,16 +35,15 @@ pub fn push_f64(out: &mut String, x: f64) {
         out.push_str(&fmt_f64(x));
         return;
     }
-    let start = out.len();
-    let _ = write!(out, "{x:e}");
-    let sci = out[start..].to_string();
+    let mut buf = Small::default();
+    let _ = write!(buf, "{x:e}");
+    let sci = buf.as_str();
     let (mant, exp) = sci.split_once('e').expect("exponent form");
     let exp: i64 = exp.parse().expect("exponent");
     let (neg, mant) = mant.strip_prefix('-').map_or((false, mant), |m| (true, m));
-    let digits: String = mant.chars().filter(|c| *c != '.').collect();
-    let m = digits.len() as i64;
-    let sign = usize::from(neg);
-    let plain_len = sign as i64
+    let (lead, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    let m = (lead.len() + frac.len()) as i64;
+    let plain_len = i64::from(neg)
         + if exp < 0 {
             2 + (-exp - 1) + m
         } else if m <= exp + 1 {
@@ -53,23 +52,58 @@ pub fn push_f64(out: &mut String, x: f64) {
             m + 1
         };
     if sci.len() as i64 + EXPONENT_MIN_SAVING as i64 <= plain_len {
+        out.push_str(sci);
         return;
     }
-    out.truncate(start);
     if neg {
         out.push('-');
     }
+    let digit = |k: i64| if k == 0 { lead } else { &frac[(k - 1) as usize..k as usize] };
     if exp < 0 {
         out.push_str("0.");
         out.extend(std::iter::repeat_n('0', (-exp - 1) as usize));
-        out.push_str(&digits);
+        out.push_str(lead);
+        out.push_str(frac);
     } else if m <= exp + 1 {
-        out.push_str(&digits);
+        out.push_str(lead);
+        out.push_str(frac);
         out.extend(std::iter::repeat_n('0', (exp + 1 - m) as usize));
     } else {
-        out.push_str(&digits[..(exp + 1) as usize]);
+        for k in 0..=exp {
+            out.push_str(digit(k));
+        }
         out.push('.');
-        out.push_str(&digits[(exp + 1) as usize..]);
+        out.push_str(&frac[exp as usize..]);
+    }
+}
+
+/// A stack buffer for one formatted f64 (the exponent form takes at most 24 bytes).
+struct Small {
+    buf: [u8; 32],
+    len: usize,
+}
+
+impl Default for Small {
+    fn default() -> Self {
+        Self { buf: [0; 32], len: 0 }
+    }
+}
+
+impl Small {
+    fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.buf[..self.len]).expect("ASCII")
+    }
+}
+
+impl std::fmt::Write for Small {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let end = self.len + s.len();
+        if end > self.buf.len() {
+            return Err(std::fmt::Error);
+        }
+        self.buf[self.len..end].copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
     }
 }
 
