@@ -58,6 +58,9 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let fallback = if scene.run_defaults.closure { "closure" } else { "none" };
     let mode: Enforce = cfg.enforce.as_deref().unwrap_or(fallback).parse()?;
+    if lean_viewfactors(&scene, &cfg, level, mode)? {
+        return Ok(());
+    }
     let vf = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
@@ -66,7 +69,9 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
         let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
-        at_level(&scene, &ex, level).to_viewfactors(raw.wall)
+        let mut vf = at_level(&scene, &ex, level).to_viewfactors(raw.wall);
+        vf.pairs = raw.pairs;
+        vf
     };
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
     let secs = vf.wall.as_secs_f64();
@@ -124,6 +129,93 @@ fn row_error_summary(vf: &ViewFactors) -> String {
                 .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
             format!("max |row sum - 1| = {worst:.3e} (surface {})", vf.names[at])
         }
+    }
+}
+
+/// Output surfaces above which the surface-level matrix is kept in the packed store.
+const LEAN_SURFACES: usize = 512;
+
+/// `viewfactors` on the lean packed store when the output is patch-level, enforced, or has
+/// many surfaces (and the method has a row kernel); false sends the run to the sparse path.
+fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) -> Result<bool> {
+    let symmetric = matches!(cfg.params.method, Method::Auto | Method::Analytic);
+    let wanted = level == Level::Patch || mode != Enforce::None || scene.surfaces.len() > LEAN_SURFACES;
+    if cfg.params.method.is_monte_carlo() || !(symmetric || mode != Enforce::None) || !wanted {
+        return Ok(false);
+    }
+    let start = std::time::Instant::now();
+    let Some(mut ex) = exchange::dense::build(scene, &cfg.params)? else { return Ok(false) };
+    let wall = start.elapsed();
+    let open = !scene.is_closed();
+    if mode == Enforce::None {
+        warn_dense_leaks(scene, &ex);
+    } else {
+        let p = EnforceParams { mode, open, source: scene.source.clone(), ..Default::default() };
+        let rep = exchange::dense::enforce(&mut ex, &p)?;
+        eprintln!("lambert: exchange before enforcement: {}", rep.before);
+        eprintln!(
+            "lambert: enforce {} ({}, {} iterations): {}",
+            mode_name(mode),
+            rep.method,
+            rep.iterations,
+            rep.after
+        );
+    }
+    let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
+    if level == Level::Patch || one_patch_each {
+        let names: Vec<String> = match level {
+            Level::Patch => std::mem::take(&mut ex.names),
+            Level::Surface => scene.surfaces.iter().map(|s| s.name.clone()).collect(),
+        };
+        write_output(&cfg.output, |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, p))?;
+    } else {
+        let vf = exchange::dense::to_surface_viewfactors(&ex, scene, wall);
+        write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, open, p))?;
+    }
+    let secs = wall.as_secs_f64();
+    eprintln!(
+        "lambert: {} patches, {} pairs, {:.3} s ({:.3e} pairs/s), method {}, dense store {:.1} MB",
+        scene.patches.len(),
+        ex.t.pairs,
+        secs,
+        ex.t.pairs as f64 / secs.max(1e-9),
+        cfg.params.method,
+        ex.t.bytes() as f64 / 1e6
+    );
+    if !open && ex.t.n > 0 {
+        let sums = if mode == Enforce::None { ex.t.raw_row_sums.clone() } else { ex.t.row_sums() };
+        let (worst, at) = sums
+            .iter()
+            .zip(&ex.t.areas)
+            .enumerate()
+            .map(|(i, (s, a))| ((s / a - 1.0).abs(), i))
+            .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+        eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} (patch {})", scene.patch_name(at));
+    }
+    Ok(true)
+}
+
+/// The leak warning of [`warn_leaks`] on the packed store (the general thresholds).
+fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
+    if !scene.is_closed() {
+        return;
+    }
+    let leaks = exchange::dense::leaks(&ex.t);
+    if !leaks.is_empty() {
+        let outward = scene::orientation::outward_closed_meshes(scene);
+        let mut named: Vec<usize> =
+            leaks.iter().map(|&(i, _, _)| scene.patches[i].surface).filter(|s| outward.contains(s)).collect();
+        named.dedup();
+        for s in named {
+            eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
+        }
+        let worst: Vec<String> =
+            leaks.iter().take(5).map(|&(i, s, _)| format!("{} (row sum {})", ex.names[i], row_sum(s))).collect();
+        eprintln!(
+            "lambert: warning: closed scene leaks: {} row(s) sum to less than 1 beyond the method's error; worst: {}",
+            leaks.len(),
+            worst.join(", ")
+        );
     }
 }
 
@@ -269,9 +361,15 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(e) => e.parse()?,
         None => Enforce::solve_default(!scene.is_closed()),
     };
+    if let Some(run) = lean_solve(&scene, &cfg.params, &a, mode, &params)? {
+        return finish_solve(&scene, &cfg, run.solution);
+    }
     let vf = match &a.viewfactors {
         Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
-        None => viewfactor::compute(&scene, &cfg.params, Level::Patch)?,
+        None => {
+            exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
+            viewfactor::compute(&scene, &cfg.params, Level::Patch)?
+        }
     };
     if cfg.patches && vf.level == Level::Surface {
         return Err(Error::Usage(
@@ -284,24 +382,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
         None => solve::solve_gray(&scene, &ex, &params)?,
     };
-    let info = &sol.info;
-    eprintln!(
-        "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",
-        info.unknowns,
-        info.solver,
-        info.iterations,
-        info.residual,
-        info.wall.as_secs_f64()
-    );
-    let out = if cfg.patches { sol } else { sol.by_surface(&scene) };
-    let (sum, max) = out.heat_balance();
-    let ok = sum.abs() <= solve::BALANCE_TOL * max;
-    eprintln!(
-        "lambert: energy balance: sum of heat_rate = {sum:e} W ({:.1e} of max |heat_rate| = {max} W){}",
-        if max > 0.0 { sum.abs() / max } else { 0.0 },
-        if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
-    );
-    write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))?;
+    finish_solve(&scene, &cfg, sol)?;
     if let Some(path) = &a.conductances {
         let c = solve::conductance::radk(&scene, &ex, &params)?;
         let c = if cfg.patches || ex.level == Level::Surface {
@@ -319,6 +400,70 @@ fn solve(a: SolveArgs) -> Result<()> {
         write_output(&Config::file_output(path), |w, p| report::decks::write(deck, w, &c, &info, p))?;
     }
     Ok(())
+}
+
+/// Bytes per patch pair of the sparse store and solve (measured: 6.4 GB at N = 8,472, about
+/// 85 bytes per ordered pair), used to refuse what cannot fit.
+const SPARSE_BYTES_PER_PAIR: f64 = 180.0;
+
+/// The lean dense path: every `solve` it can serve (a view-factor kernel, gray, the direct
+/// solver, no conductances and no saved view factors); `None` sends the run to the sparse path.
+fn lean_solve(
+    scene: &Scene,
+    vf: &viewfactor::Params,
+    a: &SolveArgs,
+    mode: Enforce,
+    params: &solve::Params,
+) -> Result<Option<solve::dense::DenseRun>> {
+    // Without enforcement a non-symmetric kernel's raw rows would be solved as they are.
+    let symmetric = matches!(vf.method, Method::Auto | Method::Analytic);
+    let served = a.viewfactors.is_none()
+        && a.conductances.is_none()
+        && scene.spectral.is_none()
+        && params.solver == solve::Solver::Direct
+        && !vf.method.is_monte_carlo()
+        && (symmetric || mode != Enforce::None);
+    if !served {
+        return Ok(None);
+    }
+    let Some(run) = solve::dense::solve_scene(scene, vf, mode, params)? else { return Ok(None) };
+    eprintln!("lambert: exchange before enforcement: {}", run.report.before);
+    eprintln!(
+        "lambert: enforce {} ({}, {} iterations): {}",
+        mode_name(mode),
+        run.report.method,
+        run.report.iterations,
+        run.report.after
+    );
+    eprintln!(
+        "lambert: {} patches, {} pairs, dense store {:.1} MB",
+        scene.patches.len(),
+        run.pairs,
+        run.store_bytes as f64 / 1e6
+    );
+    Ok(Some(run))
+}
+
+/// Prints the solve summary and energy balance and writes the results table.
+fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution) -> Result<()> {
+    let info = &sol.info;
+    eprintln!(
+        "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",
+        info.unknowns,
+        info.solver,
+        info.iterations,
+        info.residual,
+        info.wall.as_secs_f64()
+    );
+    let out = if cfg.patches { sol } else { sol.by_surface(scene) };
+    let (sum, max) = out.heat_balance();
+    let ok = sum.abs() <= solve::BALANCE_TOL * max;
+    eprintln!(
+        "lambert: energy balance: sum of heat_rate = {sum:e} W ({:.1e} of max |heat_rate| = {max} W){}",
+        if max > 0.0 { sum.abs() / max } else { 0.0 },
+        if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
+    );
+    write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))
 }
 
 fn validate(a: ValidateArgs) -> Result<()> {

@@ -17,6 +17,7 @@ use rayon::prelude::*;
 use sprs::CsMat;
 use std::time::Duration;
 
+pub mod dense;
 pub mod diagnostics;
 pub mod enforce;
 pub mod linalg;

@@ -19,6 +19,7 @@ use std::time::{Duration, Instant};
 
 pub mod bands;
 pub mod conductance;
+pub mod dense;
 pub mod direct;
 pub mod iterative;
 pub mod planck;

@@ -18,6 +18,7 @@ pub mod hemicube;
 pub mod monte_carlo;
 pub mod single_plane;
 pub mod sink;
+pub mod triangle;
 
 pub use sink::{Entry, Level, ViewFactors};
 
@@ -195,4 +196,36 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
     let mut vf = engine::run(scene, kernel.as_ref(), params, level)?;
     vf.wall = start.elapsed();
     Ok(vf)
+}
+
+/// Computes the patch-level exchange areas of `scene` straight into the lean packed store
+/// ([`triangle::Triangle`]): symmetric kernels fill their rows in parallel, the others are
+/// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
+/// per-entry variances and hit counts need the sparse store.
+pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangle::Triangle>> {
+    let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+        Method::Analytic => {
+            Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
+        }
+        Method::Auto => Box::new(auto::kernel(scene, params)),
+        Method::McArea | Method::McUniform | Method::McCosine => return Ok(None),
+        Method::Hemicube => {
+            Box::new(hemicube::HemicubeKernel::new(scene, params.resolution, hemicube::Positions::Adaptive)?)
+        }
+        Method::SinglePlane => Box::new(single_plane::SinglePlaneKernel::new(
+            scene,
+            params.resolution,
+            single_plane::SinglePlaneOptions::default(),
+        )?),
+    };
+    let n = scene.patches.len();
+    let bar = indicatif::ProgressBar::hidden();
+    if params.progress && std::io::IsTerminal::is_terminal(&std::io::stderr()) && n > 2000 {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+    }
+    bar.set_length(n as u64);
+    let tick = |k: usize| bar.set_position(k as u64);
+    let t = triangle::fill(scene, kernel.as_ref(), &tick)?;
+    bar.finish_and_clear();
+    Ok(Some(t))
 }

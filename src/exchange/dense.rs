@@ -1,0 +1,388 @@
+//! Enforcement on the lean packed triangle ([`Triangle`]), in place and without an N×N copy:
+//! - the leak check of closed scenes on the raw rows (same thresholds as [`super::enforce`]:
+//!   a leaking closed scene is refused, never stretched);
+//! - closure by symmetric scaling s_ij = s̄_ij g_i g_j: Newton on log g with the scaled
+//!   operator applied as g ∘ S̄(g ∘ x), so S̄ is only read until the single final rescaling;
+//! - open scenes: over-full rows scaled down (g_i ≤ 1) and the ambient column as an O(N) vector;
+//! - residual diagnostics (row sums, reciprocity, signs) before and after.
+//!
+//! The triangle already holds s̄ = ½(s + sᵀ): reciprocity is exact by storage.
+use super::diagnostics::{Diagnostics, WORST_ROWS};
+use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS, LEAK_TOL, LEAK_TOL_SINGLE_PLANE};
+use super::linalg::{dot, norm};
+use crate::error::InputError;
+use crate::viewfactor::triangle::Triangle;
+use crate::viewfactor::MethodSet;
+use crate::{Error, Result};
+use rayon::prelude::*;
+
+/// Newton steps allowed (as [`super::scaling`]).
+const MAX_NEWTON: usize = 50;
+/// CG stopping rule of each Newton step (as [`super::lsq::CG_TOL`]).
+const CG_TOL: f64 = 1e-14;
+/// Loosest relative CG residual of a Newton step (inexact Newton forcing term).
+const NEWTON_FORCING: f64 = 1e-2;
+/// CG iterations per Newton step: floor plus per node (as [`super::lsq`]).
+const CG_ITER_FLOOR: usize = 2000;
+const CG_ITER_PER_NODE: usize = 4;
+/// Fixed-point sweeps allowed for the capped scaling of open scenes.
+const MAX_CAPPED: usize = 10_000;
+
+/// The packed triangle of exchange areas with node names and, for open scenes, the ambient.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseExchange {
+    /// The symmetric exchange areas.
+    pub t: Triangle,
+    /// Node names.
+    pub names: Vec<String>,
+    /// S_i,amb = A_i − Σ_j S_ij for open scenes.
+    pub ambient: Option<Vec<f64>>,
+}
+
+/// Rows of a closed scene short of 1 by more than the method's error (as
+/// [`super::enforce::leaks`]): (node, row sum, threshold), worst first.
+pub fn leaks(t: &Triangle) -> Vec<(usize, f64, f64)> {
+    let mut out: Vec<(usize, f64, f64)> = (0..t.n)
+        .filter_map(|i| {
+            let p = t.raw_row_sums[i] / t.areas[i];
+            let m = t.raw_row_methods[i];
+            let sigma = t.raw_row_vars[i].sqrt() / t.areas[i];
+            let det = if m.union(MethodSet::SINGLE_PLANE) == m && !m.is_empty() {
+                LEAK_TOL_SINGLE_PLANE
+            } else {
+                LEAK_TOL
+            };
+            let threshold = det.max(LEAK_SIGMAS * sigma);
+            (1.0 - p > threshold).then_some((i, p, threshold))
+        })
+        .collect();
+    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    out
+}
+
+/// Residuals of the raw rows (before) or of the triangle with its ambient (after).
+fn diagnostics(d: &DenseExchange, sums: &[f64], reciprocity: f64, open: bool) -> Diagnostics {
+    let t = &d.t;
+    let n = t.n;
+    let dev: Vec<f64> = (0..n).map(|i| sums[i] / t.areas[i] - 1.0).collect();
+    let err: Vec<f64> = dev.iter().map(|&x| if open { x.max(0.0) } else { x.abs() }).collect();
+    let max_row_error = err.iter().copied().fold(0.0, f64::max);
+    let rms_row_error = if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
+    let negatives = t.s.par_iter().filter(|&&x| x < 0.0).count()
+        + d.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
+    let mut order: Vec<usize> = (0..n).filter(|&i| err[i] > 0.0).collect();
+    order.sort_by(|&a, &b| err[b].total_cmp(&err[a]).then(a.cmp(&b)));
+    let worst = order.into_iter().take(WORST_ROWS).map(|i| (d.names[i].clone(), dev[i])).collect();
+    Diagnostics { max_row_error, rms_row_error, reciprocity, negatives, worst }
+}
+
+fn max_abs(t: &Triangle) -> f64 {
+    t.s.par_iter().map(|x| x.abs()).reduce(|| 0.0, f64::max)
+}
+
+/// Applies `p.mode` in place and sets the ambient of open scenes. Only the default closure
+/// method (symmetric scaling) is served here; the others need the sparse store.
+pub fn enforce(d: &mut DenseExchange, p: &EnforceParams) -> Result<EnforceReport> {
+    let smax = max_abs(&d.t);
+    let rec = if smax > 0.0 { d.t.raw_asymmetry / smax } else { 0.0 };
+    let raw = d.t.raw_row_sums.clone();
+    let before = diagnostics(d, &raw, rec, p.open);
+    let (method, iterations) = match (p.mode, p.open) {
+        (Enforce::None, _) => ("none (reciprocity average of the packed store)", 0),
+        (Enforce::Reciprocity, false) => ("reciprocity average", 0),
+        (_, true) => ("reciprocity average, over-full rows scaled", capped_scaling(&mut d.t, p.tolerance)?),
+        (Enforce::Closure, false) => {
+            refuse_leaks(d, &p.source)?;
+            ("symmetric scaling", symmetric_scaling(&mut d.t, p.tolerance)?)
+        }
+    };
+    let sums = d.t.row_sums();
+    if p.open {
+        let amb = d.t.areas.iter().zip(&sums).map(|(a, s)| {
+            let r = a - s;
+            if r < 0.0 && -r <= p.tolerance * a * 10.0 {
+                0.0
+            } else {
+                r
+            }
+        });
+        d.ambient = Some(amb.collect());
+    }
+    let after = diagnostics(d, &sums, 0.0, p.open);
+    Ok(EnforceReport { before, after, method, iterations })
+}
+
+fn refuse_leaks(d: &DenseExchange, source: &std::path::Path) -> Result<()> {
+    let leaks = leaks(&d.t);
+    let Some(first) = leaks.first() else { return Ok(()) };
+    let names: Vec<String> =
+        leaks.iter().take(WORST_ROWS).map(|l| format!("{} (row sum {:.6})", d.names[l.0], l.1)).collect();
+    Err(InputError::surface(
+        source,
+        d.names[first.0].clone(),
+        format!(
+            "the closed scene leaks: {} row(s) sum to less than 1 by more than the method's error \
+             ({:.1e}); worst: {}. Look for a gap, a flipped normal or a missing [ambient]; \
+             closure will not stretch a leaking row",
+            leaks.len(),
+            first.2,
+            names.join(", ")
+        ),
+    )
+    .into())
+}
+
+/// max_i |r_i / A_i − 1|.
+fn closure_error(sums: &[f64], areas: &[f64]) -> f64 {
+    sums.iter().zip(areas).map(|(s, a)| (s / a - 1.0).abs()).fold(0.0, f64::max)
+}
+
+/// Multiplies s̄_ij by g_i g_j in place.
+fn rescale(t: &mut Triangle, g: &[f64]) {
+    let rows = t.rows_mut();
+    rows.into_par_iter().enumerate().for_each(|(i, row)| {
+        for (s, gj) in row.iter_mut().zip(&g[i..]) {
+            *s *= g[i] * gj;
+        }
+    });
+}
+
+/// Closure Σ_j s̄_ij g_i g_j = A_i by Newton on log g (the step solves
+/// Σ_j w_ij(u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s, see [`super::scaling`]);
+/// returns the CG iterations spent.
+pub fn symmetric_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
+    let n = t.n;
+    let ones = vec![1.0; n];
+    let mut logg = vec![0.0; n];
+    let mut g = ones.clone();
+    let mut sums = t.matvec_scaled(Some(&g), &ones);
+    let mut err = closure_error(&sums, &t.areas);
+    let mut total = 0;
+    for _ in 0..MAX_NEWTON {
+        if err <= tol {
+            break;
+        }
+        let r: Vec<f64> = t.areas.iter().zip(&sums).map(|(a, s)| a - s).collect();
+        // Operator diagonal Σ_j w_ij + w_ii.
+        let diag: Vec<f64> = (0..n).map(|i| sums[i] + t.row(i)[0] * g[i] * g[i]).collect();
+        let apply = |x: &[f64]| -> Vec<f64> {
+            let wx = t.matvec_scaled(Some(&g), x);
+            wx.iter().zip(&sums).zip(x).map(|((w, s), x)| w + s * x).collect()
+        };
+        // Inexact Newton: each step solved to the current closure error (quadratic
+        // convergence is kept), never looser than NEWTON_FORCING.
+        let goal = err.clamp(CG_TOL, NEWTON_FORCING);
+        let (u, it, res) = pcg(&apply, &diag, &r, goal, CG_ITER_FLOOR + CG_ITER_PER_NODE * n);
+        total += it;
+        if res > goal && res > 1e-8 {
+            return Err(Error::Compute(format!(
+                "closure constraints have no solution (CG stopped at relative residual {res:.3e} after \
+                 {it} iterations): a group of patches that see only each other has unequal areas on its two sides"
+            )));
+        }
+        let mut step = 1.0;
+        loop {
+            let trial: Vec<f64> = logg.iter().zip(&u).map(|(l, u)| l + step * u).collect();
+            let tg: Vec<f64> = trial.iter().map(|l| l.exp()).collect();
+            let ts = t.matvec_scaled(Some(&tg), &ones);
+            let e = closure_error(&ts, &t.areas);
+            if e < err || step < 1e-3 {
+                (logg, g, sums, err) = (trial, tg, ts, e);
+                break;
+            }
+            step *= 0.5;
+        }
+    }
+    if err > tol {
+        return Err(Error::Compute(format!(
+            "symmetric scaling did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
+        )));
+    }
+    rescale(t, &g);
+    Ok(total)
+}
+
+/// Open scenes: scales rows whose sum exceeds A_i(1 + tol) down until Σ_j S_ij ≤ A_i, by
+/// g_i ← min(1, √(g_i A_i / (S̄g)_i)); returns sweeps.
+pub fn capped_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
+    let n = t.n;
+    let mut g = vec![1.0; n];
+    for sweep in 0..MAX_CAPPED {
+        let r = t.matvec_scaled(None, &g);
+        let over = (0..n).any(|i| g[i] * r[i] > t.areas[i] * (1.0 + tol));
+        if !over {
+            if g.iter().any(|&x| x != 1.0) {
+                rescale(t, &g);
+            }
+            return Ok(sweep);
+        }
+        for i in 0..n {
+            if r[i] > 0.0 {
+                g[i] = (g[i] * t.areas[i] / r[i]).sqrt().min(1.0);
+            }
+        }
+    }
+    Err(Error::Compute(format!("capped scaling of over-full rows did not converge in {MAX_CAPPED} sweeps")))
+}
+
+/// Jacobi-preconditioned CG for a symmetric positive (semi-)definite operator, from x = 0;
+/// returns (x, iterations, final ‖b − Ax‖/‖b‖). Deterministic reductions ([`dot`]).
+pub fn pcg(
+    apply: &dyn Fn(&[f64]) -> Vec<f64>,
+    diag: &[f64],
+    b: &[f64],
+    tol: f64,
+    max_iter: usize,
+) -> (Vec<f64>, usize, f64) {
+    let n = b.len();
+    let inv: Vec<f64> = diag.iter().map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 }).collect();
+    let bnorm = norm(b);
+    let mut x = vec![0.0; n];
+    if bnorm == 0.0 {
+        return (x, 0, 0.0);
+    }
+    let mut r = b.to_vec();
+    let mut z: Vec<f64> = r.iter().zip(&inv).map(|(r, d)| r * d).collect();
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
+    let mut res = 1.0;
+    for it in 1..=max_iter {
+        let ap = apply(&p);
+        let pap = dot(&p, &ap);
+        if pap <= 0.0 {
+            return (x, it, res);
+        }
+        let alpha = rz / pap;
+        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+        r.iter_mut().zip(&ap).for_each(|(r, ap)| *r -= alpha * ap);
+        res = norm(&r) / bnorm;
+        if res <= tol {
+            return (x, it, res);
+        }
+        z.iter_mut().zip(&r).zip(&inv).for_each(|((z, r), d)| *z = r * d);
+        let rz_new = dot(&r, &z);
+        let beta = rz_new / rz;
+        rz = rz_new;
+        p.iter_mut().zip(&z).for_each(|(p, z)| *p = z + beta * *p);
+    }
+    (x, max_iter, res)
+}
+
+/// Environment variable overriding the available memory in bytes (tests, batch schedulers).
+pub const MEM_AVAILABLE_ENV: &str = "LAMBERT_MEM_AVAILABLE";
+/// Peak bytes of the dense path per byte of the packed triangle: the triangle itself, the
+/// exceptions of mixed rows and the O(N) vectors, with room to spare.
+pub const DENSE_PEAK_FACTOR: f64 = 1.25;
+
+/// Memory available to this run in bytes: the override, else `MemAvailable` of
+/// /proc/meminfo; None when neither is known (the check is then skipped).
+pub fn available_memory() -> Option<u64> {
+    if let Ok(v) = std::env::var(MEM_AVAILABLE_ENV) {
+        return v.trim().parse().ok();
+    }
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Refuses (exit 2) a dense request for `n` nodes whose store, `bytes_per_pair` × n²/2 plus
+/// headroom, exceeds the available memory, before anything large is allocated.
+pub fn check_fits(n: usize, bytes_per_pair: f64, source: &std::path::Path) -> Result<()> {
+    let need = n as f64 * (n as f64 + 1.0) / 2.0 * bytes_per_pair * DENSE_PEAK_FACTOR;
+    let Some(avail) = available_memory() else { return Ok(()) };
+    if need <= avail as f64 {
+        return Ok(());
+    }
+    Err(InputError::file(
+        source,
+        format!(
+            "{n} patches need about {:.1} GB for the dense exchange matrix (n²/2 pairs × {bytes_per_pair} bytes) \
+             but only {:.1} GB is available; use `--exchange hierarchical`, or coarser `subdivide`",
+            need / 1e9,
+            avail as f64 / 1e9
+        ),
+    )
+    .into())
+}
+
+/// Computes the patch-level lean store of `scene` (after the memory check); `None` when the
+/// method needs the sparse store (Monte Carlo).
+pub fn build(
+    scene: &crate::scene::Scene,
+    params: &crate::viewfactor::Params,
+) -> Result<Option<DenseExchange>> {
+    if params.method.is_monte_carlo() {
+        return Ok(None);
+    }
+    check_fits(scene.patches.len(), 8.0, &scene.source)?;
+    let Some(t) = crate::viewfactor::compute_triangle(scene, params)? else { return Ok(None) };
+    let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
+    Ok(Some(DenseExchange { t, names, ambient: None }))
+}
+
+/// Surface-level view factors of a patch-level store: S_IJ = Σ_{i∈I, j∈J} s̄_ij (variances
+/// add, methods unite), F_IJ = S_IJ / A_I, accumulated in one n_s × n_s table.
+pub fn to_surface_viewfactors(
+    d: &DenseExchange,
+    scene: &crate::scene::Scene,
+    wall: std::time::Duration,
+) -> crate::viewfactor::ViewFactors {
+    use crate::viewfactor::{Entry, Level, ViewFactors};
+    let t = &d.t;
+    let m = scene.surfaces.len();
+    let group: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
+    let mut s = vec![0.0; m * m];
+    let mut var = vec![0.0; m * m];
+    let mut met = vec![MethodSet::default(); m * m];
+    for i in 0..t.n {
+        let gi = group[i];
+        let mut ex = t.exceptions[i].iter().peekable();
+        for (k, &x) in t.row(i).iter().enumerate() {
+            let j = i + k;
+            let (mut me, mut v) = (t.row_method[i], 0.0);
+            if ex.peek().is_some_and(|e| e.j as usize == j) {
+                let e = ex.next().expect("peeked");
+                (me, v) = (e.method, e.var);
+            }
+            if x == 0.0 {
+                continue;
+            }
+            let gj = group[j];
+            let mut add = |a: usize, b: usize| {
+                s[a * m + b] += x;
+                var[a * m + b] += v;
+                met[a * m + b] = met[a * m + b].union(me);
+            };
+            add(gi, gj);
+            if j != i {
+                add(gj, gi);
+            }
+        }
+    }
+    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area).collect();
+    let rows: Vec<Vec<Entry>> = (0..m)
+        .map(|a| {
+            (0..m)
+                .filter(|&b| s[a * m + b] != 0.0)
+                .map(|b| Entry {
+                    to: b as u32,
+                    factor: s[a * m + b] / areas[a],
+                    std_error: var[a * m + b].sqrt() / areas[a],
+                    method: met[a * m + b],
+                })
+                .collect()
+        })
+        .collect();
+    let patch_row_sums = t.row_sums().iter().zip(&t.areas).map(|(s, a)| s / a).collect();
+    ViewFactors {
+        level: Level::Surface,
+        names: scene.surfaces.iter().map(|s| s.name.clone()).collect(),
+        areas,
+        rows,
+        patch_row_sums,
+        patch_samples: vec![0; t.n],
+        pairs: t.pairs,
+        wall,
+    }
+}

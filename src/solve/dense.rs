@@ -1,0 +1,239 @@
+//! The lean dense solve: the net-radiation system K J = b (K = D − S̄ on the unknowns, black
+//! surfaces eliminated, literature.md §5) solved by Jacobi-preconditioned conjugate gradients
+//! with the symmetric packed mat-vec of [`Triangle`]. K is never assembled: the only N²
+//! object is the triangle of exchange areas, read once per iteration.
+//!
+//! - [`solve_gray`]: solve on an enforced [`DenseExchange`];
+//! - [`solve_scene`]: view factors → enforcement → solve, the whole `solve` run on the lean
+//!   path (`None` when the method needs the sparse store).
+use super::system::{RowKind, ANCHOR_TOL};
+use super::{Info, NodeResult, Params, Solution};
+use crate::error::InputError;
+use crate::exchange::dense::{self, pcg, DenseExchange};
+use crate::exchange::{Enforce, EnforceParams, EnforceReport};
+use crate::scene::Scene;
+use crate::viewfactor::Level;
+use crate::{Error, Result, SIGMA};
+use std::time::Instant;
+
+/// Relative residual ‖b − KJ‖/‖b‖ at which CG stops: the heat rates then agree with a direct
+/// factorisation to ~1e-12 (K is diagonally dominant wherever a temperature anchors it).
+pub const CG_TOL: f64 = 1e-14;
+/// Accepted residual when round-off stalls CG before [`CG_TOL`]: far below the 1e-9 energy
+/// balance.
+pub const CG_STALL_TOL: f64 = 1e-12;
+/// CG iterations allowed: a floor plus a share of the unknowns (convergence takes tens of
+/// iterations on anchored enclosures; this only stops a runaway).
+const CG_ITER_FLOOR: usize = 5000;
+
+/// Everything the lean `solve` run produced.
+#[derive(Debug, Clone)]
+pub struct DenseRun {
+    /// The per-patch solution.
+    pub solution: Solution,
+    /// What enforcement did.
+    pub report: EnforceReport,
+    /// Patch pairs evaluated by the view-factor kernel.
+    pub pairs: u64,
+    /// Bytes of the packed store (triangle and exceptions).
+    pub store_bytes: usize,
+}
+
+/// View factors, enforcement (`mode`) and the gray solve on the lean path; `None` when the
+/// view-factor method needs the sparse store (Monte Carlo).
+pub fn solve_scene(
+    scene: &Scene,
+    vf: &crate::viewfactor::Params,
+    mode: Enforce,
+    params: &Params,
+) -> Result<Option<DenseRun>> {
+    let Some(mut ex) = dense::build(scene, vf)? else { return Ok(None) };
+    let p =
+        EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
+    let report = dense::enforce(&mut ex, &p)?;
+    let solution = solve_gray(scene, &ex, params)?;
+    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes() }))
+}
+
+/// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for
+/// open scenes).
+pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<Solution> {
+    let start = Instant::now();
+    let t = &ex.t;
+    let n = t.n;
+    if n != scene.patches.len() {
+        return Err(InputError::file(
+            &scene.source,
+            format!("the exchange matrix has {n} nodes but the scene has {} patches", scene.patches.len()),
+        )
+        .into());
+    }
+    let mut eps = Vec::with_capacity(n);
+    let mut rows = Vec::with_capacity(n);
+    for p in &scene.patches {
+        let surf = &scene.surfaces[p.surface];
+        let condition = surf.condition.ok_or_else(|| {
+            Error::from(InputError::surface(
+                &scene.source,
+                surf.name.clone(),
+                "no boundary condition: `solve` needs `temperature` or `heat_flux`",
+            ))
+        })?;
+        eps.push(surf.emissivity);
+        rows.push(
+            super::Node { surface: p.surface, area: 0.0, emissivity: surf.emissivity, condition }.row_kind(),
+        );
+    }
+    let e_amb = scene.ambient.map_or(0.0, |a| SIGMA * a.temperature.powi(4));
+    let amb = ex.ambient.as_deref();
+    // Unknowns: every node but the black temperature nodes, whose J = E_b is known.
+    let mut known = vec![0.0; n];
+    let mut unknown = vec![true; n];
+    let mut d = vec![0.0; n];
+    let mut b = vec![0.0; n];
+    for i in 0..n {
+        let a = t.areas[i];
+        match rows[i] {
+            RowKind::Temperature(eb) if eps[i] >= 1.0 => (known[i], unknown[i]) = (eb, false),
+            RowKind::Temperature(eb) => {
+                let rho = 1.0 - eps[i];
+                (d[i], b[i]) = (a / rho, a * eps[i] / rho * eb);
+            }
+            RowKind::Flux(q) => (d[i], b[i]) = (a, a * q),
+        }
+        b[i] += amb.map_or(0.0, |am| am[i]) * e_amb;
+    }
+    if unknown.iter().any(|u| !u) {
+        let sk = t.matvec_scaled(None, &known);
+        for i in (0..n).filter(|&i| unknown[i]) {
+            b[i] += sk[i];
+        }
+    }
+    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
+    let diag: Vec<f64> = (0..n).map(|i| if unknown[i] { d[i] - t.row(i)[0] } else { 1.0 }).collect();
+    check_anchored(scene, ex, &unknown, &d, &diag)?;
+    for i in (0..n).filter(|&i| !unknown[i]) {
+        b[i] = 0.0;
+    }
+    // K x = D x − S̄ x on the unknowns (x is 0 on eliminated nodes, so is K x).
+    let apply = |x: &[f64]| -> Vec<f64> {
+        let sx = t.matvec_scaled(None, x);
+        (0..n).map(|i| mask[i] * (d[i] * x[i] - sx[i])).collect()
+    };
+    let max_iter = CG_ITER_FLOOR + n;
+    let (x, iterations, residual) = pcg(&apply, &diag, &b, CG_TOL, max_iter);
+    if !(residual <= CG_STALL_TOL) {
+        return Err(Error::Compute(format!(
+            "conjugate gradients stopped at relative residual {residual:.3e} after {iterations} iterations"
+        )));
+    }
+    let _ = params;
+    let j: Vec<f64> = (0..n).map(|i| if unknown[i] { x[i] } else { known[i] }).collect();
+    let sj = t.matvec_scaled(None, &j);
+    let mut results = Vec::with_capacity(n);
+    for i in 0..n {
+        let a = t.areas[i];
+        let h = (sj[i] + amb.map_or(0.0, |am| am[i] * e_amb)) / a;
+        let q = j[i] - h;
+        let temperature = match rows[i] {
+            RowKind::Temperature(eb) => (eb / SIGMA).powf(0.25),
+            RowKind::Flux(qp) => {
+                let eb = j[i] + (1.0 - eps[i]) / eps[i] * qp;
+                if eb < 0.0 {
+                    return Err(Error::Compute(format!(
+                        "{}: the prescribed heat flux {qp} W/m² would need a negative emissive power",
+                        ex.names[i]
+                    )));
+                }
+                (eb / SIGMA).powf(0.25)
+            }
+        };
+        results.push(NodeResult {
+            temperature,
+            heat_flux: q,
+            heat_rate: a * q,
+            radiosity: j[i],
+            irradiation: h,
+        });
+    }
+    let ambient = scene.ambient.map(|a| {
+        let heat = amb.map_or(0.0, |am| am.iter().zip(&j).map(|(s, j)| s * (e_amb - j)).sum());
+        (a.temperature, heat)
+    });
+    let info = Info {
+        solver: "packed conjugate gradients".into(),
+        unknowns: unknown.iter().filter(|&&u| u).count(),
+        iterations,
+        residual,
+        wall: start.elapsed(),
+    };
+    Ok(Solution {
+        level: Level::Patch,
+        names: ex.names.clone(),
+        areas: t.areas.clone(),
+        emissivity: eps,
+        surface: scene.patches.iter().map(|p| p.surface).collect(),
+        results,
+        ambient,
+        info,
+    })
+}
+
+/// Refuses a group of unknowns without a temperature anchor (as
+/// [`super::system::check_anchored`]): rows whose dominance margin D_i − Σ_{j unknown} s̄_ij is
+/// at round-off level, connected only to such rows.
+fn check_anchored(
+    scene: &Scene,
+    ex: &DenseExchange,
+    unknown: &[bool],
+    d: &[f64],
+    diag: &[f64],
+) -> Result<()> {
+    let t = &ex.t;
+    let n = t.n;
+    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
+    let su = t.matvec_scaled(None, &mask);
+    let anchored: Vec<bool> = (0..n).map(|i| d[i] - su[i] > ANCHOR_TOL * diag[i].abs()).collect();
+    if (0..n).all(|i| !unknown[i] || anchored[i]) {
+        return Ok(());
+    }
+    // Union-find over coupled unknown pairs.
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    for i in (0..n).filter(|&i| unknown[i]) {
+        for (k, &s) in t.row(i).iter().enumerate().skip(1) {
+            let j = i + k;
+            if s != 0.0 && unknown[j] {
+                let (a, b) = (find(&mut parent, i), find(&mut parent, j));
+                parent[a] = b;
+            }
+        }
+    }
+    let mut root_ok = vec![false; n];
+    for i in (0..n).filter(|&i| unknown[i] && anchored[i]) {
+        let r = find(&mut parent, i);
+        root_ok[r] = true;
+    }
+    let bad: Vec<usize> = (0..n).filter(|&i| unknown[i] && !root_ok[find(&mut parent, i)]).collect();
+    let Some(&first) = bad.first() else { return Ok(()) };
+    let mut surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
+    surfaces.dedup();
+    let names: Vec<&str> = surfaces.iter().take(8).map(|&s| scene.surfaces[s].name.as_str()).collect();
+    Err(InputError::surface(
+        &scene.source,
+        ex.names[first].clone(),
+        format!(
+            "no temperature anchor: the enclosure formed by {} has only heat-flux conditions and \
+             sees no ambient, so its temperatures are undetermined (singular system); give at least \
+             one of these surfaces a temperature",
+            names.join(", ")
+        ),
+    )
+    .into())
+}

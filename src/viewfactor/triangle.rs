@@ -1,0 +1,466 @@
+//! The lean dense exchange store: one packed f64 upper triangle of symmetric exchange areas
+//! s̄_ij = ½(s_ij + s_ji) (diagonal included), plus per row a default method and a short
+//! sorted list of exceptions (entries whose method differs from the row's, or that carry a
+//! variance). About N²/2 × 8 bytes; no per-entry column index, method tag or variance where a
+//! row is uniform (deterministic methods have no variance).
+//!
+//! - [`Triangle`]: the store, packed row access and the symmetric mat-vec y = S x used by
+//!   closure and the solve (fixed chunking: identical on any thread count);
+//! - [`fill`]: runs a [`RowKernel`] straight into the triangle. Symmetric kernels (j > i only)
+//!   write their row into its own packed slice in parallel; the others are computed in
+//!   bounded waves and folded serially, each cell receiving s_ij then s_ji.
+use super::engine::{RawEntry, Row, RowKernel};
+use super::MethodSet;
+use crate::scene::Scene;
+use crate::{Error, Result};
+use rayon::prelude::*;
+
+/// One entry of a row that is not described by the row's default method alone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Exception {
+    /// Column j ≥ i.
+    pub j: u32,
+    /// Method(s) behind s̄_ij.
+    pub method: MethodSet,
+    /// Variance of s̄_ij, m⁴.
+    pub var: f64,
+}
+
+/// Packed symmetric exchange areas at patch (or surface) level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Triangle {
+    /// Order.
+    pub n: usize,
+    /// Row i holds s̄_ij for j = i..n, rows concatenated; length n(n+1)/2.
+    pub s: Vec<f64>,
+    /// Method of every positive entry of row i (upper part) not listed in `exceptions[i]`.
+    pub row_method: Vec<MethodSet>,
+    /// Per row, sorted by column: entries with another method or a variance.
+    pub exceptions: Vec<Vec<Exception>>,
+    /// Node areas A_i, m².
+    pub areas: Vec<f64>,
+    /// Per node: Σ_j s_ij of the raw row before any averaging, m².
+    pub raw_row_sums: Vec<f64>,
+    /// Per node: Σ_j var(s_ij) of the raw row, m⁴.
+    pub raw_row_vars: Vec<f64>,
+    /// Per node: union of the methods of the raw row.
+    pub raw_row_methods: Vec<MethodSet>,
+    /// max |s_ij − s_ji| over the raw pairs (0 for symmetric kernels), m².
+    pub raw_asymmetry: f64,
+    /// Patch pairs evaluated.
+    pub pairs: u64,
+}
+
+/// Rows per task of the symmetric mat-vec: a fixed count, so sums never depend on threads.
+const MATVEC_BLOCKS: usize = 64;
+
+impl Triangle {
+    /// An all-zero triangle of order `n`, refusing sizes whose length overflows.
+    pub fn zeros(n: usize, areas: Vec<f64>) -> Result<Self> {
+        let len =
+            packed_len(n).ok_or_else(|| Error::Compute(format!("{n} nodes overflow the packed store")))?;
+        Ok(Self {
+            n,
+            s: vec![0.0; len],
+            row_method: vec![MethodSet::default(); n],
+            exceptions: vec![Vec::new(); n],
+            areas,
+            raw_row_sums: vec![0.0; n],
+            raw_row_vars: vec![0.0; n],
+            raw_row_methods: vec![MethodSet::default(); n],
+            raw_asymmetry: 0.0,
+            pairs: 0,
+        })
+    }
+
+    /// Start of row i in the packed store.
+    #[inline]
+    pub fn offset(&self, i: usize) -> usize {
+        row_offset(self.n, i)
+    }
+
+    /// Row i (columns i..n).
+    pub fn row(&self, i: usize) -> &[f64] {
+        let o = self.offset(i);
+        &self.s[o..o + self.n - i]
+    }
+
+    /// s̄_ij for any i, j.
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        let (a, b) = if i <= j { (i, j) } else { (j, i) };
+        self.s[self.offset(a) + b - a]
+    }
+
+    /// Method(s) and variance of s̄_ij (default method and 0 unless listed as an exception).
+    pub fn meta(&self, i: usize, j: usize) -> (MethodSet, f64) {
+        let (a, b) = if i <= j { (i, j) } else { (j, i) };
+        let ex = &self.exceptions[a];
+        match ex.binary_search_by_key(&(b as u32), |e| e.j) {
+            Ok(k) => (ex[k].method, ex[k].var),
+            Err(_) => (self.row_method[a], 0.0),
+        }
+    }
+
+    /// Mutable rows, one slice per row, in order.
+    pub fn rows_mut(&mut self) -> Vec<&mut [f64]> {
+        let mut out = Vec::with_capacity(self.n);
+        let mut rest: &mut [f64] = &mut self.s;
+        for i in 0..self.n {
+            let (row, tail) = std::mem::take(&mut rest).split_at_mut(self.n - i);
+            out.push(row);
+            rest = tail;
+        }
+        out
+    }
+
+    /// y = W S W x with W = diag(w) (w = None: y = S x), the full symmetric product from the
+    /// upper triangle. Deterministic: fixed row blocks, partial column sums added in order.
+    pub fn matvec_scaled(&self, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        let wx: Vec<f64> = match w {
+            Some(w) => x.iter().zip(w).map(|(x, w)| x * w).collect(),
+            None => x.to_vec(),
+        };
+        let blocks = block_bounds(n, MATVEC_BLOCKS);
+        // Each block: its own rows' y_i (row part) and a partial column vector for j ≥ lo.
+        let parts: Vec<(usize, Vec<f64>)> = blocks
+            .par_windows(2)
+            .map(|b| {
+                let (lo, hi) = (b[0], b[1]);
+                let mut col = vec![0.0; n - lo];
+                for i in lo..hi {
+                    let row = self.row(i);
+                    let xi = wx[i];
+                    let acc = row_dot_axpy(row, &wx[i..], xi, &mut col[i - lo..]);
+                    // The diagonal was added to both: keep it once.
+                    col[i - lo] += acc - row[0] * xi;
+                }
+                (lo, col)
+            })
+            .collect();
+        let mut y = vec![0.0; n];
+        for (lo, col) in parts {
+            for (k, c) in col.into_iter().enumerate() {
+                y[lo + k] += c;
+            }
+        }
+        if let Some(w) = w {
+            y.iter_mut().zip(w).for_each(|(y, w)| *y *= w);
+        }
+        y
+    }
+
+    /// Σ_j s̄_ij per node.
+    pub fn row_sums(&self) -> Vec<f64> {
+        self.matvec_scaled(None, &vec![1.0; self.n])
+    }
+
+    /// Bytes held by the store (triangle plus exceptions).
+    pub fn bytes(&self) -> usize {
+        self.s.len() * 8 + self.exceptions.iter().map(|e| e.capacity()).sum::<usize>() * 16
+    }
+}
+
+/// Lanes of the row kernel: independent partial sums let the compiler vectorise.
+const LANES: usize = 8;
+
+/// Σ_k s_k x_k while c_k += s_k·xi, in one pass over the row (partial sums in [`LANES`]
+/// fixed lanes, added in a fixed order).
+#[inline]
+fn row_dot_axpy(s: &[f64], x: &[f64], xi: f64, c: &mut [f64]) -> f64 {
+    let m = s.len();
+    let (x, c) = (&x[..m], &mut c[..m]);
+    let mut acc = [0.0; LANES];
+    let full = m / LANES * LANES;
+    for ((sc, xc), cc) in s[..full]
+        .chunks_exact(LANES)
+        .zip(x[..full].chunks_exact(LANES))
+        .zip(c[..full].chunks_exact_mut(LANES))
+    {
+        for l in 0..LANES {
+            acc[l] += sc[l] * xc[l];
+            cc[l] += sc[l] * xi;
+        }
+    }
+    let mut tail = 0.0;
+    for k in full..m {
+        tail += s[k] * x[k];
+        c[k] += s[k] * xi;
+    }
+    let half = [acc[0] + acc[4], acc[1] + acc[5], acc[2] + acc[6], acc[3] + acc[7]];
+    (half[0] + half[2]) + (half[1] + half[3]) + tail
+}
+
+/// n(n+1)/2, or None on overflow.
+pub fn packed_len(n: usize) -> Option<usize> {
+    n.checked_mul(n.checked_add(1)?).map(|x| x / 2)
+}
+
+/// Start of row i of an order-n packed upper triangle.
+#[inline]
+fn row_offset(n: usize, i: usize) -> usize {
+    i * n - i * (i.saturating_sub(1)) / 2
+}
+
+/// Row bounds splitting the triangle into `k` blocks of about equal area (fixed for a given n).
+fn block_bounds(n: usize, k: usize) -> Vec<usize> {
+    let total = n * (n + 1) / 2;
+    let mut out = vec![0];
+    let mut acc = 0;
+    let mut next = 1;
+    for i in 0..n {
+        acc += n - i;
+        if acc * k >= next * total && i + 1 < n {
+            out.push(i + 1);
+            while acc * k >= next * total {
+                next += 1;
+            }
+        }
+    }
+    out.push(n);
+    out.dedup();
+    out
+}
+
+/// Splits a row's entries into the default method (the most frequent) and exceptions.
+fn row_meta(entries: &[RawEntry], i: usize) -> (MethodSet, Vec<Exception>) {
+    let mut counts: Vec<(MethodSet, usize)> = Vec::new();
+    for e in entries.iter().filter(|e| e.var == 0.0) {
+        match counts.iter_mut().find(|c| c.0 == e.method) {
+            Some(c) => c.1 += 1,
+            None => counts.push((e.method, 1)),
+        }
+    }
+    let default = counts.iter().max_by_key(|c| c.1).map_or(MethodSet::default(), |c| c.0);
+    let mut ex: Vec<Exception> = entries
+        .iter()
+        .filter(|e| e.j as usize >= i && (e.method != default || e.var != 0.0))
+        .map(|e| Exception { j: e.j, method: e.method, var: e.var })
+        .collect();
+    ex.sort_by_key(|e| e.j);
+    (default, ex)
+}
+
+/// Fills the patch-level triangle of `scene` with `kernel`; `wave` bounds the rows buffered
+/// per wave for non-symmetric kernels; `tick` is told how many rows are done.
+pub fn fill(scene: &Scene, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)) -> Result<Triangle> {
+    let n = scene.patches.len();
+    let mut t = Triangle::zeros(n, scene.patches.iter().map(|p| p.polygon.area()).collect())?;
+    if kernel.symmetric() {
+        fill_symmetric(&mut t, kernel, tick)?;
+    } else {
+        fill_folded(&mut t, kernel, tick)?;
+    }
+    Ok(t)
+}
+
+/// Per-row outcome of the parallel fill: (default method, exceptions, Σ s, Σ var, methods,
+/// pairs).
+type RowOut = (MethodSet, Vec<Exception>, f64, f64, MethodSet, u64);
+
+fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)) -> Result<()> {
+    let n = t.n;
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let rows = t.rows_mut();
+    let outs: Vec<Result<RowOut>> = rows
+        .into_par_iter()
+        .enumerate()
+        .map(|(i, slot)| {
+            let mut row = Row::default();
+            kernel.row(i, &mut row)?;
+            let (mut sum, mut var, mut methods) = (0.0, 0.0, MethodSet::default());
+            for e in &row.entries {
+                let j = e.j as usize;
+                if j < i || j >= n {
+                    return Err(Error::Compute(format!("symmetric kernel returned column {j} in row {i}")));
+                }
+                slot[j - i] += e.s;
+                sum += e.s;
+                var += e.var;
+                methods = methods.union(e.method);
+            }
+            let (def, ex) = row_meta(&row.entries, i);
+            let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            tick(k + 1);
+            Ok((def, ex, sum, var, methods, row.pairs))
+        })
+        .collect();
+    for (i, o) in outs.into_iter().enumerate() {
+        let (def, ex, sum, var, methods, pairs) = o?;
+        t.row_method[i] = def;
+        t.exceptions[i] = ex;
+        t.raw_row_sums[i] = sum;
+        t.raw_row_vars[i] = var;
+        t.raw_row_methods[i] = methods;
+        t.pairs += pairs;
+    }
+    // Mirror s_ji = s_ij into the column sums, variances and methods of the raw rows.
+    t.raw_row_sums = t.matvec_scaled(None, &vec![1.0; n]);
+    let mut extra_var = vec![0.0; n];
+    for (i, ex) in t.exceptions.iter().enumerate() {
+        for e in ex.iter().filter(|e| e.j as usize != i) {
+            extra_var[e.j as usize] += e.var;
+        }
+    }
+    // The mirrored half's methods are not tracked per entry: every row also takes every
+    // method the kernel used (the leak threshold only asks whether a row is single-plane).
+    let all = t.raw_row_methods.iter().fold(MethodSet::default(), |a, &m| a.union(m));
+    for m in &mut t.raw_row_methods {
+        *m = m.union(all);
+    }
+    for (v, e) in t.raw_row_vars.iter_mut().zip(extra_var) {
+        *v += e;
+    }
+    Ok(())
+}
+
+/// Entries buffered per wave of a non-symmetric kernel (as the row engine).
+const WAVE_ENTRY_BUDGET: usize = 2_000_000;
+
+fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)) -> Result<()> {
+    let n = t.n;
+    let threads = rayon::current_num_threads().max(1);
+    let wave = (WAVE_ENTRY_BUDGET / n.max(1)).clamp(4 * threads, 4096).max(1);
+    // Per row r: exceptions collected unsorted, merged at the end.
+    let mut pending: Vec<Vec<Exception>> = vec![Vec::new(); n];
+    let mut seen = vec![false; n];
+    let mut lo = 0;
+    while lo < n {
+        let hi = (lo + wave).min(n);
+        let rows: Vec<Result<Row>> = (lo..hi)
+            .into_par_iter()
+            .map(|i| {
+                let mut row = Row::default();
+                kernel.row(i, &mut row).map(|_| row)
+            })
+            .collect();
+        for (k, row) in rows.into_iter().enumerate() {
+            let i = lo + k;
+            let row = row?;
+            fold_row(t, i, &row, &mut pending, &mut seen)?;
+        }
+        lo = hi;
+        tick(lo);
+    }
+    for (r, mut ex) in pending.into_iter().enumerate() {
+        ex.sort_by_key(|e| e.j);
+        // Merge the two halves of a pair: methods unite, variances already quartered.
+        let mut merged: Vec<Exception> = Vec::with_capacity(ex.len());
+        for e in ex {
+            match merged.last_mut() {
+                Some(m) if m.j == e.j => {
+                    m.method = m.method.union(e.method);
+                    m.var += e.var;
+                }
+                _ => merged.push(e),
+            }
+        }
+        // A pair listed only for its method must still differ from the row default.
+        let def = t.row_method[r];
+        merged.retain(|e| e.method != def || e.var != 0.0);
+        merged.shrink_to_fit();
+        t.exceptions[r] = merged;
+    }
+    Ok(())
+}
+
+/// Folds raw row i: cell (i, j > i) takes s_ij; cell (j, i) for j < i, which holds s_ji,
+/// becomes ½(s_ji + s_ij) as in the sparse symmetrisation; untouched cells of column i halve.
+fn fold_row(
+    t: &mut Triangle,
+    i: usize,
+    row: &Row,
+    pending: &mut [Vec<Exception>],
+    seen: &mut [bool],
+) -> Result<()> {
+    let n = t.n;
+    let (mut sum, mut var, mut methods) = (0.0, 0.0, MethodSet::default());
+    let (def, _) = row_meta(&row.entries, i);
+    t.row_method[i] = def;
+    t.pairs += row.pairs;
+    // The row default for method exceptions of the folded pair is the upper row's default.
+    for e in &row.entries {
+        let j = e.j as usize;
+        if j >= n {
+            return Err(Error::Compute(format!("kernel returned column {j} in row {i}")));
+        }
+        sum += e.s;
+        var += e.var;
+        methods = methods.union(e.method);
+        if j >= i {
+            let o = t.offset(i) + j - i;
+            t.s[o] += e.s;
+        } else {
+            let o = t.offset(j) + i - j;
+            let first = t.s[o];
+            t.raw_asymmetry = t.raw_asymmetry.max((first - e.s).abs());
+            t.s[o] = 0.5 * (first + e.s);
+            seen[j] = true;
+        }
+        let (r, c) = if j >= i { (i, j) } else { (j, i) };
+        if j == i {
+            continue;
+        }
+        if e.method != t.row_method[r] || e.var != 0.0 {
+            pending[r].push(Exception { j: c as u32, method: e.method, var: 0.25 * e.var });
+        }
+    }
+    // Pairs (j < i) that row i did not report: s̄ = ½ s_ji.
+    for (j, seen) in seen[..i].iter_mut().enumerate() {
+        if *seen {
+            *seen = false;
+        } else {
+            let o = t.offset(j) + i - j;
+            let first = t.s[o];
+            if first != 0.0 {
+                t.raw_asymmetry = t.raw_asymmetry.max(first.abs());
+                t.s[o] = 0.5 * first;
+            }
+        }
+    }
+    t.raw_row_sums[i] = sum;
+    t.raw_row_vars[i] = var;
+    t.raw_row_methods[i] = methods;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packed_offsets_and_blocks_cover_the_triangle() {
+        for n in [1usize, 2, 3, 7, 100] {
+            let mut next = 0;
+            for i in 0..n {
+                assert_eq!(row_offset(n, i), next);
+                next += n - i;
+            }
+            assert_eq!(next, packed_len(n).unwrap());
+            let b = block_bounds(n, MATVEC_BLOCKS);
+            assert_eq!((b[0], *b.last().unwrap()), (0, n));
+            assert!(b.windows(2).all(|w| w[0] < w[1]));
+        }
+    }
+
+    #[test]
+    fn matvec_equals_the_full_symmetric_product() {
+        let n = 37;
+        let mut t = Triangle::zeros(n, vec![1.0; n]).unwrap();
+        let full =
+            |i: usize, j: usize| ((i * 7 + j * 7 + i * j) % 11) as f64 * 0.1 + if i == j { 3.0 } else { 0.0 };
+        for i in 0..n {
+            for j in i..n {
+                let o = t.offset(i) + j - i;
+                t.s[o] = full(i, j);
+            }
+        }
+        let x: Vec<f64> = (0..n).map(|k| 1.0 + (k % 5) as f64).collect();
+        let w: Vec<f64> = (0..n).map(|k| 0.5 + (k % 3) as f64).collect();
+        let y = t.matvec_scaled(Some(&w), &x);
+        for i in 0..n {
+            let want: f64 = (0..n).map(|j| w[i] * full(i.min(j), i.max(j)) * w[j] * x[j]).sum();
+            assert!((y[i] - want).abs() <= 1e-12 * want.abs(), "row {i}: {} vs {want}", y[i]);
+        }
+    }
+}

@@ -1,0 +1,299 @@
+//! The lean dense path (packed triangle, in-place closure, packed CG solve) against the sparse
+//! path on small scenes: heat rates and exchange areas, closed and open, black surfaces, flux
+//! rows, obstructed, non-symmetric kernels; the refusals from the CLI; thread independence.
+use lambert::exchange::{self, dense, Enforce, EnforceParams, Exchange};
+use lambert::scene::{self, Scene};
+use lambert::solve::{self, Solution};
+use lambert::viewfactor::{self, Level, Method};
+use proptest::prelude::*;
+use std::path::Path;
+use std::process::Command;
+
+/// Heat rates of the two paths agree to this fraction of the largest heat rate (the issue's
+/// 1e-9; both are direct to round-off, CG stops at a 1e-14 residual).
+const HEAT_TOL: f64 = 1e-9;
+/// Energy balance of every solve (SPEC).
+const BALANCE_TOL: f64 = 1e-9;
+/// Exchange areas of the two stores: the sparse store goes through F = s/A and back.
+const AREA_TOL: f64 = 1e-14;
+
+fn rect(name: &str, o: [f64; 3], u: [f64; 3], v: [f64; 3], n: usize, props: &str) -> String {
+    format!(
+        "[[surface]]\nname = \"{name}\"\nrectangle = {{ origin = {o:?}, u = {u:?}, v = {v:?} }}\nsubdivide = [{n}, {n}]\n{props}\n\n"
+    )
+}
+
+/// A box a × b × c with inward normals; `props[k]` for floor, ceiling, x0, x1, y0, y1;
+/// `open_top` drops the ceiling and adds an ambient.
+fn box_toml(d: [f64; 3], n: usize, props: [&str; 6], open_top: bool) -> String {
+    let [a, b, c] = d;
+    let mut t = String::new();
+    if open_top {
+        t += "[ambient]\ntemperature = 250.0\n\n";
+    }
+    t += &rect("floor", [0.0, 0.0, 0.0], [a, 0.0, 0.0], [0.0, b, 0.0], n, props[0]);
+    if !open_top {
+        t += &rect("ceiling", [0.0, 0.0, c], [0.0, b, 0.0], [a, 0.0, 0.0], n, props[1]);
+    }
+    t += &rect("wall_x0", [0.0, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, c], n, props[2]);
+    t += &rect("wall_x1", [a, 0.0, 0.0], [0.0, 0.0, c], [0.0, b, 0.0], n, props[3]);
+    t += &rect("wall_y0", [0.0, 0.0, 0.0], [0.0, 0.0, c], [a, 0.0, 0.0], n, props[4]);
+    t += &rect("wall_y1", [0.0, b, 0.0], [a, 0.0, 0.0], [0.0, 0.0, c], n, props[5]);
+    t
+}
+
+const FURNACE: [&str; 6] = [
+    "emissivity = 0.8\ntemperature = 1000.0",
+    "emissivity = 0.6\ntemperature = 400.0",
+    "emissivity = 0.5\nheat_flux = 0.0",
+    "emissivity = 0.5\nheat_flux = 0.0",
+    "emissivity = 0.5\nheat_flux = 0.0",
+    "emissivity = 0.5\nheat_flux = 0.0",
+];
+
+fn load(dir: &Path, name: &str, toml: &str) -> Scene {
+    let path = dir.join(name);
+    std::fs::write(&path, toml).unwrap();
+    scene::load(&path).unwrap()
+}
+
+fn params(method: Method) -> viewfactor::Params {
+    viewfactor::Params { method, resolution: 64, ..Default::default() }
+}
+
+/// The sparse path: view factors → Exchange → enforce → solve_gray.
+fn sparse(scene: &Scene, vf: &viewfactor::Params, mode: Enforce) -> (Exchange, Solution) {
+    let raw = viewfactor::compute(scene, vf, Level::Patch).unwrap();
+    let mut ex = Exchange::from_viewfactors(&raw);
+    let p =
+        EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
+    exchange::enforce(&mut ex, &p).unwrap();
+    let sol = solve::solve_gray(scene, &ex, &solve::Params::default()).unwrap();
+    (ex, sol)
+}
+
+fn lean(scene: &Scene, vf: &viewfactor::Params, mode: Enforce) -> Solution {
+    solve::dense::solve_scene(scene, vf, mode, &solve::Params::default())
+        .unwrap()
+        .expect("lean path")
+        .solution
+}
+
+fn assert_same(what: &str, a: &Solution, b: &Solution) {
+    let max = a.results.iter().map(|r| r.heat_rate.abs()).fold(0.0, f64::max);
+    assert!(max > 0.0, "{what}: no heat flows");
+    for (k, (x, y)) in a.results.iter().zip(&b.results).enumerate() {
+        let d = (x.heat_rate - y.heat_rate).abs();
+        assert!(d <= HEAT_TOL * max, "{what}: node {k}: {} vs {} (diff {d:.3e})", x.heat_rate, y.heat_rate);
+        let dt = (x.temperature - y.temperature).abs();
+        assert!(dt <= 1e-9 * x.temperature, "{what}: node {k}: T {} vs {}", x.temperature, y.temperature);
+    }
+    assert_eq!(a.ambient.is_some(), b.ambient.is_some(), "{what}");
+    if let (Some(p), Some(q)) = (a.ambient, b.ambient) {
+        assert!((p.1 - q.1).abs() <= HEAT_TOL * max, "{what}: ambient {} vs {}", p.1, q.1);
+    }
+    for s in [a, b] {
+        let (sum, m) = s.heat_balance();
+        assert!(sum.abs() <= BALANCE_TOL * m, "{what}: balance {sum:.3e} of {m:.3e}");
+    }
+}
+
+#[test]
+fn closed_furnace_with_flux_rows_matches_the_sparse_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load(dir.path(), "furnace.toml", &box_toml([1.0, 1.0, 1.0], 4, FURNACE, false));
+    let vf = params(Method::Analytic);
+    let (_, want) = sparse(&scene, &vf, Enforce::Closure);
+    assert_same("furnace", &want, &lean(&scene, &vf, Enforce::Closure));
+}
+
+#[test]
+fn black_surfaces_and_open_scenes_match_the_sparse_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut props = FURNACE;
+    props[1] = "emissivity = 1.0\ntemperature = 300.0";
+    props[3] = "emissivity = 1.0\ntemperature = 700.0";
+    let closed = load(dir.path(), "black.toml", &box_toml([1.0, 1.3, 0.7], 3, props, false));
+    let vf = params(Method::Analytic);
+    assert_same("black", &sparse(&closed, &vf, Enforce::Closure).1, &lean(&closed, &vf, Enforce::Closure));
+    let open = load(dir.path(), "open.toml", &box_toml([1.0, 1.3, 0.7], 3, props, true));
+    for mode in [Enforce::Reciprocity, Enforce::Closure, Enforce::None] {
+        assert_same(&format!("open {mode:?}"), &sparse(&open, &vf, mode).1, &lean(&open, &vf, mode));
+    }
+}
+
+#[test]
+fn obstructed_room_with_auto_matches_the_sparse_path() {
+    // The view-factor case with gray properties: all ε 0.8, floor 1000 K, the rest 300 K.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
+    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
+    let text = text.replacen("temperature = 300.0", "temperature = 1000.0", 1);
+    check_obstructed(&load(dir.path(), "room.toml", &text));
+}
+
+fn check_obstructed(scene: &Scene) {
+    let vf = params(Method::Auto);
+    let (ex, want) = sparse(scene, &vf, Enforce::Closure);
+    assert_same("obstructed", &want, &lean(scene, &vf, Enforce::Closure));
+    // The closed exchange areas themselves.
+    let mut d = dense::build(scene, &vf).unwrap().unwrap();
+    let p = EnforceParams { mode: Enforce::Closure, source: scene.source.clone(), ..Default::default() };
+    dense::enforce(&mut d, &p).unwrap();
+    let smax = (0..ex.len()).map(|i| ex.areas[i]).fold(0.0, f64::max);
+    for i in 0..ex.len() {
+        for j in 0..ex.len() {
+            let diff = (ex.get(i, j) - d.t.get(i, j)).abs();
+            assert!(diff <= 1e-11 * smax, "S[{i}][{j}]: {} vs {}", ex.get(i, j), d.t.get(i, j));
+        }
+    }
+}
+
+#[test]
+fn non_symmetric_kernels_fold_to_the_sparse_average() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load(dir.path(), "hc.toml", &box_toml([1.0, 0.8, 0.6], 3, FURNACE, false));
+    let vf = params(Method::Hemicube);
+    let raw = viewfactor::compute(&scene, &vf, Level::Patch).unwrap();
+    let mut ex = Exchange::from_viewfactors(&raw);
+    ex.symmetrize();
+    let d = dense::build(&scene, &vf).unwrap().unwrap();
+    assert!(d.t.raw_asymmetry > 0.0, "hemicube rows are not reciprocal");
+    for i in 0..ex.len() {
+        for j in 0..ex.len() {
+            let diff = (ex.get(i, j) - d.t.get(i, j)).abs();
+            assert!(diff <= AREA_TOL * ex.areas[i], "S̄[{i}][{j}]: {} vs {}", ex.get(i, j), d.t.get(i, j));
+        }
+    }
+    assert_same("hemicube", &sparse(&scene, &vf, Enforce::Closure).1, &lean(&scene, &vf, Enforce::Closure));
+}
+
+#[test]
+fn a_leaking_closed_scene_is_refused_not_stretched() {
+    let dir = tempfile::tempdir().unwrap();
+    // A box without its ceiling and without an ambient leaks through the top.
+    let text = box_toml([1.0, 1.0, 1.0], 2, FURNACE, true).replace("[ambient]\ntemperature = 250.0\n", "");
+    let scene = load(dir.path(), "leak.toml", &text);
+    let err =
+        solve::dense::solve_scene(&scene, &params(Method::Analytic), Enforce::Closure, &Default::default())
+            .unwrap_err();
+    assert_eq!(err.exit_code(), 2, "{err}");
+    assert!(err.to_string().contains("leaks"), "{err}");
+}
+
+fn lambert() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_lambert"))
+}
+
+#[test]
+fn a_request_that_cannot_fit_is_refused_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("furnace.toml");
+    std::fs::write(&path, box_toml([1.0, 1.0, 1.0], 10, FURNACE, false)).unwrap();
+    for sub in
+        [&["solve"][..], &["viewfactors", "--patches"][..], &["viewfactors", "--enforce", "closure"][..]]
+    {
+        let out = lambert().args(sub).arg(&path).env(dense::MEM_AVAILABLE_ENV, "100000").output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{sub:?}: {err}");
+        assert!(err.contains("600 patches") && err.contains("--exchange hierarchical"), "{sub:?}: {err}");
+        assert!(out.stdout.is_empty(), "{sub:?}: nothing is written");
+    }
+    // Enough memory: the same run succeeds.
+    let out = lambert().arg("solve").arg(&path).env(dense::MEM_AVAILABLE_ENV, "1000000000").output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn a_tolerance_that_is_not_positive_and_finite_is_refused_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("furnace.toml");
+    std::fs::write(&path, box_toml([1.0, 1.0, 1.0], 1, FURNACE, false)).unwrap();
+    for t in ["0", "-1e-4", "nan", "inf", "-inf"] {
+        for sub in ["solve", "viewfactors"] {
+            let out =
+                lambert().args([sub, path.to_str().unwrap(), &format!("--tolerance={t}")]).output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{sub} --tolerance {t}: {err}");
+            assert!(err.contains("--tolerance"), "{sub} --tolerance {t}: {err}");
+        }
+    }
+}
+
+#[test]
+fn enforced_viewfactors_report_the_pairs_and_equal_the_sparse_matrix() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("furnace.toml");
+    std::fs::write(&path, box_toml([1.0, 1.0, 1.0], 3, FURNACE, false)).unwrap();
+    let out = lambert()
+        .args([
+            "viewfactors",
+            path.to_str().unwrap(),
+            "--method",
+            "analytic",
+            "--patches",
+            "--enforce",
+            "closure",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let n = 54u64;
+    assert!(err.contains(&format!("{} pairs", n * (n - 1) / 2)), "{err}");
+    assert!(!err.contains(" 0 pairs"), "{err}");
+    // Every record parses and rows close.
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut sums = std::collections::BTreeMap::<String, f64>::new();
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        *sums.entry(f[0].to_string()).or_default() += f[2].parse::<f64>().unwrap();
+        assert_eq!(f[4], "analytic");
+    }
+    assert_eq!(sums.len(), n as usize);
+    assert!(sums.values().all(|s| (s - 1.0).abs() < 1e-11), "{sums:?}");
+}
+
+#[test]
+fn the_same_numbers_on_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("furnace.toml");
+    std::fs::write(&path, box_toml([1.0, 1.3, 0.7], 4, FURNACE, false)).unwrap();
+    let run = |threads: &str, sub: &[&str]| {
+        let out = lambert().args(sub).arg(&path).args(["--patches", "--threads", threads]).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        out.stdout
+    };
+    for sub in [&["solve"][..], &["viewfactors", "--enforce", "closure"][..]] {
+        assert_eq!(run("1", sub), run("2", sub), "{sub:?}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// Any box, any gray properties: closure to 1e-12, exact reciprocity by storage, and the
+    /// energy balance to 1e-9 on the lean path.
+    #[test]
+    fn lean_closure_and_energy_balance(
+        a in 0.3f64..2.0, b in 0.3f64..2.0, c in 0.3f64..2.0,
+        e in proptest::collection::vec(0.1f64..0.95, 6),
+        t in proptest::collection::vec(250.0f64..1200.0, 6),
+        flux in 0usize..5,
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let props: Vec<String> = (0..6)
+            .map(|k| if k >= 2 && k < 2 + flux { format!("emissivity = {}\nheat_flux = 0.0", e[k]) }
+                 else { format!("emissivity = {}\ntemperature = {}", e[k], t[k]) })
+            .collect();
+        let p: [&str; 6] = std::array::from_fn(|k| props[k].as_str());
+        let scene = load(dir.path(), "box.toml", &box_toml([a, b, c], 2, p, false));
+        let vf = params(Method::Analytic);
+        let mut d = dense::build(&scene, &vf).unwrap().unwrap();
+        let ep = EnforceParams { mode: Enforce::Closure, source: scene.source.clone(), ..Default::default() };
+        let rep = dense::enforce(&mut d, &ep).unwrap();
+        prop_assert!(rep.after.max_row_error <= 1e-12, "{}", rep.after);
+        let sol = solve::dense::solve_gray(&scene, &d, &Default::default()).unwrap();
+        let (sum, max) = sol.heat_balance();
+        prop_assert!(sum.abs() <= BALANCE_TOL * max, "{sum:e} of {max:e}");
+    }
+}
