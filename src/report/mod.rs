@@ -3,11 +3,17 @@
 //! - [`csv`]: the `viewfactors` matrix;
 //! - [`solve_csv`]: the `solve` table and radiative conductances;
 //! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`);
-//! - [`charts`]: log–log charts of the validation studies (SVG, PNG).
+//! - [`charts`]: log–log charts of the validation studies (SVG, PNG);
+//! - [`mesh`]: patch polygons as a welded mesh, cell values averaged to vertices;
+//! - [`vtk`]: VTK XML (.vtu/.vtp) for ParaView (`--vtk`);
+//! - [`render`]: false-colour pictures of a result on the geometry (`lambert render`).
 pub mod charts;
 pub mod csv;
+pub mod mesh;
 pub mod read_vf;
+pub mod render;
 pub mod solve_csv;
+pub mod vtk;
 
 /// Characters the exponent form must save before it replaces the plain form (keeps "1000").
 const EXPONENT_MIN_SAVING: usize = 3;

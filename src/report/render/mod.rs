@@ -1,0 +1,192 @@
+//! `lambert render`: a false-colour picture of a result on the scene geometry.
+//!
+//! - [`values`]: one column of a `solve` CSV spread onto the patches;
+//! - [`camera`]: the pinhole camera, its default framing and `--camera` syntax;
+//! - [`raster`]: the z-buffer rasteriser with Gouraud (vertex-smoothed) values;
+//! - [`colormap`]: viridis, value range, colour-bar ticks;
+//! - this file: triangles from the patch mesh, the picture with outlines, caption and colour
+//!   bar (plotters on an RGB buffer, vendored DejaVu Sans), and the PNG file.
+//!
+//! Surfaces are one-sided: only the front (emitting) side carries a value. Back faces are
+//! culled by default (`two_sided` shows them in grey), so from outside a closed enclosure the
+//! picture looks through the near walls onto the inside of the far ones.
+pub mod camera;
+pub mod colormap;
+pub mod raster;
+pub mod values;
+
+use super::mesh::PatchMesh;
+use crate::scene::Scene;
+use crate::{Error, Result};
+use camera::Camera;
+use plotters::prelude::*;
+use raster::{Fragment, Raster, Tri};
+use std::path::Path;
+
+/// Width of the colour-bar panel at the right of the picture, pixels.
+pub const BAR_PANEL: u32 = 190;
+/// Smallest picture that leaves room for the scene and the colour bar.
+pub const MIN_SIZE: (u32, u32) = (320, 240);
+/// Largest picture accepted (memory: a few buffers of w·h values).
+pub const MAX_SIDE: u32 = 8192;
+/// Colour of back faces and obstructions.
+pub const NEUTRAL: [u8; 3] = [190, 190, 190];
+/// Colour of surface outlines.
+pub const OUTLINE: [u8; 3] = [40, 40, 40];
+/// Background.
+pub const BACKGROUND: [u8; 3] = [255, 255, 255];
+/// Colour-bar geometry: x of its left edge from the panel start, width, top and bottom margins.
+const BAR: (i32, i32, i32, i32) = (30, 28, 70, 40);
+/// Number of colour-bar ticks to aim for.
+const TICKS: usize = 6;
+
+/// What to draw.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Picture size in pixels, colour bar included.
+    pub size: (u32, u32),
+    /// The camera.
+    pub camera: Camera,
+    /// Show back faces in grey instead of culling them.
+    pub two_sided: bool,
+    /// Colour range; `None` = the values' min and max.
+    pub range: Option<(f64, f64)>,
+    /// Field name (colour-bar title).
+    pub field: String,
+    /// Its unit.
+    pub unit: String,
+    /// Caption above the picture.
+    pub caption: String,
+}
+
+/// An RGB picture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    /// Width, pixels.
+    pub w: u32,
+    /// Height, pixels.
+    pub h: u32,
+    /// Row-major RGB bytes.
+    pub rgb: Vec<u8>,
+}
+
+impl Image {
+    /// The colour at (x, y).
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 3] {
+        let k = 3 * (y * self.w + x) as usize;
+        [self.rgb[k], self.rgb[k + 1], self.rgb[k + 2]]
+    }
+}
+
+/// Triangles of every patch with its vertex-averaged values, then every obstruction (neutral).
+pub fn triangles(scene: &Scene, patch_values: &[f64]) -> Vec<Tri> {
+    let mesh = PatchMesh::build(scene);
+    let vertex = mesh.to_points(patch_values);
+    let mut tris = Vec::new();
+    for (c, patch) in scene.patches.iter().enumerate() {
+        let ids = mesh.cell(c);
+        let corners = patch.polygon.vertices();
+        let at = |p: glam::DVec3| {
+            corners.iter().position(|q| *q == p).map_or(patch_values[c], |k| vertex[ids[k] as usize])
+        };
+        for t in patch.polygon.triangulate() {
+            tris.push(Tri {
+                p: t,
+                v: [at(t[0]), at(t[1]), at(t[2])],
+                id: patch.surface as u32,
+                neutral: false,
+            });
+        }
+    }
+    let base = scene.surfaces.len() as u32;
+    for (k, o) in scene.obstructions.iter().enumerate() {
+        for poly in &o.polygons {
+            for t in poly.triangulate() {
+                tris.push(Tri { p: t, v: [0.0; 3], id: base + k as u32, neutral: true });
+            }
+        }
+    }
+    tris
+}
+
+/// Renders `patch_values` on `scene`.
+pub fn render(scene: &Scene, patch_values: &[f64], opts: &Options) -> Result<Image> {
+    let (w, h) = opts.size;
+    if w < MIN_SIZE.0 || h < MIN_SIZE.1 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(Error::Usage(format!(
+            "--size {w}x{h}: expected between {}x{} and {MAX_SIDE}x{MAX_SIDE}",
+            MIN_SIZE.0, MIN_SIZE.1
+        )));
+    }
+    let (lo, hi) = opts.range.unwrap_or_else(|| colormap::range(patch_values));
+    let pw = (w - BAR_PANEL) as usize;
+    let mut r = Raster::new(pw, h as usize);
+    r.draw(&opts.camera, &triangles(scene, patch_values), opts.two_sided);
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    for y in 0..h as usize {
+        for x in 0..pw {
+            let k = y * pw + x;
+            let outline =
+                (x + 1 < pw && r.id[k + 1] != r.id[k]) || (y + 1 < h as usize && r.id[k + pw] != r.id[k]);
+            let c = match r.frag[k] {
+                _ if outline => OUTLINE,
+                Fragment::Empty => BACKGROUND,
+                Fragment::Neutral => NEUTRAL,
+                Fragment::Value(v) => colormap::viridis((v - lo) / (hi - lo)),
+            };
+            rgb[3 * (y * w as usize + x)..][..3].copy_from_slice(&c);
+        }
+    }
+    annotate(&mut rgb, opts, (lo, hi)).map_err(|m| Error::Compute(format!("drawing the picture: {m}")))?;
+    Ok(Image { w, h, rgb })
+}
+
+/// Caption, colour bar, its ticks and its title with units, drawn with plotters.
+fn annotate(rgb: &mut [u8], opts: &Options, (lo, hi): (f64, f64)) -> std::result::Result<(), String> {
+    super::charts::register_font();
+    let (w, h) = opts.size;
+    let root = BitMapBackend::with_buffer(rgb, (w, h)).into_drawing_area();
+    let e = |x: DrawingAreaErrorKind<_>| x.to_string();
+    let x0 = (w - BAR_PANEL) as i32 + BAR.0;
+    let (top, bottom) = (BAR.2, h as i32 - BAR.3);
+    for y in top..bottom {
+        let t = (bottom - 1 - y) as f64 / (bottom - 1 - top) as f64;
+        let [cr, cg, cb] = colormap::viridis(t);
+        root.draw(&Rectangle::new([(x0, y), (x0 + BAR.1, y + 1)], RGBColor(cr, cg, cb).filled()))
+            .map_err(e)?;
+    }
+    root.draw(&Rectangle::new([(x0, top), (x0 + BAR.1, bottom)], BLACK.stroke_width(1))).map_err(e)?;
+    let (ticks, decimals) = colormap::ticks(lo, hi, TICKS);
+    let font = ("sans-serif", 15).into_font().color(&BLACK);
+    for t in ticks {
+        let y = bottom - 1 - ((t - lo) / (hi - lo) * (bottom - 1 - top) as f64).round() as i32;
+        root.draw(&PathElement::new(vec![(x0 + BAR.1, y), (x0 + BAR.1 + 6, y)], BLACK)).map_err(e)?;
+        root.draw(&Text::new(colormap::label(t, decimals), (x0 + BAR.1 + 10, y - 8), font.clone()))
+            .map_err(e)?;
+    }
+    let title = format!("{} [{}]", opts.field, opts.unit);
+    root.draw(&Text::new(title, (x0 - 14, top - 34), ("sans-serif", 17).into_font().color(&BLACK)))
+        .map_err(e)?;
+    root.draw(&Text::new(opts.caption.clone(), (12, 10), ("sans-serif", 17).into_font().color(&BLACK)))
+        .map_err(e)?;
+    root.present().map_err(e)
+}
+
+/// Writes `img` as PNG to `path` through a temporary beside it, renamed on success.
+pub fn write_png(img: &Image, path: &Path) -> Result<()> {
+    let io = |msg: String| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(msg) };
+    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+    let tmp = path.with_file_name(format!("{stem}.partial.png"));
+    let result = (|| {
+        let mut be = BitMapBackend::new(&tmp, (img.w, img.h));
+        be.blit_bitmap((0, 0), (img.w, img.h), &img.rgb).map_err(|x| io(x.to_string()))?;
+        be.present().map_err(|x| io(x.to_string()))
+    })();
+    match result {
+        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| io(e.to_string())),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
