@@ -96,8 +96,10 @@ mod tests {
         assert_eq!(t, vec![400.0, 500.0, 600.0, 700.0, 800.0, 900.0, 1000.0]);
         assert_eq!(d, 0);
         let (t, d) = ticks(0.12, 0.93, 4);
-        assert_eq!((t.len(), d), (4, 1));
-        assert_eq!(label(t[0], d), "0.2");
+        assert_eq!(t, vec![0.25, 0.5, 0.75]);
+        assert_eq!((label(t[0], d), label(t[1], d)), ("0.25".to_string(), "0.50".to_string()));
+        let (t, d) = ticks(0.12, 0.93, 8);
+        assert_eq!((t.len(), d, label(t[0], d)), (4, 1, "0.2".to_string()));
         let (t, d) = ticks(0.0, 1.0, 4);
         assert_eq!(t, vec![0.0, 0.25, 0.5, 0.75, 1.0]);
         assert_eq!(label(t[1], d), "0.25");

@@ -190,3 +190,79 @@ pub fn write_png(img: &Image, path: &Path) -> Result<()> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// Pixel of world point `p` seen by `cam` in a picture of `size` (the raster part).
+    fn project(cam: &Camera, size: (u32, u32), p: DVec3) -> (u32, u32) {
+        let (r, u, f) = cam.basis();
+        let d = p - cam.eye;
+        let h = size.1 as f64;
+        let focal = (h / 2.0) / (cam.fov.to_radians() / 2.0).tan();
+        let (w, z) = ((size.0 - BAR_PANEL) as f64, d.dot(f));
+        ((w / 2.0 + focal * d.dot(r) / z) as u32, (h / 2.0 - focal * d.dot(u) / z) as u32)
+    }
+
+    /// The furnace with the floor at 1 and every other patch at 0: the floor's centre shows
+    /// the top colour, the culled ceiling never shows, the colour bar runs from the bottom
+    /// colour to the top one, and the corners are background.
+    #[test]
+    fn furnace_picture() {
+        let scene = crate::scene::load(Path::new("cases/cube_furnace/scene.toml")).unwrap();
+        let values: Vec<f64> = scene.patches.iter().map(|p| if p.surface == 0 { 1.0 } else { 0.0 }).collect();
+        let cam = Camera::frame(&scene);
+        let opts = Options {
+            size: (800, 600),
+            camera: cam,
+            two_sided: false,
+            range: None,
+            field: "temperature".into(),
+            unit: "K".into(),
+            caption: "test".into(),
+        };
+        let img = render(&scene, &values, &opts).unwrap();
+        assert_eq!((img.w, img.h, img.rgb.len()), (800, 600, 800 * 600 * 3));
+        let (x, y) = project(&cam, opts.size, DVec3::new(0.5, 0.5, 0.0));
+        assert_eq!(img.pixel(x, y), colormap::viridis(1.0), "floor centre at ({x}, {y})");
+        // The ceiling faces away from an eye above it: culled, so its centre shows a wall.
+        let (x, y) = project(&cam, opts.size, DVec3::new(0.5, 0.5, 1.0));
+        assert_eq!(img.pixel(x, y), colormap::viridis(0.0));
+        // Both-sided: the ceiling's back is nearest there and drawn neutral.
+        let img2 = render(&scene, &values, &Options { two_sided: true, ..opts.clone() }).unwrap();
+        assert_eq!(img2.pixel(x, y), NEUTRAL);
+        let bx = (800 - BAR_PANEL) as i32 + BAR.0 + BAR.1 / 2;
+        // Bar rows inside its border: t = (bottom − 1 − y) / (bottom − 1 − top).
+        let (top, bottom) = (BAR.2, 600 - BAR.3);
+        for y in [top + 1, (top + bottom) / 2, bottom - 2] {
+            let t = (bottom - 1 - y) as f64 / (bottom - 1 - top) as f64;
+            assert_eq!(img.pixel(bx as u32, y as u32), colormap::viridis(t), "bar row {y}");
+        }
+        assert!(colormap::viridis((bottom - 2 - top) as f64 / (bottom - 1 - top) as f64)[0] > 240);
+        assert_eq!(img.pixel(5, 599), BACKGROUND);
+        // Tick labels are drawn in black right of the bar.
+        let dark = (0..600)
+            .flat_map(|y| (bx as u32 + 30..790).map(move |x| (x, y)))
+            .filter(|&(x, y)| img.pixel(x, y)[0] < 80)
+            .count();
+        assert!(dark > 50, "no tick labels ({dark} dark pixels)");
+    }
+
+    #[test]
+    fn size_limits() {
+        let scene = crate::scene::load(Path::new("cases/cube_furnace/scene.toml")).unwrap();
+        let values = vec![1.0; scene.patches.len()];
+        let opts = Options {
+            size: (100, 100),
+            camera: Camera::frame(&scene),
+            two_sided: false,
+            range: None,
+            field: "t".into(),
+            unit: "K".into(),
+            caption: String::new(),
+        };
+        assert!(matches!(render(&scene, &values, &opts), Err(Error::Usage(_))));
+    }
+}
