@@ -1,14 +1,15 @@
 //! Time and memory of the result writers on a large scene (no view factors computed): a room
 //! whose six walls are split into `n`×`n` patches each (6n² patches, default n = 180 → 194,400),
 //! with smooth synthetic values. Writes `--vtk`-style .vtu and a rendered PNG to a temp dir.
-//! `cargo run --release --example vtk_render_scaling [n]`, under `/usr/bin/time -v` for the
-//! peak RSS.
+//! `cargo run --release --example vtk_render_scaling [n] [vtk|render|both]`, under
+//! `/usr/bin/time -v` for the peak RSS.
 use lambert::report::render::{self, camera::Camera};
 use lambert::report::vtk::{self, VtkFields};
 use std::time::Instant;
 
 fn main() {
     let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(180);
+    let mode = std::env::args().nth(2).unwrap_or_else(|| "both".into());
     let faces = [
         ("floor", "[0,0,0]", "[1,0,0]", "[0,1,0]"),
         ("ceiling", "[0,0,1]", "[0,1,0]", "[1,0,0]"),
@@ -46,7 +47,9 @@ fn main() {
     let dir = tempfile::tempdir().expect("temp dir");
     let vtu = dir.path().join("room.vtu");
     let t = Instant::now();
-    vtk::write(&vtu, &scene, &fields).expect("vtu");
+    if mode != "render" {
+        vtk::write(&vtu, &scene, &fields).expect("vtu");
+    }
     let write = t.elapsed().as_secs_f64();
     let bytes = std::fs::metadata(&vtu).map(|m| m.len()).unwrap_or(0);
     let opts = render::Options {
@@ -59,8 +62,10 @@ fn main() {
         caption: "scaling room".into(),
     };
     let t = Instant::now();
-    let img = render::render(&scene, &values, &opts).expect("render");
-    render::write_png(&img, &dir.path().join("room.png")).expect("png");
+    if mode != "vtk" {
+        let img = render::render(&scene, &values, &opts).expect("render");
+        render::write_png(&img, &dir.path().join("room.png")).expect("png");
+    }
     let pic = t.elapsed().as_secs_f64();
     println!(
         "patches {}  load {load:.2} s  vtu write {write:.2} s ({:.0} patches/s, {:.1} MB)  render+png {pic:.2} s",

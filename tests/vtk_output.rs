@@ -245,3 +245,22 @@ print("meshio ok", n)
     assert!(o.status.success(), "meshio check failed: {}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("meshio ok 96"));
 }
+
+/// Closure enforcement at surface level: rows sum to 1 after it, and raw_row_sum still holds
+/// each patch's own sum before it (the furnace's 4×4 patches on a face differ).
+#[test]
+fn enforced_surface_rows_keep_raw_patch_sums() {
+    /// Closure enforcement converges to round-off.
+    const CLOSED: f64 = 1e-12;
+    let dir = tempfile::tempdir().unwrap();
+    let vtu = dir.path().join("e.vtu");
+    let o = run(&["viewfactors", FURNACE, "--enforce", "closure", "-o", "-", "--vtk", vtu.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = read_back(&vtu);
+    let row_sum = f64s(&r.cell, "row_sum");
+    assert!(row_sum.iter().all(|s| (s - 1.0).abs() <= CLOSED), "{row_sum:?}");
+    let raw = f64s(&r.cell, "raw_row_sum");
+    assert_eq!(raw.len(), 96);
+    assert!(raw.iter().all(|s| (s - 1.0).abs() < 1e-6), "raw sums of an exact method: {raw:?}");
+    assert!(raw.iter().any(|&s| s != raw[0]), "raw sums are per patch, not one per surface");
+}

@@ -57,19 +57,21 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let mode: Enforce = cfg.enforce.as_deref().unwrap_or("none").parse()?;
-    let vf = if mode == Enforce::None {
+    // Also keeps the per-patch row sums before enforcement (VTK `raw_row_sum`).
+    let (vf, raw_sums) = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
-        vf
+        let sums = vf.patch_row_sums.clone();
+        (vf, sums)
     } else {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
         let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
-        at_level(&scene, &ex, level).to_viewfactors(raw.wall)
+        (at_level(&scene, &ex, level).to_viewfactors(raw.wall), raw.patch_row_sums)
     };
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
     if let Some(path) = &a.common.vtk {
-        report::vtk::write(path, &scene, &report::vtk::viewfactor_fields(&scene, &vf))?;
+        report::vtk::write(path, &scene, &report::vtk::viewfactor_fields(&scene, &vf, &raw_sums))?;
     }
     let (worst, at) = vf.max_patch_row_error();
     let secs = vf.wall.as_secs_f64();

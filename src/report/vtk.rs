@@ -99,9 +99,10 @@ pub fn solution_fields(scene: &Scene, sol: &Solution) -> VtkFields {
 
 /// The `viewfactors` row diagnostics per patch: row_sum Σ_j F_ij of its output row,
 /// row_sum_error (closed scenes: Σ − 1) or to_ambient (open: 1 − Σ), std_error of the row
-/// sum √Σ σ_ij², method_code (bit set, lookup in the notes), raw_row_sum of the patch itself
-/// before enforcement, and samples when a Monte Carlo method counted them.
-pub fn viewfactor_fields(scene: &Scene, vf: &ViewFactors) -> VtkFields {
+/// sum √Σ σ_ij², method_code (bit set, lookup in the notes), raw_row_sum = `raw_sums`, the
+/// patch's own Σ_j F_ij before any enforcement (left out unless one per patch), and samples
+/// when a Monte Carlo method counted them.
+pub fn viewfactor_fields(scene: &Scene, vf: &ViewFactors, raw_sums: &[f64]) -> VtkFields {
     let mut f = base_fields(scene);
     let n = scene.patches.len();
     let rows: Vec<usize> = (0..n).map(|p| row_of(scene, vf.level, p)).collect();
@@ -123,8 +124,8 @@ pub fn viewfactor_fields(scene: &Scene, vf: &ViewFactors) -> VtkFields {
     }
     f.real.push(("std_error".into(), rows.iter().map(|&r| se[r]).collect()));
     f.int.push(("method_code".into(), rows.iter().map(|&r| code[r]).collect()));
-    if vf.patch_row_sums.len() == n {
-        f.real.push(("raw_row_sum".into(), vf.patch_row_sums.clone()));
+    if raw_sums.len() == n {
+        f.real.push(("raw_row_sum".into(), raw_sums.to_vec()));
     }
     if vf.patch_samples.len() == n && vf.patch_samples.iter().any(|&s| s > 0) {
         f.int.push((
