@@ -1,7 +1,7 @@
 //! Time and memory of the result writers on a large scene (no view factors computed): a room
 //! whose six walls are split into `n`×`n` patches each (6n² patches, default n = 180 → 194,400),
 //! with smooth synthetic values. Writes `--vtk`-style .vtu and a rendered PNG to a temp dir.
-//! `cargo run --release --example vtk_render_scaling [n] [vtk|render|both]`, under
+//! `cargo run --release --example vtk_render_scaling [n] [vtk|render|both|none]`, under
 //! `/usr/bin/time -v` for the peak RSS.
 use lambert::report::render::{self, camera::Camera};
 use lambert::report::vtk::{self, VtkFields};
@@ -47,7 +47,7 @@ fn main() {
     let dir = tempfile::tempdir().expect("temp dir");
     let vtu = dir.path().join("room.vtu");
     let t = Instant::now();
-    if mode != "render" {
+    if mode == "vtk" || mode == "both" {
         vtk::write(&vtu, &scene, &fields).expect("vtu");
     }
     let write = t.elapsed().as_secs_f64();
@@ -62,7 +62,7 @@ fn main() {
         caption: "scaling room".into(),
     };
     let t = Instant::now();
-    if mode != "vtk" {
+    if mode == "render" || mode == "both" {
         let img = render::render(&scene, &values, &opts).expect("render");
         render::write_png(&img, &dir.path().join("room.png")).expect("png");
     }

@@ -272,7 +272,7 @@ fn render(a: RenderArgs) -> Result<()> {
     };
     let v = values::read(&a.result, &scene, &a.field)?;
     let title = scene.title.clone().unwrap_or_else(|| a.scene.display().to_string());
-    let caption = format!("{title}: {} per {}", a.field, if v.per_patch { "patch" } else { "surface" });
+    let caption = format!("{} per {}: {title}", a.field, if v.per_patch { "patch" } else { "surface" });
     let opts = render::Options {
         size,
         camera,

@@ -167,8 +167,16 @@ fn annotate(rgb: &mut [u8], opts: &Options, (lo, hi): (f64, f64)) -> std::result
     let title = format!("{} [{}]", opts.field, opts.unit);
     root.draw(&Text::new(title, (x0 - 14, top - 34), ("sans-serif", 17).into_font().color(&BLACK)))
         .map_err(e)?;
-    root.draw(&Text::new(opts.caption.clone(), (12, 10), ("sans-serif", 17).into_font().color(&BLACK)))
-        .map_err(e)?;
+    let caption_font = ("sans-serif", 17).into_font().color(&BLACK);
+    let room = (w - BAR_PANEL) as i64 - 24;
+    // Shorten a long caption (scene titles can be) so it stays clear of the colour bar.
+    let mut caption = opts.caption.clone();
+    let mut n = caption.chars().count();
+    while n > 0 && root.estimate_text_size(&caption, &caption_font).map_err(e)?.0 as i64 > room {
+        n -= 1;
+        caption = opts.caption.chars().take(n).collect::<String>().trim_end().to_string() + "…";
+    }
+    root.draw(&Text::new(caption, (12, 10), caption_font)).map_err(e)?;
     root.present().map_err(e)
 }
 
