@@ -156,6 +156,47 @@ mod tests {
         assert_eq!(mesh.offsets, vec![4, 8, 12]);
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(40))]
+        /// Under any placement and scale, the subdivision grid welds to (nu+1)(nv+1) points, a
+        /// second surface sharing its edge keeps its own 4, and every vertex value lies
+        /// between its cells' values.
+        #[test]
+        fn welds_and_bounds_under_rigid_motion_and_scale(
+            nu in 1usize..7,
+            nv in 1usize..7,
+            off in proptest::array::uniform3(-1e3f64..1e3),
+            scale in 1e-3f64..1e3,
+            vals in proptest::collection::vec(-1e3f64..1e3, 37),
+        ) {
+            let o = format!("[{:?}, {:?}, {:?}]", off[0], off[1], off[2]);
+            let src = format!(
+                "[[surface]]\nname = \"a\"\nrectangle = {{ origin = {o}, u = [{:?}, 0, 0], v = [0, {:?}, 0] }}\nsubdivide = [{nu}, {nv}]\n\
+                 [[surface]]\nname = \"b\"\nrectangle = {{ origin = {o}, u = [0, {:?}, 0], v = [0, 0, {:?}] }}\n",
+                1.3 * scale, 0.7 * scale, 0.7 * scale, scale
+            );
+            let scene = crate::scene::toml_scene::from_str(std::path::Path::new("p.toml"), &src).unwrap();
+            let mesh = PatchMesh::build(&scene);
+            proptest::prop_assert_eq!(mesh.cells(), nu * nv + 1);
+            proptest::prop_assert_eq!(mesh.points.len(), (nu + 1) * (nv + 1) + 4);
+            let cell: Vec<f64> = vals[..mesh.cells()].to_vec();
+            let pv = mesh.to_points(&cell);
+            let mut lo = vec![f64::INFINITY; pv.len()];
+            let mut hi = vec![f64::NEG_INFINITY; pv.len()];
+            for (c, &x) in cell.iter().enumerate() {
+                for &k in mesh.cell(c) {
+                    lo[k as usize] = lo[k as usize].min(x);
+                    hi[k as usize] = hi[k as usize].max(x);
+                }
+            }
+            for k in 0..pv.len() {
+                // Round-off of the weighted mean: a few ulps of the largest magnitude.
+                let slack = 1e-12 * lo[k].abs().max(hi[k].abs()).max(1.0);
+                proptest::prop_assert!(pv[k] >= lo[k] - slack && pv[k] <= hi[k] + slack);
+            }
+        }
+    }
+
     #[test]
     fn vertex_average_is_area_weighted() {
         let scene = two_by_one();

@@ -26,17 +26,25 @@ pub struct Camera {
 
 impl Camera {
     /// The default view: from outside the bounding sphere, along the diagonal direction (of
-    /// eight, z up) that shows the most front-facing patch area Σ A·max(0, n·d). Surfaces are
+    /// eight) that shows the most front-facing patch area Σ A·max(0, n·d). Surfaces are
     /// one-sided, so in a closed enclosure this looks through the culled near walls onto the
-    /// inside of the far ones (a cutaway), and at a body it looks at its outside.
+    /// inside of the far ones (a cutaway), and at a body it looks at its outside. Up is +z,
+    /// or +y for a bare glTF scene (glTF's convention).
     pub fn frame(scene: &Scene) -> Camera {
         let (lo, hi) = super::super::mesh::scene_bounds(scene).unwrap_or((DVec3::ZERO, DVec3::ONE));
         let target = (lo + hi) / 2.0;
         let radius = ((hi - lo).length() / 2.0).max(f64::MIN_POSITIVE);
-        let mut best = (f64::NEG_INFINITY, DVec3::new(1.0, -1.0, ELEVATION).normalize());
+        let gltf = scene
+            .source
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
+        // (horizontal, horizontal, vertical) → world; right-handed either way.
+        let world = |a: f64, b: f64, up: f64| if gltf { DVec3::new(a, up, -b) } else { DVec3::new(a, b, up) };
+        let mut best = (f64::NEG_INFINITY, world(1.0, -1.0, ELEVATION).normalize());
         for sz in [1.0, -1.0] {
             for (sx, sy) in [(1.0, -1.0), (-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-                let d = DVec3::new(sx, sy, sz * ELEVATION).normalize();
+                let d = world(sx, sy, sz * ELEVATION).normalize();
                 let seen: f64 =
                     scene.patches.iter().map(|p| p.polygon.area() * p.polygon.normal().dot(d).max(0.0)).sum();
                 if seen > best.0 * (1.0 + 1e-9) {
@@ -45,7 +53,8 @@ impl Camera {
             }
         }
         let dist = FRAME_MARGIN * radius / (DEFAULT_FOV.to_radians() / 2.0).sin();
-        Camera { eye: target + best.1 * dist, target, up: DVec3::Z, fov: DEFAULT_FOV }
+        let up = if gltf { DVec3::Y } else { DVec3::Z };
+        Camera { eye: target + best.1 * dist, target, up, fov: DEFAULT_FOV }
     }
 
     /// Applies `eye=… target=… up=… fov=…` (any subset, separated by spaces or `;`) on top of
@@ -100,6 +109,26 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The default eye is outside the bounding box and looks at its centre; z up for TOML
+    /// scenes, y up for a bare glTF file.
+    #[test]
+    fn default_framing() {
+        for (path, up) in
+            [("cases/cube_furnace/scene.toml", DVec3::Z), ("tests/fixtures/concentric_boxes.gltf", DVec3::Y)]
+        {
+            let scene = crate::scene::load(std::path::Path::new(path)).unwrap();
+            let (lo, hi) = crate::report::mesh::scene_bounds(&scene).unwrap();
+            let c = Camera::frame(&scene);
+            assert_eq!((c.up, c.target), (up, (lo + hi) / 2.0), "{path}");
+            let outside = (0..3).any(|k| c.eye[k] < lo[k] || c.eye[k] > hi[k]);
+            let radius = (hi - lo).length() / 2.0;
+            assert!(
+                outside && (c.eye - c.target).length() * (c.fov.to_radians() / 2.0).sin() >= radius,
+                "{path}"
+            );
+        }
+    }
 
     #[test]
     fn spec_parsing_and_errors() {

@@ -31,7 +31,7 @@ pub const MIN_SIZE: (u32, u32) = (320, 240);
 pub const MAX_SIDE: u32 = 8192;
 /// Colour of back faces and obstructions.
 pub const NEUTRAL: [u8; 3] = [190, 190, 190];
-/// Colour of surface outlines.
+/// Colour of outlines (surface boundaries, silhouettes and creases).
 pub const OUTLINE: [u8; 3] = [40, 40, 40];
 /// Background.
 pub const BACKGROUND: [u8; 3] = [255, 255, 255];
@@ -127,7 +127,7 @@ pub fn render(scene: &Scene, patch_values: &[f64], opts: &Options) -> Result<Ima
         for x in 0..pw {
             let k = y * pw + x;
             let outline =
-                (x + 1 < pw && r.id[k + 1] != r.id[k]) || (y + 1 < h as usize && r.id[k + pw] != r.id[k]);
+                (x + 1 < pw && r.boundary(k, k + 1)) || (y + 1 < h as usize && r.boundary(k, k + pw));
             let c = match r.frag[k] {
                 _ if outline => OUTLINE,
                 Fragment::Empty => BACKGROUND,

@@ -5,6 +5,11 @@
 use super::camera::Camera;
 use glam::DVec3;
 
+/// Neighbouring pixels whose normals differ by more than this angle (cos 30°) lie on
+/// different facets: a crease such as a box edge inside one surface, drawn as an outline.
+/// Finely tessellated curves turn by far less between neighbouring pixels.
+pub const CREASE_COS: f32 = 0.866;
+
 /// Near plane as a fraction of the eye–target distance: in front of the eye, yet far closer
 /// than any surface the camera is meant to see.
 const NEAR_REL: f64 = 1e-4;
@@ -46,6 +51,8 @@ pub struct Raster {
     pub frag: Vec<Fragment>,
     /// Group id of the nearest fragment (`u32::MAX` = none).
     pub id: Vec<u32>,
+    /// Unit normal of the nearest fragment's triangle (zero = none), for crease outlines.
+    pub normal: Vec<[f32; 3]>,
 }
 
 /// Projection of one camera onto a w × h image.
@@ -69,6 +76,7 @@ impl Raster {
             depth: vec![f64::INFINITY; w * h],
             frag: vec![Fragment::Empty; w * h],
             id: vec![u32::MAX; w * h],
+            normal: vec![[0.0; 3]; w * h],
         }
     }
 
@@ -93,12 +101,13 @@ impl Raster {
             if !front && !t.neutral && !two_sided {
                 continue;
             }
-            self.triangle(&view, t, neutral);
+            let n = n.normalize_or_zero().as_vec3().to_array();
+            self.triangle(&view, t, neutral, n);
         }
     }
 
     /// Clips `t` at the near plane (Sutherland–Hodgman in camera space) and fills the pieces.
-    fn triangle(&mut self, v: &View, t: &Tri, neutral: bool) {
+    fn triangle(&mut self, v: &View, t: &Tri, neutral: bool, normal: [f32; 3]) {
         // Camera-space corners (x, y, z) with their values.
         let cs: Vec<(DVec3, f64)> = (0..3)
             .map(|k| {
@@ -127,12 +136,12 @@ impl Raster {
             .map(|(p, val)| [v.cx + v.focal * p.x / p.z, v.cy - v.focal * p.y / p.z, 1.0 / p.z, val / p.z])
             .collect();
         for k in 1..scr.len() - 1 {
-            self.fill(&[scr[0], scr[k], scr[k + 1]], t.id, neutral);
+            self.fill(&[scr[0], scr[k], scr[k + 1]], t.id, neutral, normal);
         }
     }
 
     /// Fills one screen triangle at pixel centres, depth-tested.
-    fn fill(&mut self, s: &[[f64; 4]; 3], id: u32, neutral: bool) {
+    fn fill(&mut self, s: &[[f64; 4]; 3], id: u32, neutral: bool, normal: [f32; 3]) {
         let area = edge(s[0], s[1], s[2]);
         if !(area.abs() > 0.0) {
             return;
@@ -156,6 +165,7 @@ impl Raster {
                 if z < self.depth[k] {
                     self.depth[k] = z;
                     self.id[k] = id;
+                    self.normal[k] = normal;
                     self.frag[k] = if neutral {
                         Fragment::Neutral
                     } else {
@@ -164,6 +174,15 @@ impl Raster {
                 }
             }
         }
+    }
+}
+
+impl Raster {
+    /// True when pixels `a` and `b` show different groups or a crease between facets.
+    pub fn boundary(&self, a: usize, b: usize) -> bool {
+        let (na, nb) = (self.normal[a], self.normal[b]);
+        let dot = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
+        self.id[a] != self.id[b] || (self.id[a] != u32::MAX && dot < CREASE_COS)
     }
 }
 
@@ -226,6 +245,19 @@ mod tests {
             // The near quad spans ±1 at depth 0.5 (±2 of the image): it covers every pixel.
             assert_eq!(value(&r, 1, 1), Fragment::Value(2.0));
         }
+    }
+
+    #[test]
+    fn outlines_at_groups_and_creases() {
+        let mut r = Raster::new(3, 1);
+        r.id = vec![0, 0, 1];
+        r.normal = vec![[0.0, 0.0, 1.0], [0.0, 0.6, 0.8], [0.0, 0.6, 0.8]];
+        // 37° between the first two facets of one group: a crease; then a group change.
+        assert!(r.boundary(0, 1) && r.boundary(1, 2));
+        r.normal[1] = [0.0, 0.2, 0.98];
+        r.id[2] = 0;
+        r.normal[2] = r.normal[1];
+        assert!(!r.boundary(0, 1) && !r.boundary(1, 2), "gentle turns and equal facets are not edges");
     }
 
     #[test]
