@@ -15,6 +15,24 @@ pub mod render;
 pub mod solve_csv;
 pub mod vtk;
 
+/// Runs `write` on the temporary `tmp` beside `path`, then renames it over `path`; on failure
+/// the temporary is removed and an earlier `path` is left as it was.
+pub fn replace_on_success(
+    path: &std::path::Path,
+    tmp: &std::path::Path,
+    write: impl FnOnce(&std::path::Path) -> crate::Result<()>,
+) -> crate::Result<()> {
+    match write(tmp) {
+        Ok(()) => {
+            std::fs::rename(tmp, path).map_err(|e| crate::Error::Io { path: path.to_path_buf(), source: e })
+        }
+        Err(e) => {
+            let _ = std::fs::remove_file(tmp);
+            Err(e)
+        }
+    }
+}
+
 /// Characters the exponent form must save before it replaces the plain form (keeps "1000").
 const EXPONENT_MIN_SAVING: usize = 3;
 

@@ -209,8 +209,8 @@ pub fn write(path: &Path, scene: &Scene, fields: &VtkFields) -> Result<()> {
     let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
     tmp_name.push(".partial");
     let tmp = path.with_file_name(tmp_name);
-    let result = (|| {
-        let mut out = std::io::BufWriter::new(std::fs::File::create(&tmp).map_err(io)?);
+    super::replace_on_success(path, &tmp, |tmp| {
+        let mut out = std::io::BufWriter::new(std::fs::File::create(tmp).map_err(io)?);
         // A comment before the root element: readers skip it, people read it.
         writeln!(out, "<!-- lambert results on the patches of '{}'", comment_safe(&title)).map_err(io)?;
         for note in &fields.notes {
@@ -219,14 +219,7 @@ pub fn write(path: &Path, scene: &Scene, fields: &VtkFields) -> Result<()> {
         writeln!(out, "-->").map_err(io)?;
         vtk.write_xml(&mut out).map_err(|e| io(std::io::Error::other(format!("{e:?}"))))?;
         out.flush().map_err(io)
-    })();
-    match result {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(io),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    })
 }
 
 /// `--` may not appear inside an XML comment.

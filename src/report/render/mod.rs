@@ -185,18 +185,11 @@ pub fn write_png(img: &Image, path: &Path) -> Result<()> {
     let io = |msg: String| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(msg) };
     let stem = path.file_stem().unwrap_or_default().to_string_lossy();
     let tmp = path.with_file_name(format!("{stem}.partial.png"));
-    let result = (|| {
-        let mut be = BitMapBackend::new(&tmp, (img.w, img.h));
+    super::replace_on_success(path, &tmp, |tmp| {
+        let mut be = BitMapBackend::new(tmp, (img.w, img.h));
         be.blit_bitmap((0, 0), (img.w, img.h), &img.rgb).map_err(|x| io(x.to_string()))?;
         be.present().map_err(|x| io(x.to_string()))
-    })();
-    match result {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| io(e.to_string())),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    })
 }
 
 #[cfg(test)]
