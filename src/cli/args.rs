@@ -20,6 +20,8 @@ pub enum Command {
     Solve(SolveArgs),
     /// Run the textbook validation suite in cases/.
     Validate(ValidateArgs),
+    /// Draw a `solve` result on the scene as a false-colour PNG picture.
+    Render(RenderArgs),
 }
 
 /// Options shared by `viewfactors` and `solve`.
@@ -56,6 +58,9 @@ pub struct CommonArgs {
     /// CSV output file; stdout when absent or `-`.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Also write the results on the patch polygons for ParaView: VTK XML, .vtu or .vtp.
+    #[arg(long, value_name = "FILE")]
+    pub vtk: Option<PathBuf>,
 }
 
 /// `lambert viewfactors`.
@@ -99,4 +104,33 @@ pub struct ValidateArgs {
     /// A fast subset for CI.
     #[arg(long)]
     pub quick: bool,
+}
+
+/// `lambert render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file: .toml, .gltf or .glb (the one the result was solved on).
+    pub scene: PathBuf,
+    /// A `solve` CSV, per surface or per patch (`--patches`).
+    pub result: PathBuf,
+    /// Column to show: temperature, heat_flux, heat_rate, radiosity, irradiation, emissivity
+    /// or area.
+    #[arg(long, default_value = "temperature")]
+    pub field: String,
+    /// PNG picture to write.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Camera, any of "eye=x,y,z target=x,y,z up=x,y,z fov=degrees" (default: framed
+    /// diagonal view, z up, fov 35).
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// Picture size WIDTHxHEIGHT in pixels, colour bar included.
+    #[arg(long, default_value = "1000x720")]
+    pub size: String,
+    /// Colour range MIN,MAX (default: the values' range).
+    #[arg(long, allow_hyphen_values = true)]
+    pub range: Option<String>,
+    /// Show back faces in grey instead of hiding them.
+    #[arg(long)]
+    pub two_sided: bool,
 }

@@ -1,5 +1,5 @@
 //! Orchestration of the subcommands: load → compute → report. No physics here.
-use super::args::{Command, SolveArgs, ValidateArgs, ViewfactorsArgs};
+use super::args::{Command, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs};
 use super::config::{Config, Output};
 use lambert::exchange::{self, Enforce, EnforceParams, Exchange};
 use lambert::report;
@@ -17,6 +17,7 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Viewfactors(a) => viewfactors(a),
         Command::Solve(a) => solve(a),
         Command::Validate(a) => validate(a),
+        Command::Render(a) => render(a),
     }
 }
 
@@ -50,6 +51,7 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
 
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
+    check_vtk(&a.common.vtk)?;
     let scene = scene::load(&cfg.scene)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
@@ -58,22 +60,27 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let fallback = if scene.run_defaults.closure { "closure" } else { "none" };
     let mode: Enforce = cfg.enforce.as_deref().unwrap_or(fallback).parse()?;
-    if lean_viewfactors(&scene, &cfg, level, mode)? {
+    if a.common.vtk.is_none() && lean_viewfactors(&scene, &cfg, level, mode)? {
         return Ok(());
     }
-    let vf = if mode == Enforce::None {
+    // Also keeps the per-patch row sums before enforcement (VTK `raw_row_sum`).
+    let (vf, raw_sums) = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
-        vf
+        let sums = vf.patch_row_sums.clone();
+        (vf, sums)
     } else {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
         let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
         let mut vf = at_level(&scene, &ex, level).to_viewfactors(raw.wall);
         vf.pairs = raw.pairs;
-        vf
+        (vf, raw.patch_row_sums)
     };
     write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
+    if let Some(path) = &a.common.vtk {
+        report::vtk::write(path, &scene, &report::vtk::viewfactor_fields(&scene, &vf, &raw_sums))?;
+    }
     let secs = vf.wall.as_secs_f64();
     eprintln!(
         "lambert: {} patches, {} pairs, {:.3} s ({:.3e} pairs/s), method {}",
@@ -338,8 +345,14 @@ fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
     ex.aggregate(&group, names, areas, Level::Surface)
 }
 
+/// A bad `--vtk` extension is refused before any work starts.
+fn check_vtk(path: &Option<std::path::PathBuf>) -> Result<()> {
+    path.as_deref().map_or(Ok(()), |p| report::vtk::kind_of(p).map(|_| ()))
+}
+
 fn solve(a: SolveArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
+    check_vtk(&a.common.vtk)?;
     let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
     let deck = match (&a.format, &a.conductances) {
         (Some(f), Some(_)) => DeckFormat::from_name(f)?,
@@ -362,7 +375,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         None => Enforce::solve_default(!scene.is_closed()),
     };
     if let Some(run) = lean_solve(&scene, &cfg.params, &a, mode, &params)? {
-        return finish_solve(&scene, &cfg, run.solution);
+        return finish_solve(&scene, &cfg, run.solution, a.common.vtk.as_deref());
     }
     let vf = match &a.viewfactors {
         Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
@@ -382,7 +395,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
         None => solve::solve_gray(&scene, &ex, &params)?,
     };
-    finish_solve(&scene, &cfg, sol)?;
+    finish_solve(&scene, &cfg, sol, a.common.vtk.as_deref())?;
     if let Some(path) = &a.conductances {
         let c = solve::conductance::radk(&scene, &ex, &params)?;
         let c = if cfg.patches || ex.level == Level::Surface {
@@ -445,7 +458,7 @@ fn lean_solve(
 }
 
 /// Prints the solve summary and energy balance and writes the results table.
-fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution) -> Result<()> {
+fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution, vtk: Option<&Path>) -> Result<()> {
     let info = &sol.info;
     eprintln!(
         "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",
@@ -463,7 +476,11 @@ fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution) -> Result<()>
         if max > 0.0 { sum.abs() / max } else { 0.0 },
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     );
-    write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))
+    write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))?;
+    if let Some(path) = vtk {
+        report::vtk::write(path, scene, &report::vtk::solution_fields(scene, &out))?;
+    }
+    Ok(())
 }
 
 fn validate(a: ValidateArgs) -> Result<()> {
@@ -475,5 +492,74 @@ fn validate(a: ValidateArgs) -> Result<()> {
     match suite.failures() {
         0 => Ok(()),
         n => Err(Error::Compute(format!("{n} validation checks failed"))),
+    }
+}
+
+fn render(a: RenderArgs) -> Result<()> {
+    use report::render::{self, camera::Camera, values};
+    let unit = values::unit(&a.field)?;
+    if !a.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        return Err(Error::Usage(format!(
+            "-o {}: the picture is written as PNG; name it .png",
+            a.output.display()
+        )));
+    }
+    let size = parse_size(&a.size)?;
+    let range = a.range.as_deref().map(parse_range).transpose()?;
+    let scene = scene::load(&a.scene)?;
+    let camera = match &a.camera {
+        Some(spec) => Camera::frame(&scene).with_spec(spec)?,
+        None => Camera::frame(&scene),
+    };
+    let v = values::read(&a.result, &scene, &a.field)?;
+    let title = scene.title.clone().unwrap_or_else(|| a.scene.display().to_string());
+    let caption = format!("{} per {}: {title}", a.field, if v.per_patch { "patch" } else { "surface" });
+    let opts = render::Options {
+        size,
+        camera,
+        two_sided: a.two_sided,
+        range,
+        field: a.field.clone(),
+        unit: unit.to_string(),
+        caption,
+    };
+    let img = render::render(&scene, &v.values, &opts)?;
+    render::write_png(&img, &a.output)?;
+    let c = &opts.camera;
+    eprintln!(
+        "lambert: render: {} patches, {}x{} px, camera eye={},{},{} target={},{},{} up={},{},{} fov={}",
+        scene.patches.len(),
+        size.0,
+        size.1,
+        c.eye.x,
+        c.eye.y,
+        c.eye.z,
+        c.target.x,
+        c.target.y,
+        c.target.z,
+        c.up.x,
+        c.up.y,
+        c.up.z,
+        c.fov
+    );
+    Ok(())
+}
+
+/// `WIDTHxHEIGHT`.
+fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let bad = || Error::Usage(format!("--size '{s}': expected WIDTHxHEIGHT, e.g. 1000x720"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    Ok((w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?))
+}
+
+/// `MIN,MAX` with MIN < MAX, both finite.
+fn parse_range(s: &str) -> Result<(f64, f64)> {
+    let bad = || Error::Usage(format!("--range '{s}': expected MIN,MAX with MIN < MAX"));
+    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
+    let (lo, hi): (f64, f64) = (lo.trim().parse().map_err(|_| bad())?, hi.trim().parse().map_err(|_| bad())?);
+    if lo.is_finite() && hi.is_finite() && lo < hi {
+        Ok((lo, hi))
+    } else {
+        Err(bad())
     }
 }

@@ -69,7 +69,8 @@ pub fn method_color(name: &str) -> (u8, u8, u8) {
     }
 }
 
-fn register_font() {
+/// Registers the vendored font as "sans-serif" (once per process).
+pub(crate) fn register_font() {
     REGISTER.call_once(|| {
         // The font is compiled in; registration only fails on a corrupt file, caught by tests.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);

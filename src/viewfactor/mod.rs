@@ -106,12 +106,17 @@ impl MethodSet {
     pub const MC_UNIFORM: MethodSet = MethodSet(32);
     /// Monte Carlo cosine hemisphere.
     pub const MC_COSINE: MethodSet = MethodSet(64);
-    const NAMES: [&'static str; 7] =
+    /// Method names by bit, lowest bit first (bit k stands for 2^k in [`MethodSet::bits`]).
+    pub const NAMES: [&'static str; 7] =
         ["analytic", "analytic-shadowed", "hemicube", "single-plane", "mc-area", "mc-uniform", "mc-cosine"];
 
     /// Union of two sets.
     pub fn union(self, other: MethodSet) -> MethodSet {
         MethodSet(self.0 | other.0)
+    }
+    /// The bit set as an integer code (bit k = `NAMES[k]`).
+    pub fn bits(self) -> u8 {
+        self.0
     }
     /// True when no method is recorded.
     pub fn is_empty(self) -> bool {
