@@ -27,7 +27,7 @@ pub enum Command {
 /// Options shared by `viewfactors` and `solve`.
 #[derive(Debug, Args)]
 pub struct CommonArgs {
-    /// Scene file: .toml, .gltf or .glb.
+    /// Scene file: .toml, .gltf, .glb or a View3D .vs3.
     pub scene: PathBuf,
     /// View-factor method: auto, analytic, hemicube, single-plane, mc-area, mc-uniform,
     /// mc-cosine.
@@ -61,6 +61,9 @@ pub struct CommonArgs {
     /// Also write the results on the patch polygons for ParaView: VTK XML, .vtu or .vtp.
     #[arg(long, value_name = "FILE")]
     pub vtk: Option<PathBuf>,
+    /// No progress report (a bar on a terminal, else a line every 10 s of a long run).
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// `lambert viewfactors`.

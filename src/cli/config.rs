@@ -44,7 +44,7 @@ impl Config {
     /// Validates the shared arguments and configures the thread pool.
     pub fn from_args(a: &CommonArgs) -> Result<Self> {
         let method: Method = a.method.parse()?;
-        let mut params = Params { method, seed: a.seed, progress: true, ..Params::default() };
+        let mut params = Params { method, seed: a.seed, progress: !a.quiet, ..Params::default() };
         if let Some(s) = a.samples {
             if s == 0 {
                 return Err(Error::Usage("--samples must be at least 1".into()));

@@ -158,15 +158,8 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
         warn_dense_leaks(scene, &ex);
     } else {
         let p = EnforceParams { mode, open, source: scene.source.clone(), ..Default::default() };
-        let rep = exchange::dense::enforce(&mut ex, &p)?;
-        eprintln!("lambert: exchange before enforcement: {}", rep.before);
-        eprintln!(
-            "lambert: enforce {} ({}, {} iterations): {}",
-            mode_name(mode),
-            rep.method,
-            rep.iterations,
-            rep.after
-        );
+        let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
+        print_enforcement(mode, &rep);
     }
     let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
     if level == Level::Patch || one_patch_each {
@@ -216,8 +209,11 @@ fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
         for s in named {
             eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
         }
-        let worst: Vec<String> =
-            leaks.iter().take(5).map(|&(i, s, _)| format!("{} (row sum {})", ex.names[i], row_sum(s))).collect();
+        let worst: Vec<String> = leaks
+            .iter()
+            .take(5)
+            .map(|&(i, s, _)| format!("{} (row sum {})", ex.names[i], row_sum(s)))
+            .collect();
         eprintln!(
             "lambert: warning: closed scene leaks: {} row(s) sum to less than 1 beyond the method's error; worst: {}",
             leaks.len(),
@@ -296,6 +292,12 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
     let p =
         EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
     let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
+    print_enforcement(mode, &rep);
+    Ok(ex)
+}
+
+/// The residuals before and after enforcement, on stderr.
+fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
     eprintln!("lambert: exchange before enforcement: {}", rep.before);
     eprintln!(
         "lambert: enforce {} ({}, {} iterations): {}",
@@ -304,7 +306,6 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
         rep.iterations,
         rep.after
     );
-    Ok(ex)
 }
 
 /// Adds the outward-normal hint to a refusal that names a row of a closed mesh surface whose
@@ -439,15 +440,9 @@ fn lean_solve(
     if !served {
         return Ok(None);
     }
-    let Some(run) = solve::dense::solve_scene(scene, vf, mode, params)? else { return Ok(None) };
-    eprintln!("lambert: exchange before enforcement: {}", run.report.before);
-    eprintln!(
-        "lambert: enforce {} ({}, {} iterations): {}",
-        mode_name(mode),
-        run.report.method,
-        run.report.iterations,
-        run.report.after
-    );
+    let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_outward_hint(scene, e))?;
+    let Some(run) = run else { return Ok(None) };
+    print_enforcement(mode, &run.report);
     eprintln!(
         "lambert: {} patches, {} pairs, dense store {:.1} MB",
         scene.patches.len(),

@@ -54,22 +54,25 @@ struct Word<'a> {
 
 struct Reader<'a> {
     path: &'a Path,
+    /// The text's lines, comments cut (a title keeps its commas).
+    lines: Vec<&'a str>,
     words: Vec<Word<'a>>,
     at: usize,
 }
 
 impl<'a> Reader<'a> {
     fn new(path: &'a Path, text: &'a str) -> Self {
-        let mut words = Vec::new();
+        let (mut words, mut lines) = (Vec::new(), Vec::new());
         for (k, line) in text.lines().enumerate() {
             let body = line.split('!').next().unwrap_or("");
+            lines.push(body);
             let mut first = true;
             for w in body.split([' ', '\t', ',', '\r']).filter(|w| !w.is_empty()) {
                 words.push(Word { text: w, line: k + 1, first });
                 first = false;
             }
         }
-        Self { path, words, at: 0 }
+        Self { path, lines, words, at: 0 }
     }
 
     fn err(&self, line: usize, problem: impl Into<String>) -> InputError {
@@ -155,9 +158,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Vs3, InputError> {
             'E' | '*' => break,
             '/' | 'X' => {}
             'T' => {
-                let rest: Vec<&str> =
-                    r.words[r.at..].iter().take_while(|x| x.line == line).map(|x| x.text).collect();
-                title = Some(rest.join(" "));
+                // The rest of the raw line after the record's first word.
+                let raw = r.lines[line - 1].trim_start();
+                title = Some(raw[w.text.len()..].trim().to_string());
             }
             'F' => {
                 let f = r.field(line, "the geometry format")?;

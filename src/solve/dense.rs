@@ -222,18 +222,6 @@ fn check_anchored(
     }
     let bad: Vec<usize> = (0..n).filter(|&i| unknown[i] && !root_ok[find(&mut parent, i)]).collect();
     let Some(&first) = bad.first() else { return Ok(()) };
-    let mut surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
-    surfaces.dedup();
-    let names: Vec<&str> = surfaces.iter().take(8).map(|&s| scene.surfaces[s].name.as_str()).collect();
-    Err(InputError::surface(
-        &scene.source,
-        ex.names[first].clone(),
-        format!(
-            "no temperature anchor: the enclosure formed by {} has only heat-flux conditions and \
-             sees no ambient, so its temperatures are undetermined (singular system); give at least \
-             one of these surfaces a temperature",
-            names.join(", ")
-        ),
-    )
-    .into())
+    let surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
+    Err(super::system::no_anchor(scene, ex.names[first].clone(), surfaces))
 }

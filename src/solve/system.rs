@@ -264,12 +264,18 @@ pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System
     }
     let bad: Vec<usize> = (0..m).filter(|&u| !root_ok[find(&mut parent, u)]).collect();
     let Some(&first) = bad.first() else { return Ok(()) };
-    let mut surfaces: Vec<usize> = bad.iter().map(|&u| nodes[sys.node[u]].surface).collect();
+    let surfaces: Vec<usize> = bad.iter().map(|&u| nodes[sys.node[u]].surface).collect();
+    Err(no_anchor(scene, ex.names[sys.node[first]].clone(), surfaces))
+}
+
+/// The refusal of an enclosure with only heat-flux conditions and no ambient: `first` names
+/// the row, `surfaces` (in node order) the surfaces of that enclosure.
+pub(crate) fn no_anchor(scene: &Scene, first: String, mut surfaces: Vec<usize>) -> Error {
     surfaces.dedup();
     let names: Vec<&str> = surfaces.iter().take(8).map(|&s| scene.surfaces[s].name.as_str()).collect();
-    Err(InputError::surface(
+    InputError::surface(
         &scene.source,
-        ex.names[sys.node[first]].clone(),
+        first,
         format!(
             "no temperature anchor: the enclosure formed by {} has only heat-flux conditions and \
              sees no ambient, so its temperatures are undetermined (singular system); give at least \
@@ -277,7 +283,7 @@ pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System
             names.join(", ")
         ),
     )
-    .into())
+    .into()
 }
 
 /// H, q, Q and T of every node from the radiosities J.

@@ -1,13 +1,13 @@
 //! The row engine: every method is a [`RowKernel`] that fills one patch row of exchange areas
 //! s_ij = A_i F_ij; the engine runs rows in parallel waves and feeds them, in patch order, to a
 //! sink. Order-fixed reduction makes results identical on any thread count.
+use super::progress::{self, Progress};
 use super::sink::{Level, Sink, ViewFactors};
 use super::{MethodSet, Params};
 use crate::scene::Scene;
 use crate::Result;
 use rayon::prelude::*;
-use std::io::IsTerminal;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// One estimated exchange area s_ij = A_i F_ij in row i.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,8 +45,6 @@ pub trait RowKernel: Sync {
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
 const WAVE_ENTRY_BUDGET: usize = 2_000_000;
-/// A progress bar appears only for runs longer than this.
-const PROGRESS_DELAY: Duration = Duration::from_secs(1);
 
 /// Runs `kernel` over every patch row and aggregates at `level`.
 pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level) -> Result<ViewFactors> {
@@ -55,14 +53,11 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
     let mut sink = Sink::new(scene, level, kernel.symmetric());
     let threads = rayon::current_num_threads().max(1);
     let wave = (WAVE_ENTRY_BUDGET / n.max(1)).clamp(4 * threads, 4096).max(1);
-    let bar = indicatif::ProgressBar::hidden();
-    bar.set_length(n as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} rows, eta {eta}")
-            .expect("static template")
-            .progress_chars("=> "),
-    );
-    let show = params.progress && std::io::stderr().is_terminal();
+    // Pairs per row: the kernel's half of a symmetric matrix, or the whole row.
+    let symmetric = kernel.symmetric();
+    let row_pairs = |i: usize| if symmetric { (n - i) as u64 } else { n as u64 };
+    let total = (0..n).map(row_pairs).sum();
+    let progress = Progress::start(total, "pairs", progress::Mode::for_stderr(params.progress));
     // Pipeline: while the pool computes wave k + 1, this thread folds wave k into the sink
     // (the sink is serial; folding between waves would leave the other cores idle).
     let compute = |lo: usize, hi: usize| -> Vec<Result<Row>> {
@@ -70,7 +65,9 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
             .into_par_iter()
             .map(|i| {
                 let mut row = Row::default();
-                kernel.row(i, &mut row).map(|_| row)
+                let out = kernel.row(i, &mut row).map(|_| row);
+                progress.add(row_pairs(i));
+                out
             })
             .collect()
     };
@@ -91,14 +88,10 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
         folded?;
         pending = Some((lo, rows));
         lo = hi;
-        if show && bar.is_hidden() && start.elapsed() > PROGRESS_DELAY {
-            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        }
-        bar.set_position(lo as u64);
     }
     if let Some((start, rows)) = pending {
         fold(&mut sink, start, rows)?;
     }
-    bar.finish_and_clear();
+    progress.finish();
     Ok(sink.finish(start.elapsed()))
 }

@@ -4,6 +4,9 @@
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
 //! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
 //!   diagnostics; never an N×N dense temporary;
+//! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
+//!   by the same kernels;
+//! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
 //! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -16,6 +19,7 @@ pub mod closed_form;
 pub mod engine;
 pub mod hemicube;
 pub mod monte_carlo;
+pub mod progress;
 pub mod single_plane;
 pub mod sink;
 pub mod triangle;
@@ -177,38 +181,10 @@ impl Default for Params {
     }
 }
 
-/// Computes the view factors of `scene` at the requested level with the chosen method.
-pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
-    let start = std::time::Instant::now();
-    let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
-        Method::Analytic => {
-            Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
-        }
-        Method::Auto => Box::new(auto::kernel(scene, params)),
-        Method::McArea | Method::McUniform | Method::McCosine => {
-            return monte_carlo::compute(scene, params, level)
-        }
-        Method::Hemicube => {
-            Box::new(hemicube::HemicubeKernel::new(scene, params.resolution, hemicube::Positions::Adaptive)?)
-        }
-        Method::SinglePlane => Box::new(single_plane::SinglePlaneKernel::new(
-            scene,
-            params.resolution,
-            single_plane::SinglePlaneOptions::default(),
-        )?),
-    };
-    // The wall time includes the kernel's set-up (planes, rules, blockers, pair tables).
-    let mut vf = engine::run(scene, kernel.as_ref(), params, level)?;
-    vf.wall = start.elapsed();
-    Ok(vf)
-}
-
-/// Computes the patch-level exchange areas of `scene` straight into the lean packed store
-/// ([`triangle::Triangle`]): symmetric kernels fill their rows in parallel, the others are
-/// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
-/// per-entry variances and hit counts need the sparse store.
-pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangle::Triangle>> {
-    let kernel: Box<dyn engine::RowKernel + '_> = match params.method {
+/// The row kernel of a deterministic method; `None` for the Monte Carlo methods, which run
+/// their own sampler.
+fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn engine::RowKernel + 'a>>> {
+    Ok(Some(match params.method {
         Method::Analytic => {
             Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
         }
@@ -222,15 +198,29 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
             params.resolution,
             single_plane::SinglePlaneOptions::default(),
         )?),
-    };
-    let n = scene.patches.len();
-    let bar = indicatif::ProgressBar::hidden();
-    if params.progress && std::io::IsTerminal::is_terminal(&std::io::stderr()) && n > 2000 {
-        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-    }
-    bar.set_length(n as u64);
-    let tick = |k: usize| bar.set_position(k as u64);
-    let t = triangle::fill(scene, kernel.as_ref(), &tick)?;
-    bar.finish_and_clear();
+    }))
+}
+
+/// Computes the view factors of `scene` at the requested level with the chosen method.
+pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
+    let start = std::time::Instant::now();
+    let Some(kernel) = row_kernel(scene, params)? else { return monte_carlo::compute(scene, params, level) };
+    // The wall time includes the kernel's set-up (planes, rules, blockers, pair tables).
+    let mut vf = engine::run(scene, kernel.as_ref(), params, level)?;
+    vf.wall = start.elapsed();
+    Ok(vf)
+}
+
+/// Computes the patch-level exchange areas of `scene` straight into the lean packed store
+/// ([`triangle::Triangle`]): symmetric kernels fill their rows in parallel, the others are
+/// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
+/// per-entry variances and hit counts need the sparse store.
+pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangle::Triangle>> {
+    let Some(kernel) = row_kernel(scene, params)? else { return Ok(None) };
+    let n = scene.patches.len() as u64;
+    let total = if kernel.symmetric() { n * (n + 1) / 2 } else { n * n };
+    let progress = progress::Progress::start(total, "pairs", progress::Mode::for_stderr(params.progress));
+    let t = triangle::fill(scene, kernel.as_ref(), &progress)?;
+    progress.finish();
     Ok(Some(t))
 }

@@ -10,6 +10,7 @@
 //!   write their row into its own packed slice in parallel; the others are computed in
 //!   bounded waves and folded serially, each cell receiving s_ij then s_ji.
 use super::engine::{RawEntry, Row, RowKernel};
+use super::progress::Progress;
 use super::MethodSet;
 use crate::scene::Scene;
 use crate::{Error, Result};
@@ -242,14 +243,14 @@ fn row_meta(entries: &[RawEntry], i: usize) -> (MethodSet, Vec<Exception>) {
 }
 
 /// Fills the patch-level triangle of `scene` with `kernel`; `wave` bounds the rows buffered
-/// per wave for non-symmetric kernels; `tick` is told how many rows are done.
-pub fn fill(scene: &Scene, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)) -> Result<Triangle> {
+/// per wave for non-symmetric kernels; `progress` counts the pairs of every finished row.
+pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress) -> Result<Triangle> {
     let n = scene.patches.len();
     let mut t = Triangle::zeros(n, scene.patches.iter().map(|p| p.polygon.area()).collect())?;
     if kernel.symmetric() {
-        fill_symmetric(&mut t, kernel, tick)?;
+        fill_symmetric(&mut t, kernel, progress)?;
     } else {
-        fill_folded(&mut t, kernel, tick)?;
+        fill_folded(&mut t, kernel, progress)?;
     }
     Ok(t)
 }
@@ -258,9 +259,8 @@ pub fn fill(scene: &Scene, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)
 /// pairs).
 type RowOut = (MethodSet, Vec<Exception>, f64, f64, MethodSet, u64);
 
-fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)) -> Result<()> {
+fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) -> Result<()> {
     let n = t.n;
-    let done = std::sync::atomic::AtomicUsize::new(0);
     let rows = t.rows_mut();
     let outs: Vec<Result<RowOut>> = rows
         .into_par_iter()
@@ -280,8 +280,7 @@ fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize
                 methods = methods.union(e.method);
             }
             let (def, ex) = row_meta(&row.entries, i);
-            let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            tick(k + 1);
+            progress.add((n - i) as u64);
             Ok((def, ex, sum, var, methods, row.pairs))
         })
         .collect();
@@ -317,7 +316,7 @@ fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize
 /// Entries buffered per wave of a non-symmetric kernel (as the row engine).
 const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 
-fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) + Sync)) -> Result<()> {
+fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) -> Result<()> {
     let n = t.n;
     let threads = rayon::current_num_threads().max(1);
     let wave = (WAVE_ENTRY_BUDGET / n.max(1)).clamp(4 * threads, 4096).max(1);
@@ -331,7 +330,9 @@ fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) +
             .into_par_iter()
             .map(|i| {
                 let mut row = Row::default();
-                kernel.row(i, &mut row).map(|_| row)
+                let out = kernel.row(i, &mut row).map(|_| row);
+                progress.add(n as u64);
+                out
             })
             .collect();
         for (k, row) in rows.into_iter().enumerate() {
@@ -340,7 +341,6 @@ fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, tick: &(dyn Fn(usize) +
             fold_row(t, i, &row, &mut pending, &mut seen)?;
         }
         lo = hi;
-        tick(lo);
     }
     for (r, mut ex) in pending.into_iter().enumerate() {
         ex.sort_by_key(|e| e.j);
