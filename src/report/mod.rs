@@ -102,15 +102,10 @@ pub fn push_f64(out: &mut String, x: f64) {
 }
 
 /// A stack buffer for one formatted f64 (the exponent form takes at most 24 bytes).
+#[derive(Default)]
 struct Small {
     buf: [u8; 32],
     len: usize,
-}
-
-impl Default for Small {
-    fn default() -> Self {
-        Self { buf: [0; 32], len: 0 }
-    }
 }
 
 impl Small {
