@@ -10,7 +10,11 @@
   node).
 
 Pure standard library, with the validation generator's glTF writer and meshes.
-Run: python3 validation/scenes/gen_cad.py
+Run: python3 validation/scenes/gen_cad.py [--reference]
+
+--reference also prints F(floor -> ceiling, wall_x0, wall_y1) of the blocked box from the
+generator's exact-shadow integration (cases/_generator/shadow.py, about two minutes): whole
+faces, so the value holds for every triangulation.
 """
 import os
 import sys
@@ -57,7 +61,26 @@ def boxes():
         print(f"box_{tag}: {total} triangles")
 
 
+def reference():
+    from casekit import converged
+    from geom import rectangle
+    from shadow import box
+
+    f = lambda x: gltf.f32((x, 0.0, 0.0))[0]  # the float32 geometry lambert reads
+    X, Y, Z = f(1.0), f(1.3), f(0.7)
+    lo, hi = irregular.BLOCK
+    blk = box(gltf.f32(lo), gltf.f32(hi))
+    floor = rectangle((0, 0, 0), (X, 0, 0), (0, Y, 0))
+    for name, r in (("ceiling", rectangle((0, 0, Z), (0, Y, 0), (X, 0, 0))),
+                    ("wall_x0", rectangle((0, 0, 0), (0, Y, 0), (0, 0, Z))),
+                    ("wall_y1", rectangle((0, Y, 0), (X, 0, 0), (0, 0, Z)))):
+        s, err = converged([floor], [r], blk, 0.05, 6)
+        print(f"F(floor -> {name}) = {s / (X * Y)!r} +- {2 * err / (X * Y):.1e}")
+
+
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     sphere_room()
     boxes()
+    if "--reference" in sys.argv[1:]:
+        reference()
