@@ -93,6 +93,10 @@ pub struct SolveArgs {
     /// direct, jacobi or gauss-seidel.
     #[arg(long, default_value = "direct")]
     pub solver: String,
+    /// Exchange store: auto, dense (every patch pair) or hierarchical (clustered links with
+    /// heat-rate error control, for large scenes) [default: auto, by patch count and memory].
+    #[arg(long, default_value = "auto")]
+    pub exchange: String,
 }
 
 /// `lambert validate`.

@@ -375,9 +375,19 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(e) => e.parse()?,
         None => Enforce::solve_default(!scene.is_closed()),
     };
+    let exchange = ExchangePath::from_name(&a.exchange)?;
+    if let Some(tol) = cfg.tolerance_given {
+        if !(tol > 0.0 && tol.is_finite()) {
+            return Err(Error::Usage(format!("--tolerance must be positive and finite, got {tol}")));
+        }
+    }
+    if let Some(run) = clustered_solve(&scene, &cfg, &a, exchange, mode, &params)? {
+        return finish_solve(&scene, &cfg, run.solution, a.common.vtk.as_deref());
+    }
     if let Some(run) = lean_solve(&scene, &cfg.params, &a, mode, &params)? {
         return finish_solve(&scene, &cfg, run.solution, a.common.vtk.as_deref());
     }
+
     let vf = match &a.viewfactors {
         Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
         None => {
@@ -420,6 +430,118 @@ fn solve(a: SolveArgs) -> Result<()> {
 /// 85 bytes per ordered pair), used to refuse what cannot fit.
 const SPARSE_BYTES_PER_PAIR: f64 = 180.0;
 
+/// `solve --exchange`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ExchangePath {
+    /// Dense up to [`HIERARCHICAL_MIN_PATCHES`] patches and while it fits, else hierarchical.
+    Auto,
+    /// Every patch pair (dense triangle or sparse store).
+    Dense,
+    /// Clustered links.
+    Hierarchical,
+}
+
+impl ExchangePath {
+    fn from_name(s: &str) -> Result<Self> {
+        match s {
+            "auto" => Ok(Self::Auto),
+            "dense" => Ok(Self::Dense),
+            "hierarchical" => Ok(Self::Hierarchical),
+            _ => Err(Error::Usage(format!("unknown --exchange '{s}'; expected auto, dense or hierarchical"))),
+        }
+    }
+}
+
+/// `--exchange auto` goes hierarchical above this many patches (measured in
+/// validation/scale.md: below it the dense path is as fast and exact).
+const HIERARCHICAL_MIN_PATCHES: usize = 12_000;
+
+/// The hierarchical path when chosen (forced, or by `auto` for a large scene or one whose
+/// dense store cannot fit); `None` sends the run to the dense paths.
+fn clustered_solve(
+    scene: &Scene,
+    cfg: &Config,
+    a: &SolveArgs,
+    path: ExchangePath,
+    mode: Enforce,
+    params: &solve::Params,
+) -> Result<Option<solve::clustered::ClusteredRun>> {
+    let n = scene.patches.len();
+    let served = lean_served(scene, &cfg.params, a, mode, params);
+    let why = match path {
+        ExchangePath::Dense => return Ok(None),
+        ExchangePath::Hierarchical => {
+            if !served {
+                return Err(Error::Usage(
+                    "--exchange hierarchical serves gray `solve` runs with -m auto or analytic and the direct \
+                     solver, without --viewfactors or --conductances"
+                        .into(),
+                ));
+            }
+            "forced by --exchange hierarchical".to_string()
+        }
+        ExchangePath::Auto => {
+            if !served {
+                return Ok(None);
+            }
+            let fits = exchange::dense::check_fits(n, 8.0, &scene.source).is_ok();
+            if n <= HIERARCHICAL_MIN_PATCHES && fits {
+                eprintln!("lambert: exchange: dense ({n} patches <= {HIERARCHICAL_MIN_PATCHES}; --exchange hierarchical for clustered links)");
+                return Ok(None);
+            }
+            if fits {
+                format!("{n} patches > {HIERARCHICAL_MIN_PATCHES}; --exchange dense for every pair")
+            } else {
+                format!("{n} patches: the dense store would not fit in memory")
+            }
+        }
+    };
+    let tol = cfg.tolerance_given.unwrap_or(exchange::hierarchy::DEFAULT_TOLERANCE);
+    eprintln!("lambert: exchange: hierarchical, heat-rate tolerance {tol:e} ({why})");
+    let run = solve::clustered::solve_scene(scene, &cfg.params, mode, tol, params)
+        .map_err(|e| with_outward_hint(scene, e))?;
+    print_enforcement(mode, &run.report);
+    let s = &run.stats;
+    eprintln!(
+        "lambert: {n} patches, {} cluster links, {} patch pairs, {} visibility rays, store {:.1} MB \
+         (links {:.2} s, patch pairs {:.2} s)",
+        s.links,
+        s.leaf_pairs,
+        s.rays,
+        s.bytes as f64 / 1e6,
+        s.refine.as_secs_f64(),
+        s.pairs.as_secs_f64()
+    );
+    if run.solution.heat_rate_error.is_some() {
+        let by_surface = run.solution.by_surface(scene);
+        let (_, max) = by_surface.heat_balance();
+        let worst =
+            by_surface.heat_rate_error.as_ref().map_or(0.0, |e| e.iter().copied().fold(0.0, f64::max));
+        eprintln!(
+            "lambert: estimated heat-rate error: at most {worst:.3e} W on a surface ({:.1e} of max |heat_rate|)",
+            if max > 0.0 { worst / max } else { 0.0 }
+        );
+    }
+    Ok(Some(run))
+}
+
+/// True when the lean paths (dense triangle or hierarchy) can serve this `solve`.
+fn lean_served(
+    scene: &Scene,
+    vf: &viewfactor::Params,
+    a: &SolveArgs,
+    mode: Enforce,
+    params: &solve::Params,
+) -> bool {
+    let symmetric = matches!(vf.method, Method::Auto | Method::Analytic);
+    a.viewfactors.is_none()
+        && a.conductances.is_none()
+        && scene.spectral.is_none()
+        && params.solver == solve::Solver::Direct
+        && !vf.method.is_monte_carlo()
+        && (symmetric || mode != Enforce::None)
+}
+
 /// The lean dense path: every `solve` it can serve (a view-factor kernel, gray, the direct
 /// solver, no conductances and no saved view factors); `None` sends the run to the sparse path.
 fn lean_solve(
@@ -430,14 +552,7 @@ fn lean_solve(
     params: &solve::Params,
 ) -> Result<Option<solve::dense::DenseRun>> {
     // Without enforcement a non-symmetric kernel's raw rows would be solved as they are.
-    let symmetric = matches!(vf.method, Method::Auto | Method::Analytic);
-    let served = a.viewfactors.is_none()
-        && a.conductances.is_none()
-        && scene.spectral.is_none()
-        && params.solver == solve::Solver::Direct
-        && !vf.method.is_monte_carlo()
-        && (symmetric || mode != Enforce::None);
-    if !served {
+    if !lean_served(scene, vf, a, mode, params) {
         return Ok(None);
     }
     let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_outward_hint(scene, e))?;

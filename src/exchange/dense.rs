@@ -10,6 +10,7 @@
 use super::diagnostics::{Diagnostics, WORST_ROWS};
 use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS, LEAK_TOL, LEAK_TOL_SINGLE_PLANE};
 use super::linalg::{dot, norm};
+use super::operator::Operator;
 use crate::error::InputError;
 use crate::viewfactor::triangle::Triangle;
 use crate::viewfactor::MethodSet;
@@ -151,20 +152,29 @@ fn rescale(t: &mut Triangle, g: &[f64]) {
 /// Σ_j w_ij(u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s, see [`super::scaling`]);
 /// returns the CG iterations spent.
 pub fn symmetric_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
-    let n = t.n;
+    let (g, total) = closure_scales(t, tol)?;
+    rescale(t, &g);
+    Ok(total)
+}
+
+/// The scales g of [`symmetric_scaling`] for any exchange operator, and the CG iterations
+/// spent; the operator itself is left as it is.
+pub fn closure_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
+    let n = t.len();
+    let areas = t.areas();
     let ones = vec![1.0; n];
     let mut logg = vec![0.0; n];
     let mut g = ones.clone();
     let mut sums = t.matvec_scaled(Some(&g), &ones);
-    let mut err = closure_error(&sums, &t.areas);
+    let mut err = closure_error(&sums, areas);
     let mut total = 0;
     for _ in 0..MAX_NEWTON {
         if err <= tol {
             break;
         }
-        let r: Vec<f64> = t.areas.iter().zip(&sums).map(|(a, s)| a - s).collect();
+        let r: Vec<f64> = areas.iter().zip(&sums).map(|(a, s)| a - s).collect();
         // Operator diagonal Σ_j w_ij + w_ii.
-        let diag: Vec<f64> = (0..n).map(|i| sums[i] + t.row(i)[0] * g[i] * g[i]).collect();
+        let diag: Vec<f64> = (0..n).map(|i| sums[i] + t.self_term(i) * g[i] * g[i]).collect();
         let apply = |x: &[f64]| -> Vec<f64> {
             let wx = t.matvec_scaled(Some(&g), x);
             wx.iter().zip(&sums).zip(x).map(|((w, s), x)| w + s * x).collect()
@@ -185,7 +195,7 @@ pub fn symmetric_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
             let trial: Vec<f64> = logg.iter().zip(&u).map(|(l, u)| l + step * u).collect();
             let tg: Vec<f64> = trial.iter().map(|l| l.exp()).collect();
             let ts = t.matvec_scaled(Some(&tg), &ones);
-            let e = closure_error(&ts, &t.areas);
+            let e = closure_error(&ts, areas);
             if e < err || step < 1e-3 {
                 (logg, g, sums, err) = (trial, tg, ts, e);
                 break;
@@ -198,27 +208,33 @@ pub fn symmetric_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
             "symmetric scaling did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
         )));
     }
-    rescale(t, &g);
-    Ok(total)
+    Ok((g, total))
 }
 
 /// Open scenes: scales rows whose sum exceeds A_i(1 + tol) down until Σ_j S_ij ≤ A_i, by
 /// g_i ← min(1, √(g_i A_i / (S̄g)_i)); returns sweeps.
 pub fn capped_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
-    let n = t.n;
+    let (g, sweeps) = capped_scales(t, tol)?;
+    if g.iter().any(|&x| x != 1.0) {
+        rescale(t, &g);
+    }
+    Ok(sweeps)
+}
+
+/// The scales g of [`capped_scaling`] for any exchange operator, and the sweeps spent.
+pub fn capped_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
+    let n = t.len();
+    let areas = t.areas();
     let mut g = vec![1.0; n];
     for sweep in 0..MAX_CAPPED {
         let r = t.matvec_scaled(None, &g);
-        let over = (0..n).any(|i| g[i] * r[i] > t.areas[i] * (1.0 + tol));
+        let over = (0..n).any(|i| g[i] * r[i] > areas[i] * (1.0 + tol));
         if !over {
-            if g.iter().any(|&x| x != 1.0) {
-                rescale(t, &g);
-            }
-            return Ok(sweep);
+            return Ok((g, sweep));
         }
         for i in 0..n {
             if r[i] > 0.0 {
-                g[i] = (g[i] * t.areas[i] / r[i]).sqrt().min(1.0);
+                g[i] = (g[i] * areas[i] / r[i]).sqrt().min(1.0);
             }
         }
     }

@@ -9,6 +9,9 @@
 //! - [`scaling`]: symmetric diagonal scaling s_ij = s̄_ij g_i g_j (also capped, for open scenes);
 //! - [`lsq`]: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1;
 //! - [`ml`]: constrained maximum likelihood s_ij = M_ij/(λ_i + λ_j) (Daun, Morton & Howell 2005);
+//! - [`operator`]: the symmetric operator (packed triangle or link hierarchy) that the lean
+//!   enforcement and solve work on;
+//! - [`hierarchy`]: clustered exchange with error-bounded links for large scenes;
 //! - [`linalg`]: deterministic parallel reductions and the PSD conjugate-gradient solver.
 //!
 //! Everything is O(nnz): no dense N×N temporary is ever formed.
@@ -20,9 +23,11 @@ use std::time::Duration;
 pub mod dense;
 pub mod diagnostics;
 pub mod enforce;
+pub mod hierarchy;
 pub mod linalg;
 pub mod lsq;
 pub mod ml;
+pub mod operator;
 pub mod scaling;
 
 pub use diagnostics::Diagnostics;

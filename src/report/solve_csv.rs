@@ -15,7 +15,7 @@ fn csv_err(path: &Path) -> impl Fn(csv::Error) -> Error + '_ {
 pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<()> {
     let mut w = csv::Writer::from_writer(out);
     let err = csv_err(path);
-    w.write_record([
+    let mut header = vec![
         "surface",
         "area",
         "emissivity",
@@ -24,8 +24,11 @@ pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<(
         "heat_rate",
         "radiosity",
         "irradiation",
-    ])
-    .map_err(&err)?;
+    ];
+    if sol.heat_rate_error.is_some() {
+        header.push("heat_rate_error");
+    }
+    w.write_record(&header).map_err(&err)?;
     for (k, r) in sol.results.iter().enumerate() {
         let f = [
             sol.areas[k],
@@ -38,12 +41,15 @@ pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<(
         ];
         let mut rec = vec![sol.names[k].clone()];
         rec.extend(f.iter().map(|v| super::fmt_f64(*v)));
+        if let Some(e) = &sol.heat_rate_error {
+            rec.push(super::fmt_f64(e[k]));
+        }
         w.write_record(&rec).map_err(&err)?;
     }
     if let Some((t, q)) = sol.ambient {
         let e = crate::SIGMA * t.powi(4);
         // The ambient is black: emissivity 1, radiosity = emission; area and flux are undefined.
-        w.write_record([
+        let rec = [
             crate::solve::AMBIENT,
             "",
             "1",
@@ -52,8 +58,9 @@ pub fn write_solution<W: Write>(out: W, sol: &Solution, path: &Path) -> Result<(
             &super::fmt_f64(q),
             &super::fmt_f64(e),
             "",
-        ])
-        .map_err(&err)?;
+            "",
+        ];
+        w.write_record(if sol.heat_rate_error.is_some() { &rec[..] } else { &rec[..8] }).map_err(&err)?;
     }
     w.flush().map_err(|e| Error::Io { path: path.to_path_buf(), source: e })
 }

@@ -192,6 +192,7 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
                     residual: worst / scale,
                     wall: start.elapsed(),
                 },
+                heat_rate_error: None,
             });
         }
         if steps == MAX_NEWTON {

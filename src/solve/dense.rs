@@ -10,6 +10,7 @@ use super::system::{RowKind, ANCHOR_TOL};
 use super::{Info, NodeResult, Params, Solution};
 use crate::error::InputError;
 use crate::exchange::dense::{self, pcg, DenseExchange};
+use crate::exchange::operator::Operator;
 use crate::exchange::{Enforce, EnforceParams, EnforceReport};
 use crate::scene::Scene;
 use crate::viewfactor::Level;
@@ -58,9 +59,20 @@ pub fn solve_scene(
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for
 /// open scenes).
 pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<Solution> {
+    solve_operator(scene, &ex.t, &ex.names, ex.ambient.as_deref(), params)
+}
+
+/// Solves the gray net-radiation problem on the patches with exchange operator `t` (already
+/// enforced), node names `names` and, for open scenes, the ambient exchange areas `amb`.
+pub fn solve_operator(
+    scene: &Scene,
+    t: &dyn Operator,
+    names: &[String],
+    amb: Option<&[f64]>,
+    params: &Params,
+) -> Result<Solution> {
     let start = Instant::now();
-    let t = &ex.t;
-    let n = t.n;
+    let n = t.len();
     if n != scene.patches.len() {
         return Err(InputError::file(
             &scene.source,
@@ -85,14 +97,14 @@ pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<
         );
     }
     let e_amb = scene.ambient.map_or(0.0, |a| SIGMA * a.temperature.powi(4));
-    let amb = ex.ambient.as_deref();
+    let areas = t.areas();
     // Unknowns: every node but the black temperature nodes, whose J = E_b is known.
     let mut known = vec![0.0; n];
     let mut unknown = vec![true; n];
     let mut d = vec![0.0; n];
     let mut b = vec![0.0; n];
     for i in 0..n {
-        let a = t.areas[i];
+        let a = areas[i];
         match rows[i] {
             RowKind::Temperature(eb) if eps[i] >= 1.0 => (known[i], unknown[i]) = (eb, false),
             RowKind::Temperature(eb) => {
@@ -110,8 +122,8 @@ pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<
         }
     }
     let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
-    let diag: Vec<f64> = (0..n).map(|i| if unknown[i] { d[i] - t.row(i)[0] } else { 1.0 }).collect();
-    check_anchored(scene, ex, &unknown, &d, &diag)?;
+    let diag: Vec<f64> = (0..n).map(|i| if unknown[i] { d[i] - t.self_term(i) } else { 1.0 }).collect();
+    check_anchored(scene, t, names, &unknown, &d, &diag)?;
     for i in (0..n).filter(|&i| !unknown[i]) {
         b[i] = 0.0;
     }
@@ -132,7 +144,7 @@ pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<
     let sj = t.matvec_scaled(None, &j);
     let mut results = Vec::with_capacity(n);
     for i in 0..n {
-        let a = t.areas[i];
+        let a = areas[i];
         let h = (sj[i] + amb.map_or(0.0, |am| am[i] * e_amb)) / a;
         let q = j[i] - h;
         let temperature = match rows[i] {
@@ -142,7 +154,7 @@ pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<
                 if eb < 0.0 {
                     return Err(Error::Compute(format!(
                         "{}: the prescribed heat flux {qp} W/m² would need a negative emissive power",
-                        ex.names[i]
+                        names[i]
                     )));
                 }
                 (eb / SIGMA).powf(0.25)
@@ -169,13 +181,14 @@ pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<
     };
     Ok(Solution {
         level: Level::Patch,
-        names: ex.names.clone(),
-        areas: t.areas.clone(),
+        names: names.to_vec(),
+        areas: areas.to_vec(),
         emissivity: eps,
         surface: scene.patches.iter().map(|p| p.surface).collect(),
         results,
         ambient,
         info,
+        heat_rate_error: None,
     })
 }
 
@@ -184,13 +197,13 @@ pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<
 /// at round-off level, connected only to such rows.
 fn check_anchored(
     scene: &Scene,
-    ex: &DenseExchange,
+    t: &dyn Operator,
+    names: &[String],
     unknown: &[bool],
     d: &[f64],
     diag: &[f64],
 ) -> Result<()> {
-    let t = &ex.t;
-    let n = t.n;
+    let n = t.len();
     let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
     let su = t.matvec_scaled(None, &mask);
     let anchored: Vec<bool> = (0..n).map(|i| d[i] - su[i] > ANCHOR_TOL * diag[i].abs()).collect();
@@ -206,15 +219,12 @@ fn check_anchored(
         }
         x
     }
-    for i in (0..n).filter(|&i| unknown[i]) {
-        for (k, &s) in t.row(i).iter().enumerate().skip(1) {
-            let j = i + k;
-            if s != 0.0 && unknown[j] {
-                let (a, b) = (find(&mut parent, i), find(&mut parent, j));
-                parent[a] = b;
-            }
+    t.couplings(&mut |i, j| {
+        if unknown[i] && unknown[j] {
+            let (a, b) = (find(&mut parent, i), find(&mut parent, j));
+            parent[a] = b;
         }
-    }
+    });
     let mut root_ok = vec![false; n];
     for i in (0..n).filter(|&i| unknown[i] && anchored[i]) {
         let r = find(&mut parent, i);
@@ -223,5 +233,5 @@ fn check_anchored(
     let bad: Vec<usize> = (0..n).filter(|&i| unknown[i] && !root_ok[find(&mut parent, i)]).collect();
     let Some(&first) = bad.first() else { return Ok(()) };
     let surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
-    Err(super::system::no_anchor(scene, ex.names[first].clone(), surfaces))
+    Err(super::system::no_anchor(scene, names[first].clone(), surfaces))
 }

@@ -9,6 +9,7 @@
 //! - [`iterative`]: Jacobi and Gauss–Seidel with a typed [`NoConvergence`];
 //! - [`planck`]: blackbody band fractions F_{0→λT};
 //! - [`bands`]: semi-gray bands, temperatures coupled across bands by Newton;
+//! - [`clustered`]: the solve on the hierarchical exchange, with heat-rate error estimates;
 //! - [`conductance`]: radiative conductances RADK_ij = A_i ε_i B_ij (Gebhart).
 use crate::exchange::Exchange;
 use crate::scene::{BoundaryCondition, Scene};
@@ -18,6 +19,7 @@ use std::str::FromStr;
 use std::time::{Duration, Instant};
 
 pub mod bands;
+pub mod clustered;
 pub mod conductance;
 pub mod dense;
 pub mod direct;
@@ -141,6 +143,9 @@ pub struct Solution {
     pub ambient: Option<(f64, f64)>,
     /// Solver report.
     pub info: Info,
+    /// Estimated bound on each node's heat-rate error from approximate exchange (the
+    /// hierarchical path), W; None where the exchange is exact to the method's tolerance.
+    pub heat_rate_error: Option<Vec<f64>>,
 }
 
 impl Solution {
@@ -201,6 +206,13 @@ impl Solution {
             results,
             ambient: self.ambient,
             info: self.info.clone(),
+            heat_rate_error: self.heat_rate_error.as_ref().map(|e| {
+                let mut out = vec![0.0; m];
+                for (k, v) in e.iter().enumerate() {
+                    out[self.surface[k]] += v;
+                }
+                out
+            }),
         }
     }
 }
@@ -229,6 +241,7 @@ pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solut
         results,
         ambient,
         info,
+        heat_rate_error: None,
     })
 }
 

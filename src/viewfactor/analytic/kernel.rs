@@ -236,6 +236,59 @@ impl<'s> AnalyticKernel<'s> {
     }
 }
 
+impl AnalyticKernel<'_> {
+    /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, all > i),
+    /// exactly as [`RowKernel::row`] computes them; entries with s = 0 are left out. Blockers
+    /// are classified only within the box of the receivers.
+    pub fn partners(&self, i: usize, js: &[u32], out: &mut Vec<RawEntry>) {
+        let mut scratch = Scratch::default();
+        let mut reuse = self.reuse.row(i);
+        let Some(shadows) = &self.shadows else {
+            for &j in js {
+                let s = self.unobstructed(i, j as usize, &mut reuse, &mut scratch);
+                if s > 0.0 {
+                    out.push(RawEntry { j, method: MethodSet::ANALYTIC, s, var: 0.0 });
+                }
+            }
+            return;
+        };
+        let region =
+            js.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |r, &j| {
+                self.scene.patches[j as usize]
+                    .polygon
+                    .vertices()
+                    .iter()
+                    .fold(r, |(lo, hi), &v| (lo.min(v), hi.max(v)))
+            });
+        SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
+            shadows.classify_row_in(i, region, row);
+            for &j in js {
+                let ju = j as usize;
+                let entry = match row.status(ju) {
+                    Status::Blocked => continue,
+                    Status::Clear => RawEntry {
+                        j,
+                        method: MethodSet::ANALYTIC,
+                        s: self.unobstructed(i, ju, &mut reuse, &mut scratch),
+                        var: 0.0,
+                    },
+                    Status::Partial(partial) => {
+                        let u = self.unobstructed(i, ju, &mut reuse, &mut scratch);
+                        if !(u > 0.0) {
+                            continue;
+                        }
+                        let r = shadows.pair(i, ju, u, partial, work);
+                        RawEntry { j, method: r.method, s: r.s, var: r.var }
+                    }
+                };
+                if entry.s > 0.0 {
+                    out.push(entry);
+                }
+            }
+        });
+    }
+}
+
 /// The rung of the ladder that evaluates a pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rung {

@@ -17,6 +17,7 @@ use crate::scene::Scene;
 use crate::viewfactor::auto::mc_pair::{estimate, Budget, PatchSampler, SegmentBlocker};
 use crate::viewfactor::auto::{choose, Choice, MC_MAX_SAMPLES, MC_SIGMAS};
 use crate::viewfactor::MethodSet;
+use glam::DVec3;
 
 /// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
 /// target (5e-8, `kernel::GAUSS_REL_TOL`), so shadows never dominate the method's error.
@@ -118,6 +119,11 @@ impl<'s> Shadows<'s> {
     /// Classifies the receivers j > i of row `i` into `row`.
     pub fn classify_row(&self, i: usize, row: &mut RowShadows) {
         classify_row(self.scene, &self.blockers, i, i + 1, row);
+    }
+
+    /// As [`Self::classify_row`] for the receivers whose boxes meet `region` (lo, hi).
+    pub fn classify_row_in(&self, i: usize, region: (DVec3, DVec3), row: &mut RowShadows) {
+        super::obstruction::classify_row_in(self.scene, &self.blockers, i, i + 1, Some(region), row);
     }
 
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the

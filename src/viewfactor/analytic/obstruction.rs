@@ -82,6 +82,19 @@ impl RowShadows {
 
 /// Classifies the receivers j ≥ `first` (j ≠ i) of row `i` into `out`.
 pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, out: &mut RowShadows) {
+    classify_row_in(scene, blockers, i, first, None, out);
+}
+
+/// As [`classify_row`] for the receivers whose boxes meet `region` (lo, hi) only: blockers
+/// outside the box of patch i and the region are never considered.
+pub fn classify_row_in(
+    scene: &Scene,
+    blockers: &Blockers,
+    i: usize,
+    first: usize,
+    region: Option<(DVec3, DVec3)>,
+    out: &mut RowShadows,
+) {
     out.reset(scene.patches.len());
     if blockers.is_empty() {
         return;
@@ -89,10 +102,23 @@ pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, 
     let snap = blockers.snap();
     let pi = &scene.patches[i].polygon;
     let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
-    let in_front =
-        |lo: DVec3, hi: DVec3| ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap;
+    let meets = |(rl, rh): (DVec3, DVec3), lo: DVec3, hi: DVec3| lo.cmple(rh).all() && hi.cmpge(rl).all();
+    let hull = region.map(|(rl, rh)| {
+        let v = pi.vertices().iter();
+        (v.clone().fold(rl, |a, &b| a.min(b)), v.fold(rh, |a, &b| a.max(b)))
+    });
+    let in_front = |lo: DVec3, hi: DVec3| {
+        ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
+            && region.is_none_or(|r| meets(r, lo, hi))
+    };
     out.row_blockers.clear();
-    blockers.blockers_where(in_front, &mut out.row_blockers);
+    blockers.blockers_where(
+        |lo, hi| {
+            ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
+                && hull.is_none_or(|r| meets(r, lo, hi))
+        },
+        &mut out.row_blockers,
+    );
     out.row_blockers.sort_unstable();
     // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
     let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, .. } = out;

@@ -1,0 +1,515 @@
+//! Clustered, hierarchical exchange for large scenes (Hanrahan–Salzman–Aupperle 1991;
+//! Smits–Arvo–Greenberg 1994 and Sillion 1995 clustering): no N×N object anywhere.
+//!
+//! - [`tree`]: the cluster tree over the patches (orientation, then space);
+//! - [`refine`]: links between clusters refined until each link's heat-rate error bound fits
+//!   its share of `tol` × the largest heat rate; near and touching pairs end as patch pairs;
+//! - this file: [`Hierarchy`] — the exact values of the patch pairs (the `analytic`/`auto`
+//!   kernel, shadows included), the symmetric operator S = Σ_links s_AB a_A b_Bᵀ (+ its
+//!   transpose) applied by pull (area-weighted means up the tree), one pass over the links and
+//!   push (area shares down the tree), closure or capped scaling g (S → G S G), the ambient of
+//!   open scenes, and the heat-rate error estimate of a solution.
+//!
+//! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
+//! O(N + links).
+use super::dense::{capped_scales, closure_scales};
+use super::enforce::{EnforceReport, LEAK_TOL};
+use super::operator::Operator;
+use super::{Diagnostics, Enforce};
+use crate::error::InputError;
+use crate::scene::{BoundaryCondition, Scene};
+use crate::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
+use crate::viewfactor::engine::RawEntry;
+use crate::viewfactor::{auto, Method};
+use crate::visibility::Visibility;
+use crate::{Error, Result, SIGMA};
+use rayon::prelude::*;
+use std::time::{Duration, Instant};
+
+pub mod refine;
+pub mod tree;
+
+pub use refine::Link;
+use tree::Tree;
+
+/// A closed scene's row may fall short of 1 by this many times its links' error bound (plus
+/// [`LEAK_TOL`]) before it counts as a leak.
+pub const LEAK_ERR_SIGMAS: f64 = 3.0;
+
+/// Default relative heat-rate tolerance of the hierarchical path.
+pub const DEFAULT_TOLERANCE: f64 = 1e-3;
+
+/// What the build measured.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stats {
+    /// Tree nodes.
+    pub nodes: usize,
+    /// Cluster links.
+    pub links: usize,
+    /// Patch pairs evaluated by the exact kernel.
+    pub leaf_pairs: usize,
+    /// Visibility rays cast for cluster links.
+    pub rays: u64,
+    /// Bytes of the tree, links and adjacency.
+    pub bytes: usize,
+    /// Wall time of the refinement.
+    pub refine: Duration,
+    /// Wall time of the patch pairs.
+    pub pairs: Duration,
+}
+
+/// The link hierarchy of a scene: a symmetric exchange operator over its patches.
+#[derive(Debug, Clone)]
+pub struct Hierarchy {
+    tree: Tree,
+    /// Patch areas (patch order).
+    areas: Vec<f64>,
+    /// Node adjacency (both directions): offsets into `adj`.
+    ptr: Vec<u64>,
+    /// (other node, s).
+    adj: Vec<(u32, f64)>,
+    /// Cluster links with their error bounds.
+    links: Vec<Link>,
+    /// Scales g of enforcement (S → G S G), patch order.
+    g: Option<Vec<f64>>,
+    /// Patch names.
+    pub names: Vec<String>,
+    /// S_i,amb of open scenes, after enforcement.
+    pub ambient: Option<Vec<f64>>,
+    /// Build statistics.
+    pub stats: Stats,
+}
+
+/// Radiosity bounds of each patch before the solve (W/m²): J = εE_b + ρH with the irradiation
+/// H between the scene's lowest and highest radiosity; flux patches span the whole range.
+fn radiosity_bounds(scene: &Scene) -> Vec<(f64, f64)> {
+    let eb = |t: f64| SIGMA * t.powi(4);
+    let mut e_lo = scene.ambient.map_or(f64::INFINITY, |a| eb(a.temperature));
+    let mut e_hi = scene.ambient.map_or(0.0, |a| eb(a.temperature));
+    let mut q_max: f64 = 0.0;
+    let mut eps_min: f64 = 1.0;
+    for s in &scene.surfaces {
+        match s.condition {
+            Some(BoundaryCondition::Temperature(t)) => (e_lo, e_hi) = (e_lo.min(eb(t)), e_hi.max(eb(t))),
+            Some(BoundaryCondition::HeatFlux(q)) => {
+                q_max = q_max.max(q.abs());
+                eps_min = eps_min.min(s.emissivity.max(1e-3));
+            }
+            None => {}
+        }
+    }
+    if !e_lo.is_finite() {
+        e_lo = 0.0;
+    }
+    // A heated flux surface radiates above the hottest fixed temperature by about q/ε.
+    let top = e_hi + q_max / eps_min;
+    scene
+        .patches
+        .iter()
+        .map(|p| {
+            let s = &scene.surfaces[p.surface];
+            match s.condition {
+                Some(BoundaryCondition::Temperature(t)) => {
+                    let (e, r) = (s.emissivity * eb(t), 1.0 - s.emissivity);
+                    (e + r * e_lo, e + r * top)
+                }
+                _ => (e_lo.min(0.0).max(0.0), top),
+            }
+        })
+        .collect()
+}
+
+/// The largest heat rate to expect (W): A ε |E_b − Ē_b| of temperature surfaces (Ē_b their
+/// area mean), A |q| of flux surfaces.
+fn heat_rate_scale(scene: &Scene) -> f64 {
+    let eb = |t: f64| SIGMA * t.powi(4);
+    let (mut ae, mut a) = (0.0, 0.0);
+    for s in &scene.surfaces {
+        if let Some(BoundaryCondition::Temperature(t)) = s.condition {
+            (ae, a) = (ae + s.area * eb(t), a + s.area);
+        }
+    }
+    let mean = if a > 0.0 { ae / a } else { 0.0 };
+    let q = scene
+        .surfaces
+        .iter()
+        .map(|s| match s.condition {
+            Some(BoundaryCondition::Temperature(t)) => s.area * s.emissivity * (eb(t) - mean).abs(),
+            Some(BoundaryCondition::HeatFlux(q)) => s.area * q.abs(),
+            None => 0.0,
+        })
+        .fold(0.0, f64::max);
+    let amb = scene.ambient.map_or(0.0, |am| {
+        scene
+            .surfaces
+            .iter()
+            .map(|s| s.area * s.emissivity * (eb(am.temperature) - mean).abs())
+            .fold(0.0, f64::max)
+    });
+    q.max(amb).max(f64::MIN_POSITIVE)
+}
+
+impl Hierarchy {
+    /// Builds the links of `scene` for the relative heat-rate tolerance `tol`, with the patch
+    /// pairs from the `analytic` or `auto` kernel of `vf`.
+    pub fn build(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64) -> Result<Self> {
+        if scene.patches.is_empty() {
+            return Err(InputError::file(&scene.source, "the scene has no patches").into());
+        }
+        let kernel = match vf.method {
+            Method::Analytic => AnalyticKernel::new(scene, GAUSS_REL_TOL),
+            Method::Auto => auto::kernel(scene, vf),
+            m => {
+                return Err(Error::Usage(format!(
+                    "--exchange hierarchical evaluates its near pairs with `auto` or `analytic`, not `{}`",
+                    m.name()
+                )))
+            }
+        };
+        let start = Instant::now();
+        let tree = Tree::new(scene);
+        let blockers = kernel.shadows().map(|s| s.blockers());
+        let vis = blockers.map(|_| Visibility::new(scene));
+        let bounds = radiosity_bounds(scene);
+        let mut radiosity = vec![(0.0, 0.0); tree.nodes.len()];
+        for k in (0..tree.nodes.len()).rev() {
+            let n = &tree.nodes[k];
+            radiosity[k] = if n.is_leaf() {
+                bounds[tree.order[n.lo as usize] as usize]
+            } else {
+                let (l, r) = (radiosity[n.kids[0] as usize], radiosity[n.kids[1] as usize]);
+                (l.0.min(r.0), l.1.max(r.1))
+            };
+        }
+        let mut acc = 0.0;
+        let prefix = tree
+            .order
+            .iter()
+            .map(|&p| {
+                acc += tree.geom[p as usize].area;
+                acc
+            })
+            .collect();
+        let ctx = refine::Context {
+            tree: &tree,
+            blockers,
+            vis: vis.as_ref(),
+            radiosity,
+            tol,
+            q_ref: heat_rate_scale(scene),
+            area: tree.nodes[0].area,
+            prefix,
+            seed: vf.seed,
+        };
+        let refined = refine::refine(&ctx);
+        let t_refine = start.elapsed();
+        let start = Instant::now();
+        // Patch pairs by row, each row through the kernel's own row code.
+        let mut leaves = refined.leaves;
+        leaves.par_sort_unstable();
+        let mut rows: Vec<(usize, usize)> = Vec::new();
+        let mut k = 0;
+        while k < leaves.len() {
+            let i = leaves[k].0;
+            let lo = k;
+            while k < leaves.len() && leaves[k].0 == i {
+                k += 1;
+            }
+            rows.push((lo, k));
+        }
+        let exact: Vec<(u32, Vec<RawEntry>)> = rows
+            .par_iter()
+            .map(|&(lo, hi)| {
+                let js: Vec<u32> = leaves[lo..hi].iter().map(|p| p.1).collect();
+                let mut out = Vec::with_capacity(js.len());
+                kernel.partners(leaves[lo].0 as usize, &js, &mut out);
+                (leaves[lo].0, out)
+            })
+            .collect();
+        let t_pairs = start.elapsed();
+        let n_nodes = tree.nodes.len();
+        let mut deg = vec![0u64; n_nodes + 1];
+        let pair_nodes = |i: u32, e: &RawEntry| (tree.leaf_of[i as usize], tree.leaf_of[e.j as usize], e.s);
+        let all = refined
+            .links
+            .iter()
+            .map(|l| (l.a, l.b, l.s))
+            .chain(exact.iter().flat_map(|(i, es)| es.iter().map(move |e| pair_nodes(*i, e))));
+        for (a, b, _) in all.clone() {
+            deg[a as usize + 1] += 1;
+            deg[b as usize + 1] += 1;
+        }
+        for k in 0..n_nodes {
+            deg[k + 1] += deg[k];
+        }
+        let mut fill = deg.clone();
+        let mut adj = vec![(0u32, 0.0); deg[n_nodes] as usize];
+        for (a, b, s) in all {
+            adj[fill[a as usize] as usize] = (b, s);
+            fill[a as usize] += 1;
+            adj[fill[b as usize] as usize] = (a, s);
+            fill[b as usize] += 1;
+        }
+        let leaf_pairs = leaves.len();
+        let links = refined.links;
+        let bytes = std::mem::size_of_val(&adj[..])
+            + std::mem::size_of_val(&deg[..])
+            + std::mem::size_of_val(&links[..])
+            + n_nodes * std::mem::size_of::<tree::Node>();
+        let stats = Stats {
+            nodes: n_nodes,
+            links: links.len(),
+            leaf_pairs,
+            rays: refined.rays,
+            bytes,
+            refine: t_refine,
+            pairs: t_pairs,
+        };
+        let areas = tree.geom.iter().map(|g| g.area).collect();
+        let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
+        Ok(Hierarchy { tree, areas, ptr: deg, adj, links, g: None, names, ambient: None, stats })
+    }
+
+    /// Area-weighted means of `x` (patch order) over every node.
+    fn pull(&self, x: &[f64]) -> Vec<f64> {
+        let nodes = &self.tree.nodes;
+        let mut m = vec![0.0; nodes.len()];
+        for k in (0..nodes.len()).rev() {
+            let n = &nodes[k];
+            m[k] = if n.is_leaf() {
+                x[self.tree.order[n.lo as usize] as usize]
+            } else {
+                let [l, r] = n.kids;
+                let (nl, nr) = (&nodes[l as usize], &nodes[r as usize]);
+                (nl.area * m[l as usize] + nr.area * m[r as usize]) / n.area
+            };
+        }
+        m
+    }
+
+    /// Distributes per-node amounts `z` to the patches by area share: y_i = A_i Σ_{N∋i} z_N/A_N.
+    fn push(&self, z: &[f64]) -> Vec<f64> {
+        let nodes = &self.tree.nodes;
+        let mut w = vec![0.0; nodes.len()];
+        w[0] = z[0] / nodes[0].area;
+        let mut y = vec![0.0; self.areas.len()];
+        for k in 0..nodes.len() {
+            let n = &nodes[k];
+            if n.is_leaf() {
+                let p = self.tree.order[n.lo as usize] as usize;
+                y[p] = self.areas[p] * w[k];
+            } else {
+                for c in n.kids {
+                    w[c as usize] = w[k] + z[c as usize] / nodes[c as usize].area;
+                }
+            }
+        }
+        y
+    }
+
+    /// Per node: Σ over its links of f(link value, other node).
+    fn gather(&self, f: impl Fn(f64, u32) -> f64 + Sync) -> Vec<f64> {
+        (0..self.tree.nodes.len())
+            .into_par_iter()
+            .map(|k| {
+                self.adj[self.ptr[k] as usize..self.ptr[k + 1] as usize].iter().map(|&(o, s)| f(s, o)).sum()
+            })
+            .collect()
+    }
+
+    /// Per-patch bound on the row-sum error Σ_j |δs_ij| from the cluster links, m².
+    pub fn row_errors(&self) -> Vec<f64> {
+        let mut z = vec![0.0; self.tree.nodes.len()];
+        for l in &self.links {
+            z[l.a as usize] += l.err;
+            z[l.b as usize] += l.err;
+        }
+        self.push(&z)
+    }
+
+    /// Per-patch heat-rate error estimate (W) of radiosities `j`: each cluster link's error
+    /// bound times the radiosity range over its two clusters, shared by area.
+    pub fn heat_rate_errors(&self, j: &[f64]) -> Vec<f64> {
+        let nodes = &self.tree.nodes;
+        let mut range = vec![(0.0, 0.0); nodes.len()];
+        for k in (0..nodes.len()).rev() {
+            let n = &nodes[k];
+            range[k] = if n.is_leaf() {
+                let v = j[self.tree.order[n.lo as usize] as usize];
+                (v, v)
+            } else {
+                let (l, r) = (range[n.kids[0] as usize], range[n.kids[1] as usize]);
+                (f64::min(l.0, r.0), f64::max(l.1, r.1))
+            };
+        }
+        let n = self.areas.len();
+        let g = |k: usize| self.g.as_ref().map_or(1.0, |g| g[k]);
+        let gmax = (0..self.areas.len()).map(g).fold(1.0, f64::max);
+        let mut z = vec![0.0; nodes.len()];
+        for l in &self.links {
+            let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
+            let dq = l.err * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
+            z[l.a as usize] += dq;
+            z[l.b as usize] += dq;
+        }
+        let mut e = self.push(&z);
+        // The enforcement scaling is a correction of the same order as the link errors: its
+        // change of each patch's net exchange Σ_j s_ij (J_j − J_i) is counted as error too.
+        if self.g.is_some() {
+            let ones = vec![1.0; n];
+            let (sj, s1) = (self.matvec_scaled(None, j), self.matvec_scaled(None, &ones));
+            let (rj, r1) = (self.apply(None, None, j), self.apply(None, None, &ones));
+            for i in 0..n {
+                e[i] += ((sj[i] - rj[i]) - j[i] * (s1[i] - r1[i])).abs();
+            }
+        }
+        e
+    }
+
+    /// y = W G S G W x with enforcement scales `g` (None: the raw links).
+    fn apply(&self, g: Option<&[f64]>, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
+        let scale = |i: usize| w.map_or(1.0, |w| w[i]) * g.map_or(1.0, |g| g[i]);
+        let xs: Vec<f64> = x.par_iter().enumerate().map(|(i, x)| x * scale(i)).collect();
+        let m = self.pull(&xs);
+        let z = self.gather(|s, o| s * m[o as usize]);
+        let mut y = self.push(&z);
+        y.par_iter_mut().enumerate().for_each(|(i, y)| *y *= scale(i));
+        y
+    }
+
+    /// Closure (closed scenes, after the leak check) or capped scaling and the ambient (open
+    /// scenes), as the dense path does; `tol` is the closure tolerance.
+    pub fn enforce(&mut self, scene: &Scene, mode: Enforce, open: bool, tol: f64) -> Result<EnforceReport> {
+        let start_sums = self.matvec_scaled(None, &vec![1.0; self.areas.len()]);
+        let before = self.diagnostics(&start_sums, open);
+        let (method, iterations) = match (mode, open) {
+            (Enforce::None | Enforce::Reciprocity, false) => ("reciprocity by construction", 0),
+            (_, true) => {
+                let (g, sweeps) = capped_scales(self, tol)?;
+                self.g = g.iter().any(|&x| x != 1.0).then_some(g);
+                ("over-full rows scaled", sweeps)
+            }
+            (Enforce::Closure, false) => {
+                self.refuse_leaks(scene, &start_sums)?;
+                let (g, its) = closure_scales(self, tol)?;
+                self.g = Some(g);
+                ("symmetric scaling of the links", its)
+            }
+        };
+        let sums = self.matvec_scaled(None, &vec![1.0; self.areas.len()]);
+        if open {
+            self.ambient = Some(
+                self.areas
+                    .iter()
+                    .zip(&sums)
+                    .map(|(a, s)| {
+                        let r = a - s;
+                        if r < 0.0 && -r <= tol * a * 10.0 {
+                            0.0
+                        } else {
+                            r
+                        }
+                    })
+                    .collect(),
+            );
+        }
+        let after = self.diagnostics(&sums, open);
+        Ok(EnforceReport { before, after, method, iterations })
+    }
+
+    fn diagnostics(&self, sums: &[f64], open: bool) -> Diagnostics {
+        let n = self.areas.len();
+        let dev: Vec<f64> = (0..n).map(|i| sums[i] / self.areas[i] - 1.0).collect();
+        let err: Vec<f64> = dev.iter().map(|&x| if open { x.max(0.0) } else { x.abs() }).collect();
+        let max_row_error = err.iter().copied().fold(0.0, f64::max);
+        let rms_row_error =
+            if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
+        let mut order: Vec<usize> = (0..n).filter(|&i| err[i] > 0.0).collect();
+        order.sort_by(|&a, &b| err[b].total_cmp(&err[a]).then(a.cmp(&b)));
+        let worst = order
+            .into_iter()
+            .take(super::diagnostics::WORST_ROWS)
+            .map(|i| (self.names[i].clone(), dev[i]))
+            .collect();
+        let negatives = self.adj.iter().filter(|e| e.1 < 0.0).count()
+            + self.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
+        Diagnostics { max_row_error, rms_row_error, reciprocity: 0.0, negatives, worst }
+    }
+
+    /// A closed scene whose surface row falls short of 1 by more than its links' error allows
+    /// leaks. Surface rows, not patch rows: a link shares its value by area within a cluster,
+    /// which moves exchange between patches of one surface but never between surfaces.
+    fn refuse_leaks(&self, scene: &Scene, sums: &[f64]) -> Result<()> {
+        let errs = self.row_errors();
+        let m = scene.surfaces.len();
+        let (mut s_sum, mut s_err, mut s_area) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        for (i, p) in scene.patches.iter().enumerate() {
+            s_sum[p.surface] += sums[i];
+            s_err[p.surface] += errs[i];
+            s_area[p.surface] += self.areas[i];
+        }
+        let mut bad: Vec<(usize, f64)> = (0..m)
+            .filter(|&k| s_area[k] > 0.0)
+            .filter_map(|k| {
+                let p = s_sum[k] / s_area[k];
+                let allowed = LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k]);
+                (1.0 - p > allowed).then_some((k, p))
+            })
+            .collect();
+        if bad.is_empty() {
+            return Ok(());
+        }
+        bad.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        let names: Vec<String> = bad
+            .iter()
+            .take(5)
+            .map(|(k, p)| format!("{} (row sum {p:.6})", scene.surfaces[*k].name))
+            .collect();
+        Err(InputError::surface(
+            &scene.source,
+            scene.surfaces[bad[0].0].name.clone(),
+            format!(
+                "closed scene leaks: {} surface rows fall short of 1 by more than the link errors allow: {}",
+                bad.len(),
+                names.join(", ")
+            ),
+        )
+        .into())
+    }
+
+    /// Cluster links with their error bounds.
+    pub fn links(&self) -> &[Link] {
+        &self.links
+    }
+}
+
+impl Operator for Hierarchy {
+    fn len(&self) -> usize {
+        self.areas.len()
+    }
+    fn areas(&self) -> &[f64] {
+        &self.areas
+    }
+    fn matvec_scaled(&self, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
+        self.apply(self.g.as_deref(), w, x)
+    }
+    fn self_term(&self, _i: usize) -> f64 {
+        0.0
+    }
+    fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
+        for k in 0..self.tree.nodes.len() {
+            let own = self.tree.patches(k as u32);
+            for &(o, s) in &self.adj[self.ptr[k] as usize..self.ptr[k + 1] as usize] {
+                if s != 0.0 {
+                    let first = self.tree.patches(o)[0] as usize;
+                    for &p in own {
+                        f(p as usize, first);
+                    }
+                    for &q in self.tree.patches(o) {
+                        f(own[0] as usize, q as usize);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,346 @@
+//! Link refinement (Hanrahan–Salzman–Aupperle 1991, with Smits–Arvo–Greenberg 1994 clusters):
+//! starting from the root's self-pair, each pair of clusters (A, B) is
+//! - dropped when no patch of one can see any of the other (one lies behind every plane of a
+//!   parallel cluster, or the normal cones face away);
+//! - split when the clusters are near ([`NEAR`]), when a normal cone straddles the direction
+//!   between them, or when the link's heat-rate error bound exceeds its budget;
+//! - otherwise linked: S_AB from the children-level vector-area estimate
+//!   Σ_cd (V_c·d̂)(−V_d·d̂)/(π r_cd²), its error |S⁽²⁾ − S⁽¹⁾| against the one-point estimate,
+//!   times a visible fraction from rays through the BVH when a blocker meets the pair's
+//!   capsule: k rays that must agree (the first disagreement splits the link), with the
+//!   error S/(k+1) added and k chosen so that it fits the budget.
+//!
+//! Two single patches always form a leaf pair, evaluated later by the exact kernel.
+//!
+//! The budget of a link is tol · Q_ref · A_A A_B / (2 A_tot min A_s): summed over the links of
+//! any surface s it stays under tol · Q_ref, since the links of a patch cover every partner
+//! once. ΔJ of a link is the range of the radiosity bounds of the patches of A ∪ B.
+use super::tree::{Node, Tree, NONE};
+use crate::viewfactor::analytic::blockers::Blockers;
+use crate::visibility::Visibility;
+use glam::DVec3;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Clusters whose radii sum to more than this fraction of their distance are split (their
+/// kernel varies too much for a cluster estimate; touching patches end as exact leaf pairs).
+pub const NEAR: f64 = 0.5;
+/// Fewest visibility rays of a cluster link whose capsule meets a blocker.
+pub const VIS_RAYS: usize = 8;
+/// Most rays of one visibility estimate before the link is split instead.
+pub const VIS_MAX_RAYS: usize = 64;
+/// Floor of the geometric error relative to S (ρ/R)²: symmetric child layouts can make the
+/// two estimates agree by accident.
+pub const GEO_FLOOR: f64 = 0.05;
+/// Node pairs above this patch-count product are refined on two threads.
+const PAR_WORK: usize = 4096;
+
+/// One cluster link: exchange area s between nodes a and b (a ≠ b), with its error bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Link {
+    /// Node.
+    pub a: u32,
+    /// Node.
+    pub b: u32,
+    /// Exchange area S_AB, m².
+    pub s: f64,
+    /// Estimated bound on |S_AB − exact|, m².
+    pub err: f64,
+}
+
+/// What refinement produced.
+#[derive(Debug, Default)]
+pub struct Refined {
+    /// Cluster links.
+    pub links: Vec<Link>,
+    /// Patch pairs (i < j) for the exact kernel.
+    pub leaves: Vec<(u32, u32)>,
+    /// Visibility rays cast.
+    pub rays: u64,
+}
+
+impl Refined {
+    fn append(&mut self, mut o: Refined) {
+        self.links.append(&mut o.links);
+        self.leaves.append(&mut o.leaves);
+        self.rays += o.rays;
+    }
+}
+
+/// Everything the refinement reads.
+pub struct Context<'a> {
+    /// The clusters.
+    pub tree: &'a Tree,
+    /// Blockers of the scene (None: nothing can block).
+    pub blockers: Option<&'a Blockers>,
+    /// Ray queries (present with `blockers`).
+    pub vis: Option<&'a Visibility>,
+    /// Per node: bounds (lo, hi) of the radiosity of its patches, W/m².
+    pub radiosity: Vec<(f64, f64)>,
+    /// Relative heat-rate tolerance.
+    pub tol: f64,
+    /// Heat-rate scale the tolerance refers to (largest |Q_s|), W.
+    pub q_ref: f64,
+    /// Total patch area, m².
+    pub area: f64,
+    /// Cumulative patch areas in tree order (for area sampling of rays).
+    pub prefix: Vec<f64>,
+    /// Seed of the visibility rays.
+    pub seed: u64,
+}
+
+/// Refines the whole scene.
+pub fn refine(ctx: &Context) -> Refined {
+    self_pair(ctx, 0)
+}
+
+/// All pairs within node k.
+fn self_pair(ctx: &Context, k: u32) -> Refined {
+    let node = &ctx.tree.nodes[k as usize];
+    if node.is_leaf() {
+        return Refined::default();
+    }
+    let [l, r] = node.kids;
+    if node.len() > 64 {
+        let ((a, b), c) =
+            rayon::join(|| rayon::join(|| self_pair(ctx, l), || self_pair(ctx, r)), || pair(ctx, l, r));
+        let mut out = a;
+        out.append(b);
+        out.append(c);
+        out
+    } else {
+        let mut out = self_pair(ctx, l);
+        out.append(self_pair(ctx, r));
+        pair_into(ctx, l, r, &mut out);
+        out
+    }
+}
+
+/// Pairs between nodes a and b, in parallel while the work is large.
+fn pair(ctx: &Context, a: u32, b: u32) -> Refined {
+    let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
+    if na.len() * nb.len() < PAR_WORK {
+        let mut out = Refined::default();
+        pair_into(ctx, a, b, &mut out);
+        return out;
+    }
+    match assess(ctx, a, b) {
+        Decision::Split(x, other) => {
+            let [c, d] = ctx.tree.nodes[x as usize].kids;
+            let (mut o1, o2) = rayon::join(|| pair(ctx, c, other), || pair(ctx, d, other));
+            o1.append(o2);
+            o1
+        }
+        decision => {
+            let mut out = Refined::default();
+            record(decision, a, b, ctx, &mut out);
+            out
+        }
+    }
+}
+
+/// Pairs between nodes a and b, serially.
+fn pair_into(ctx: &Context, a: u32, b: u32, out: &mut Refined) {
+    match assess(ctx, a, b) {
+        Decision::Split(x, other) => {
+            let [c, d] = ctx.tree.nodes[x as usize].kids;
+            pair_into(ctx, c, other, out);
+            pair_into(ctx, d, other, out);
+        }
+        decision => record(decision, a, b, ctx, out),
+    }
+}
+
+fn record(decision: Decision, a: u32, b: u32, ctx: &Context, out: &mut Refined) {
+    match decision {
+        Decision::Zero => {}
+        Decision::Leaves => {
+            let (i, j) = (ctx.tree.patches(a)[0], ctx.tree.patches(b)[0]);
+            out.leaves.push((i.min(j), i.max(j)));
+        }
+        Decision::Link { s, err, rays } => {
+            out.rays += rays;
+            out.links.push(Link { a, b, s, err });
+        }
+        Decision::Split(..) => unreachable!("split pairs are recursed"),
+    }
+}
+
+/// The fate of a node pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Decision {
+    /// Nothing exchanged.
+    Zero,
+    /// Two patches: the exact kernel.
+    Leaves,
+    /// One cluster link.
+    Link { s: f64, err: f64, rays: u64 },
+    /// Split the first node (a child pairs with the second).
+    Split(u32, u32),
+}
+
+/// Split the larger of a and b (by radius), or the one that is not a leaf.
+fn split(ctx: &Context, a: u32, b: u32) -> Decision {
+    let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
+    if nb.is_leaf() || (!na.is_leaf() && na.radius >= nb.radius) {
+        Decision::Split(a, b)
+    } else {
+        Decision::Split(b, a)
+    }
+}
+
+/// Split whichever of a and b spans several surfaces (the larger when both do).
+fn split_mixed(a: u32, b: u32, na: &Node, nb: &Node) -> Decision {
+    if na.surface == NONE && (nb.surface != NONE || na.radius >= nb.radius) {
+        Decision::Split(a, b)
+    } else {
+        Decision::Split(b, a)
+    }
+}
+
+/// True when no point of `b` lies strictly in front of every... of any plane of the parallel
+/// cluster `a`: b is behind (or on) all of a's planes, so nothing of a sees b.
+fn behind(a: &Node, b: &Node, snap: f64) -> bool {
+    match a.planes {
+        Some((lo, _)) => b.support(a.axis) <= lo + snap,
+        None => false,
+    }
+}
+
+fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
+    let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
+    let snap =
+        1e-9 * (na.radius + nb.radius + na.centroid.abs().max_element() + nb.centroid.abs().max_element());
+    if behind(na, nb, snap) || behind(nb, na, snap) {
+        return Decision::Zero;
+    }
+    if na.is_leaf() && nb.is_leaf() {
+        return Decision::Leaves;
+    }
+    // A link shares its exchange by area within each cluster: across surfaces that share
+    // would be wrong to first order, so only single-surface clusters are linked.
+    if na.surface == NONE || nb.surface == NONE {
+        return split_mixed(a, b, na, nb);
+    }
+    let d = nb.centroid - na.centroid;
+    let dist = d.length();
+    let rho = na.radius + nb.radius;
+    if !(rho < NEAR * dist) {
+        return split(ctx, a, b);
+    }
+    let dir = d / dist;
+    let delta = (rho / dist).asin();
+    // Angles of the normal cones to the sight lines: every sight line is within `delta` of dir.
+    let cone = |n: &Node, dir: DVec3| {
+        let phi = n.axis.dot(dir).clamp(-1.0, 1.0).acos();
+        let theta = n.cone_cos.clamp(-1.0, 1.0).acos();
+        (phi - theta - delta, phi + theta + delta)
+    };
+    let (a_lo, a_hi) = cone(na, dir);
+    let (b_lo, b_hi) = cone(nb, -dir);
+    if a_lo >= FRAC_PI_2 || b_lo >= FRAC_PI_2 {
+        return Decision::Zero;
+    }
+    if a_hi >= FRAC_PI_2 || b_hi >= FRAC_PI_2 {
+        // Some patch may face away from some point of the other: the vector area misleads.
+        return split(ctx, a, b);
+    }
+    let one = projected(na, nb);
+    let two = children(ctx, na).flat_map(|c| children(ctx, nb).map(move |d| projected(c, d))).sum::<f64>();
+    let geo = (two - one).abs().max(GEO_FLOOR * two * (rho / dist).powi(2));
+    let dj = {
+        let (ra, rb) = (ctx.radiosity[a as usize], ctx.radiosity[b as usize]);
+        ra.1.max(rb.1) - ra.0.min(rb.0)
+    };
+    let budget = ctx.tol * ctx.q_ref * na.area * nb.area
+        / (2.0 * ctx.area * na.min_surface_area.min(nb.min_surface_area));
+    if geo * dj > budget {
+        return split(ctx, a, b);
+    }
+    let Some((v, vis_err, rays)) = visibility(ctx, a, b, two, dj, budget - geo * dj) else {
+        return split(ctx, a, b);
+    };
+    Decision::Link { s: two * v, err: geo * v + vis_err, rays }
+}
+
+/// The node's children, or the node itself for a leaf.
+fn children<'t>(ctx: &'t Context, n: &'t Node) -> impl Iterator<Item = &'t Node> + Clone {
+    let k = n.kids;
+    let leaf = n.is_leaf();
+    let nodes = &ctx.tree.nodes;
+    std::iter::once(n)
+        .filter(move |_| leaf)
+        .chain(k.into_iter().filter(move |_| !leaf).map(move |c| &nodes[c as usize]))
+}
+
+/// One-point estimate (V_a·d̂)(−V_b·d̂)/(π r²) between two clusters that face each other.
+fn projected(a: &Node, b: &Node) -> f64 {
+    let d = b.centroid - a.centroid;
+    let r2 = d.length_squared();
+    let dir = d / r2.sqrt();
+    (a.vector_area.dot(dir).max(0.0) * (-b.vector_area.dot(dir)).max(0.0)) / (PI * r2)
+}
+
+/// Visible fraction of link (a, b) with estimate `s`, its error in m² and the rays cast;
+/// `None` when rays cannot bring the error under `room / dj` (split instead).
+fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Option<(f64, f64, u64)> {
+    let (Some(blockers), Some(vis)) = (ctx.blockers, ctx.vis) else { return Some((1.0, 0.0, 0)) };
+    let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
+    // Does any blocker's box meet the capsule around the segment between the centroids?
+    let (p, q, r) = (na.centroid, nb.centroid, na.radius.max(nb.radius));
+    let seg = q - p;
+    let len2 = seg.length_squared();
+    let mut found = false;
+    let mut hits = Vec::new();
+    blockers.blockers_where(
+        |lo, hi| {
+            if found {
+                return false;
+            }
+            let c = 0.5 * (lo + hi);
+            let h = 0.5 * (hi - lo).length();
+            let t = ((c - p).dot(seg) / len2).clamp(0.0, 1.0);
+            (p + t * seg).distance(c) <= r + h
+        },
+        &mut hits,
+    );
+    found |= !hits.is_empty();
+    if !found {
+        return Some((1.0, 0.0, 0));
+    }
+    if !(room > 0.0) || dj <= 0.0 {
+        return if dj <= 0.0 { Some((1.0, 0.0, 0)) } else { None };
+    }
+    // Rays needed for the unanimous floor s/(k+1) to fit: more than the cap → split now.
+    let need = ((s * dj / room).ceil() as usize).saturating_sub(1).max(VIS_RAYS);
+    if need > VIS_MAX_RAYS {
+        return None;
+    }
+    let mut rng =
+        Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let mut clear = 0usize;
+    for cast in 1..=need {
+        let i = sample(ctx, na, &mut rng);
+        let j = sample(ctx, nb, &mut rng);
+        let (pi, pj) = (ctx.tree.geom[i].centroid, ctx.tree.geom[j].centroid);
+        if !vis.occluded(pi, pj, i, j) {
+            clear += 1;
+        }
+        // A mixed result needs far more rays than a split: stop at the first disagreement.
+        if clear != 0 && clear != cast {
+            return None;
+        }
+    }
+    let v = clear as f64 / need as f64;
+    Some((v, s / (need as f64 + 1.0), need as u64))
+}
+
+/// A patch of node n drawn by area.
+fn sample(ctx: &Context, n: &Node, rng: &mut Pcg64Mcg) -> usize {
+    let (lo, hi) = (n.lo as usize, n.hi as usize);
+    let base = if lo == 0 { 0.0 } else { ctx.prefix[lo - 1] };
+    let u = base + rng.random::<f64>() * (ctx.prefix[hi - 1] - base);
+    let k = lo + ctx.prefix[lo..hi].partition_point(|&c| c < u).min(hi - lo - 1);
+    ctx.tree.order[k] as usize
+}
