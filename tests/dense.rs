@@ -190,9 +190,11 @@ fn a_request_that_cannot_fit_is_refused_with_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("furnace.toml");
     std::fs::write(&path, box_toml([1.0, 1.0, 1.0], 10, FURNACE, false)).unwrap();
-    for sub in
-        [&["solve"][..], &["viewfactors", "--patches"][..], &["viewfactors", "--enforce", "closure"][..]]
-    {
+    for sub in [
+        &["solve", "--exchange", "dense"][..],
+        &["viewfactors", "--patches"][..],
+        &["viewfactors", "--enforce", "closure"][..],
+    ] {
         let out = lambert().args(sub).arg(&path).env(dense::MEM_AVAILABLE_ENV, "100000").output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{sub:?}: {err}");
@@ -295,5 +297,160 @@ proptest! {
         let sol = solve::dense::solve_gray(&scene, &d, &Default::default()).unwrap();
         let (sum, max) = sol.heat_balance();
         prop_assert!(sum.abs() <= BALANCE_TOL * max, "{sum:e} of {max:e}");
+    }
+}
+
+// ---- The hierarchical exchange (`--exchange hierarchical`) against the dense path. ----
+
+/// Relative heat-rate tolerance of the hierarchical runs below.
+const HIER_TOL: f64 = 1e-3;
+
+fn hierarchical(scene: &Scene, vf: &viewfactor::Params, tol: f64) -> Solution {
+    let mode = Enforce::solve_default(!scene.is_closed());
+    solve::clustered::solve_scene(scene, vf, mode, tol, &solve::Params::default()).unwrap().solution
+}
+
+/// Per surface: |Q_hier − Q_dense| within the run's own error estimate and within `tol` of the
+/// largest heat rate; energy balance to 1e-9. Returns the worst relative difference.
+fn check_against_dense(what: &str, scene: &Scene, vf: &viewfactor::Params, tol: f64) -> f64 {
+    let mode = Enforce::solve_default(!scene.is_closed());
+    let want = lean(scene, vf, mode).by_surface(scene);
+    let got = hierarchical(scene, vf, tol);
+    let (sum, max_h) = got.heat_balance();
+    assert!(sum.abs() <= BALANCE_TOL * max_h, "{what}: balance {sum:e} of {max_h:e}");
+    let got = got.by_surface(scene);
+    let est = got.heat_rate_error.as_ref().expect("the hierarchical path reports errors");
+    let max = want.results.iter().map(|r| r.heat_rate.abs()).fold(0.0, f64::max);
+    let mut worst: f64 = 0.0;
+    for (k, (w, g)) in want.results.iter().zip(&got.results).enumerate() {
+        let d = (w.heat_rate - g.heat_rate).abs();
+        worst = worst.max(d / max);
+        let name = &scene.surfaces[k].name;
+        // Exact pairs carry no estimate: round-off of two solves is allowed on top.
+        assert!(
+            d <= est[k] + HEAT_TOL * max,
+            "{what}: {name}: error {d:e} W above its estimate {:e} W",
+            est[k]
+        );
+        assert!(d <= tol * max, "{what}: {name}: error {d:e} W above {tol} of {max:e} W");
+    }
+    worst
+}
+
+#[test]
+fn hierarchical_closed_furnace_with_flux_rows_matches_the_dense_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load(dir.path(), "f.toml", &box_toml([1.0, 1.3, 0.7], 8, FURNACE, false));
+    check_against_dense("closed", &scene, &params(Method::Analytic), HIER_TOL);
+}
+
+#[test]
+fn hierarchical_open_box_with_ambient_matches_the_dense_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load(dir.path(), "o.toml", &box_toml([1.0, 1.3, 0.7], 8, FURNACE, true));
+    check_against_dense("open", &scene, &params(Method::Analytic), HIER_TOL);
+}
+
+#[test]
+fn hierarchical_banded_and_obstructed_room_matches_the_dense_path() {
+    // A long room (banded: far walls barely see each other) around a block, `auto` pairs.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
+    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
+    let text = text.replacen("temperature = 300.0", "temperature = 1000.0", 1);
+    let scene = load(dir.path(), "room.toml", &text);
+    let worst = check_against_dense("obstructed", &scene, &params(Method::Auto), HIER_TOL);
+    // A looser tolerance is honoured too, with fewer links.
+    let loose = check_against_dense("obstructed, 1e-2", &scene, &params(Method::Auto), 1e-2);
+    assert!(worst <= HIER_TOL && loose <= 1e-2);
+}
+
+#[test]
+fn hierarchical_links_are_fewer_than_pairs_and_the_operator_is_symmetric() {
+    use lambert::exchange::hierarchy::Hierarchy;
+    use lambert::exchange::operator::Operator;
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load(dir.path(), "f.toml", &box_toml([1.0, 1.0, 4.0], 10, FURNACE, false));
+    let h = Hierarchy::build(&scene, &params(Method::Analytic), 1e-2).unwrap();
+    let n = scene.patches.len();
+    let stored = h.stats.links + h.stats.leaf_pairs;
+    assert!(stored < n * (n - 1) / 2, "{stored} links and pairs for {n} patches");
+    assert!(h.stats.links > 0);
+    // x·(S y) = y·(S x) for arbitrary vectors: reciprocity by construction.
+    let x: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 / 101.0).collect();
+    let y: Vec<f64> = (0..n).map(|i| ((i * 104_729) % 97) as f64 / 97.0 - 0.5).collect();
+    let (sx, sy) = (h.matvec_scaled(None, &x), h.matvec_scaled(None, &y));
+    let (a, b): (f64, f64) =
+        (x.iter().zip(&sy).map(|(p, q)| p * q).sum(), y.iter().zip(&sx).map(|(p, q)| p * q).sum());
+    assert!((a - b).abs() <= 1e-12 * a.abs().max(b.abs()), "{a} vs {b}");
+}
+
+#[test]
+fn hierarchical_runs_give_the_same_numbers_on_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("room.toml");
+    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
+    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
+    std::fs::write(&path, text.replacen("temperature = 300.0", "temperature = 1000.0", 1)).unwrap();
+    let run = |threads: &str| {
+        let out = lambert()
+            .args(["solve", "--exchange", "hierarchical", "--patches", "--threads", threads])
+            .arg(&path)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{err}");
+        assert!(err.contains("exchange: hierarchical") && err.contains("cluster links"), "{err}");
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.lines().next().unwrap().ends_with(",heat_rate_error"), "{text}");
+        text
+    };
+    assert_eq!(run("1"), run("2"));
+}
+
+#[test]
+fn exchange_choices_and_their_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("furnace.toml");
+    std::fs::write(&path, box_toml([1.0, 1.0, 1.0], 3, FURNACE, false)).unwrap();
+    let run = |args: &[&str]| lambert().arg("solve").arg(&path).args(args).output().unwrap();
+    let out = run(&["--exchange", "sparse"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("auto, dense or hierarchical"));
+    for bad in [
+        &["--exchange", "hierarchical", "-m", "hemicube"][..],
+        &["--exchange", "hierarchical", "--solver", "jacobi"],
+    ] {
+        let out = run(bad);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--exchange hierarchical"), "{bad:?}");
+    }
+    // Auto on a small scene: dense, and says so.
+    let out = run(&[]);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("exchange: dense"));
+    // A dense store that cannot fit: auto goes hierarchical instead of refusing.
+    let out = lambert().arg("solve").arg(&path).env(dense::MEM_AVAILABLE_ENV, "1000").output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("exchange: hierarchical") && err.contains("would not fit"), "{err}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(6))]
+    /// Any box and tolerance: the hierarchical run conserves energy to 1e-9 and its heat rates
+    /// stay within the tolerance of the dense path's.
+    #[test]
+    fn hierarchical_energy_balance_at_every_tolerance(
+        a in 0.3f64..2.0, b in 0.3f64..2.0, c in 0.3f64..2.0,
+        e in proptest::collection::vec(0.1f64..0.95, 6),
+        t in proptest::collection::vec(250.0f64..1200.0, 6),
+        tol in 1e-4f64..1e-1,
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let props: Vec<String> = (0..6).map(|k| format!("emissivity = {}\ntemperature = {}", e[k], t[k])).collect();
+        let p: [&str; 6] = std::array::from_fn(|k| props[k].as_str());
+        let scene = load(dir.path(), "box.toml", &box_toml([a, b, c], 5, p, false));
+        check_against_dense("box", &scene, &params(Method::Analytic), tol);
     }
 }

@@ -34,7 +34,8 @@ pub fn solve_scene(
     let report = h.enforce(scene, mode, !scene.is_closed(), CLOSURE_TOL)?;
     let mut solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
-    solution.heat_rate_error = Some(h.heat_rate_errors(&j));
+    let e_amb = scene.ambient.map(|a| crate::SIGMA * a.temperature.powi(4));
+    solution.heat_rate_error = Some(h.heat_rate_errors(&j, e_amb));
     solution.info.solver = "conjugate gradients on the link hierarchy".into();
     Ok(ClusteredRun { solution, report, stats: h.stats })
 }

@@ -328,8 +328,10 @@ impl Hierarchy {
     }
 
     /// Per-patch heat-rate error estimate (W) of radiosities `j`: each cluster link's error
-    /// bound times the radiosity range over its two clusters, shared by area.
-    pub fn heat_rate_errors(&self, j: &[f64]) -> Vec<f64> {
+    /// bound times the radiosity range over its two clusters, shared by area; in an open scene
+    /// (ambient emissive power `e_amb`) also the row's error times |J_i − E_amb|, as the
+    /// ambient takes what the links miss.
+    pub fn heat_rate_errors(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
         let nodes = &self.tree.nodes;
         let mut range = vec![(0.0, 0.0); nodes.len()];
         for k in (0..nodes.len()).rev() {
@@ -353,6 +355,12 @@ impl Hierarchy {
             z[l.b as usize] += dq;
         }
         let mut e = self.push(&z);
+        if let Some(ea) = e_amb {
+            let rows = self.row_errors();
+            for i in 0..n {
+                e[i] += rows[i] * gmax * gmax * (j[i] - ea).abs();
+            }
+        }
         // The enforcement scaling is a correction of the same order as the link errors: its
         // change of each patch's net exchange Σ_j s_ij (J_j − J_i) is counted as error too.
         if self.g.is_some() {

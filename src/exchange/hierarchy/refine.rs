@@ -30,9 +30,10 @@ pub const NEAR: f64 = 0.5;
 pub const VIS_RAYS: usize = 8;
 /// Most rays of one visibility estimate before the link is split instead.
 pub const VIS_MAX_RAYS: usize = 64;
-/// Floor of the geometric error relative to S (ρ/R)²: symmetric child layouts can make the
-/// two estimates agree by accident.
-pub const GEO_FLOOR: f64 = 0.05;
+/// Term of the geometric error relative to S (ρ/R)², added to |S⁽²⁾ − S⁽¹⁾|: the one-point
+/// estimate's own error between parallel squares is (ρ/R)²/3 · S, and symmetric child layouts
+/// can make the two estimates agree by accident.
+pub const GEO_FLOOR: f64 = 0.25;
 /// Node pairs above this patch-count product are refined on two threads.
 const PAR_WORK: usize = 4096;
 
@@ -248,7 +249,7 @@ fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
     }
     let one = projected(na, nb);
     let two = children(ctx, na).flat_map(|c| children(ctx, nb).map(move |d| projected(c, d))).sum::<f64>();
-    let geo = (two - one).abs().max(GEO_FLOOR * two * (rho / dist).powi(2));
+    let geo = (two - one).abs() + GEO_FLOOR * two * (rho / dist).powi(2);
     let dj = {
         let (ra, rb) = (ctx.radiosity[a as usize], ctx.radiosity[b as usize]);
         ra.1.max(rb.1) - ra.0.min(rb.0)
