@@ -5,10 +5,10 @@
   enclosure of about that many triangles. A closed 0.4 x 0.3 x 0.1 m box (six walls facing in,
   300 K, emissivity 0.85) holds two circuit boards (0.36 x 0.26 x 0.002 m cuboids at heights
   0.03 and 0.065 m, clear of the walls, 330 K, emissivity 0.9), each carrying 6-10 components
-  (cuboids 0.02-0.05 m wide, 0.003-0.015 m tall, 1e-4 m above the board top). Half of the
+  (cuboids 0.02-0.05 m wide, 0.003-0.015 m tall, on 0.5 mm standoffs above the board top). Half of the
   components dissipate a heat_flux of 500-3000 W/m² (emissivity 0.9), the rest are held at
-  340-380 K (emissivity 0.7-0.95). One glTF node (one lambert surface) per wall, board and
-  component; every face irregularly triangulated (cases/_generator/irregular.py), with one
+  340-380 K (emissivity 0.7-0.95). One glTF node (one lambert surface) per wall and per face
+  of every board and component (a planar face blocks as one outline); every face irregularly triangulated (cases/_generator/irregular.py), with one
   cell size across the scene so that triangles have comparable sizes.
 - room_<tag>.toml: validation/scenes/room_8472.toml with its `subdivide` values scaled so the
   patch count is near the tag (wall : block cells near 34 : 16).
@@ -37,7 +37,7 @@ BOX = (0.4, 0.3, 0.1)
 BOARD_LO_XY, BOARD_HI_XY = (0.02, 0.02), (0.38, 0.28)  # 0.36 x 0.26, 0.02 clear of the walls
 BOARD_Z = (0.03, 0.065)  # board bottoms
 BOARD_T = 0.002
-GAP = 1e-4  # component bottom above the board top
+GAP = 5e-4  # component bottom above the board top (a 0.5 mm standoff)
 SPACING = 0.006  # least clearance between components, and from the board edge
 
 
@@ -141,12 +141,15 @@ def ebox():
         rng = random.Random(SEED)
         meshes, walls = [], []
         for name, faces, extras in bodies:
-            tris = [t for _, o, u, v in faces for t in irregular.face_triangles(rng, o, u, v, h)]
+            per_face = [(fname, irregular.face_triangles(rng, o, u, v, h)) for fname, o, u, v in faces]
+            tris = [t for _, ft in per_face for t in ft]
             if len(faces) == 6:
                 check_closed(name, tris, inward=False)
+                # One surface per planar face, as CAD exports faces: a face blocks as one outline.
+                meshes += [(fname, ft, extras) for fname, ft in per_face]
             else:
                 walls += tris
-            meshes.append((name, tris, extras))
+                meshes.append((name, tris, extras))
         check_closed("enclosure", walls, inward=True)
         total = sum(len(t) for _, t, _ in meshes)
         assert total == n

@@ -13,7 +13,7 @@
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
 use super::dense::{capped_scales, closure_scales};
-use super::enforce::{EnforceReport, LEAK_TOL};
+use super::enforce::{EnforceReport, LEAK_SIGMAS, LEAK_TOL};
 use super::operator::Operator;
 use super::{Diagnostics, Enforce};
 use crate::error::InputError;
@@ -70,6 +70,8 @@ pub struct Hierarchy {
     adj: Vec<(u32, f64)>,
     /// Cluster links with their error bounds.
     links: Vec<Link>,
+    /// Patch pairs estimated by sampling (`auto`): (i, j, variance of s_ij in m⁴).
+    sampled: Vec<(u32, u32, f64)>,
     /// Scales g of enforcement (S → G S G), patch order.
     g: Option<Vec<f64>>,
     /// Patch names.
@@ -191,6 +193,7 @@ impl Hierarchy {
             })
             .collect();
         let ctx = refine::Context {
+            scene,
             tree: &tree,
             blockers,
             vis: vis.as_ref(),
@@ -250,6 +253,10 @@ impl Hierarchy {
             adj[fill[b as usize] as usize] = (a, s);
             fill[b as usize] += 1;
         }
+        let sampled: Vec<(u32, u32, f64)> = exact
+            .iter()
+            .flat_map(|(i, es)| es.iter().filter(|e| e.var > 0.0).map(move |e| (*i, e.j, e.var)))
+            .collect();
         let leaf_pairs = leaves.len();
         let links = refined.links;
         let bytes = std::mem::size_of_val(&adj[..])
@@ -267,7 +274,7 @@ impl Hierarchy {
         };
         let areas = tree.geom.iter().map(|g| g.area).collect();
         let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
-        Ok(Hierarchy { tree, areas, ptr: deg, adj, links, g: None, names, ambient: None, stats })
+        Ok(Hierarchy { tree, areas, ptr: deg, adj, links, sampled, g: None, names, ambient: None, stats })
     }
 
     /// Area-weighted means of `x` (patch order) over every node.
@@ -327,6 +334,16 @@ impl Hierarchy {
         self.push(&z)
     }
 
+    /// Per-patch variance of the row sum from the sampled patch pairs, m⁴.
+    pub fn row_variances(&self) -> Vec<f64> {
+        let mut v = vec![0.0; self.areas.len()];
+        for &(i, j, var) in &self.sampled {
+            v[i as usize] += var;
+            v[j as usize] += var;
+        }
+        v
+    }
+
     /// Per-patch heat-rate error estimate (W) of radiosities `j`: each cluster link's error
     /// bound times the radiosity range over its two clusters, shared by area; in an open scene
     /// (ambient emissive power `e_amb`) also the row's error times |J_i − E_amb|, as the
@@ -355,6 +372,16 @@ impl Hierarchy {
             z[l.b as usize] += dq;
         }
         let mut e = self.push(&z);
+        // Sampled pairs: LEAK_ERR_SIGMAS standard errors of Σ_j s_ij (J_i − J_j).
+        let mut var = vec![0.0; n];
+        for &(a, b, v) in &self.sampled {
+            let d = (j[a as usize] - j[b as usize]).powi(2) * v;
+            var[a as usize] += d;
+            var[b as usize] += d;
+        }
+        for i in 0..n {
+            e[i] += LEAK_ERR_SIGMAS * gmax * gmax * var[i].sqrt();
+        }
         if let Some(ea) = e_amb {
             let rows = self.row_errors();
             for i in 0..n {
@@ -448,19 +475,24 @@ impl Hierarchy {
     /// leaks. Surface rows, not patch rows: a link shares its value by area within a cluster,
     /// which moves exchange between patches of one surface but never between surfaces.
     fn refuse_leaks(&self, scene: &Scene, sums: &[f64]) -> Result<()> {
-        let errs = self.row_errors();
+        let (errs, vars) = (self.row_errors(), self.row_variances());
         let m = scene.surfaces.len();
         let (mut s_sum, mut s_err, mut s_area) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        let mut s_var = vec![0.0; m];
         for (i, p) in scene.patches.iter().enumerate() {
             s_sum[p.surface] += sums[i];
             s_err[p.surface] += errs[i];
+            s_var[p.surface] += vars[i];
             s_area[p.surface] += self.areas[i];
         }
         let mut bad: Vec<(usize, f64)> = (0..m)
             .filter(|&k| s_area[k] > 0.0)
             .filter_map(|k| {
                 let p = s_sum[k] / s_area[k];
-                let allowed = LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k]);
+                // Links by their bounds, sampled pairs by their standard errors (as the dense
+                // path's leak check).
+                let allowed = LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k])
+                    + LEAK_SIGMAS * s_var[k].sqrt() / s_area[k];
                 (1.0 - p > allowed).then_some((k, p))
             })
             .collect();

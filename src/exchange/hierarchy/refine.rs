@@ -71,6 +71,8 @@ impl Refined {
 
 /// Everything the refinement reads.
 pub struct Context<'a> {
+    /// The scene.
+    pub scene: &'a crate::scene::Scene,
     /// The clusters.
     pub tree: &'a Tree,
     /// Blockers of the scene (None: nothing can block).
@@ -322,9 +324,8 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
         Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let mut clear = 0usize;
     for cast in 1..=need {
-        let i = sample(ctx, na, &mut rng);
-        let j = sample(ctx, nb, &mut rng);
-        let (pi, pj) = (ctx.tree.geom[i].centroid, ctx.tree.geom[j].centroid);
+        let (i, pi) = sample(ctx, na, &mut rng);
+        let (j, pj) = sample(ctx, nb, &mut rng);
         if !vis.occluded(pi, pj, i, j) {
             clear += 1;
         }
@@ -337,11 +338,26 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     Some((v, s / (need as f64 + 1.0), need as u64))
 }
 
-/// A patch of node n drawn by area.
-fn sample(ctx: &Context, n: &Node, rng: &mut Pcg64Mcg) -> usize {
+/// A point drawn uniformly by area over the patches of node n, and its patch.
+fn sample(ctx: &Context, n: &Node, rng: &mut Pcg64Mcg) -> (usize, DVec3) {
     let (lo, hi) = (n.lo as usize, n.hi as usize);
     let base = if lo == 0 { 0.0 } else { ctx.prefix[lo - 1] };
     let u = base + rng.random::<f64>() * (ctx.prefix[hi - 1] - base);
     let k = lo + ctx.prefix[lo..hi].partition_point(|&c| c < u).min(hi - lo - 1);
-    ctx.tree.order[k] as usize
+    let p = ctx.tree.order[k] as usize;
+    // A fan triangle of the polygon by area, then a uniform point in it.
+    let v = ctx.scene.patches[p].polygon.vertices();
+    let area = |t: usize| (v[t] - v[0]).cross(v[t + 1] - v[0]).length();
+    let total: f64 = (1..v.len() - 1).map(area).sum();
+    let mut x = rng.random::<f64>() * total;
+    let mut t = 1;
+    while t + 2 < v.len() && x > area(t) {
+        x -= area(t);
+        t += 1;
+    }
+    let (mut a, mut b) = (rng.random::<f64>(), rng.random::<f64>());
+    if a + b > 1.0 {
+        (a, b) = (1.0 - a, 1.0 - b);
+    }
+    (p, v[0] + a * (v[t] - v[0]) + b * (v[t + 1] - v[0]))
 }
