@@ -7,14 +7,17 @@
 //! - otherwise linked: S_AB from the children-level vector-area estimate
 //!   Σ_cd (V_c·d̂)(−V_d·d̂)/(π r_cd²), its error |S⁽²⁾ − S⁽¹⁾| against the one-point estimate,
 //!   times a visible fraction from rays through the BVH when a blocker meets the pair's
-//!   capsule: k rays that must agree (the first disagreement splits the link), with the
-//!   error S/(k+1) added and k chosen so that it fits the budget.
+//!   hull (its union box and the capsule around the centroids): [`VIS_RAYS`] rays between
+//!   uniform points that must all agree, else the link is split. A shadow edge that no ray
+//!   meets is not in the bound; the validation compares the estimate with measured errors.
 //!
 //! Two single patches always form a leaf pair, evaluated later by the exact kernel.
 //!
-//! The budget of a link is tol · Q_ref · A_A A_B / (2 A_tot min A_s): summed over the links of
-//! any surface s it stays under tol · Q_ref, since the links of a patch cover every partner
-//! once. ΔJ of a link is the range of the radiosity bounds of the patches of A ∪ B.
+//! The budget of a link (single-surface clusters on surfaces s_A, s_B) is
+//! tol · Q_ref · S_AB / (2 max(A_sA, A_sB)): summed over the links of any surface s it stays
+//! under tol · Q_ref, since those links' exchange areas add up to at most A_s. Each link thus
+//! gets the same relative accuracy, loosened where its radiosity difference ΔJ is small (ΔJ:
+//! the range of the radiosity bounds of the patches of A ∪ B).
 use super::tree::{Node, Tree, NONE};
 use crate::viewfactor::analytic::blockers::Blockers;
 use crate::visibility::Visibility;
@@ -26,10 +29,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// Clusters whose radii sum to more than this fraction of their distance are split (their
 /// kernel varies too much for a cluster estimate; touching patches end as exact leaf pairs).
 pub const NEAR: f64 = 0.5;
-/// Fewest visibility rays of a cluster link whose capsule meets a blocker.
-pub const VIS_RAYS: usize = 8;
-/// Most rays of one visibility estimate before the link is split instead.
-pub const VIS_MAX_RAYS: usize = 64;
+/// Visibility rays of a cluster link whose hull may meet a blocker: all clear or all blocked
+/// is trusted (the classic hierarchical-radiosity rule), any disagreement splits the link.
+pub const VIS_RAYS: usize = 16;
 /// Term of the geometric error relative to S (ρ/R)², added to |S⁽²⁾ − S⁽¹⁾|: the one-point
 /// estimate's own error between parallel squares is (ρ/R)²/3 · S, and symmetric child layouts
 /// can make the two estimates agree by accident.
@@ -256,8 +258,7 @@ fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
         let (ra, rb) = (ctx.radiosity[a as usize], ctx.radiosity[b as usize]);
         ra.1.max(rb.1) - ra.0.min(rb.0)
     };
-    let budget = ctx.tol * ctx.q_ref * na.area * nb.area
-        / (2.0 * ctx.area * na.min_surface_area.min(nb.min_surface_area));
+    let budget = ctx.tol * ctx.q_ref * two / (2.0 * na.min_surface_area.max(nb.min_surface_area));
     if geo * dj > budget {
         return split(ctx, a, b);
     }
@@ -296,9 +297,11 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     let len2 = seg.length_squared();
     let mut found = false;
     let mut hits = Vec::new();
+    let (ulo, uhi) = (na.lo_box.min(nb.lo_box), na.hi_box.max(nb.hi_box));
     blockers.blockers_where(
         |lo, hi| {
-            if found {
+            // Both the union box and the capsule hold the hull of A ∪ B.
+            if found || !(lo.cmple(uhi).all() && hi.cmpge(ulo).all()) {
                 return false;
             }
             let c = 0.5 * (lo + hi);
@@ -312,30 +315,21 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     if !found {
         return Some((1.0, 0.0, 0));
     }
-    if !(room > 0.0) || dj <= 0.0 {
-        return if dj <= 0.0 { Some((1.0, 0.0, 0)) } else { None };
-    }
-    // Rays needed for the unanimous floor s/(k+1) to fit: more than the cap → split now.
-    let need = ((s * dj / room).ceil() as usize).saturating_sub(1).max(VIS_RAYS);
-    if need > VIS_MAX_RAYS {
-        return None;
-    }
-    let mut rng =
-        Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let _ = (dj, room, s);
+    let mut rng = Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let mut clear = 0usize;
-    for cast in 1..=need {
+    for cast in 1..=VIS_RAYS {
         let (i, pi) = sample(ctx, na, &mut rng);
         let (j, pj) = sample(ctx, nb, &mut rng);
         if !vis.occluded(pi, pj, i, j) {
             clear += 1;
         }
-        // A mixed result needs far more rays than a split: stop at the first disagreement.
+        // Partly visible: split (the first disagreement decides).
         if clear != 0 && clear != cast {
             return None;
         }
     }
-    let v = clear as f64 / need as f64;
-    Some((v, s / (need as f64 + 1.0), need as u64))
+    Some((clear as f64 / VIS_RAYS as f64, 0.0, VIS_RAYS as u64))
 }
 
 /// A point drawn uniformly by area over the patches of node n, and its patch.
