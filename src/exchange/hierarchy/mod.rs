@@ -64,12 +64,14 @@ pub struct Hierarchy {
     tree: Tree,
     /// Patch areas (patch order).
     areas: Vec<f64>,
-    /// Node adjacency (both directions): offsets into `adj`.
-    ptr: Vec<u64>,
-    /// (other node, s).
-    adj: Vec<(u32, f64)>,
-    /// Cluster links with their error bounds.
+    /// Cluster links with their error bounds, sorted by (a, b).
     links: Vec<Link>,
+    /// Both directions of `links`.
+    link_adj: Adjacency,
+    /// Exact patch pairs as (leaf node, leaf node, s), sorted.
+    pairs: Vec<(u32, u32, f64)>,
+    /// Both directions of `pairs`.
+    pair_adj: Adjacency,
     /// Patch pairs estimated by sampling (`auto`): (i, j, variance of s_ij in m⁴).
     sampled: Vec<(u32, u32, f64)>,
     /// Scales g of enforcement (S → G S G), patch order.
@@ -220,48 +222,42 @@ impl Hierarchy {
             }
             rows.push((lo, k));
         }
-        let exact: Vec<(u32, Vec<RawEntry>)> = rows
-            .par_iter()
-            .map(|&(lo, hi)| {
-                let js: Vec<u32> = leaves[lo..hi].iter().map(|p| p.1).collect();
-                let mut out = Vec::with_capacity(js.len());
-                kernel.partners(leaves[lo].0 as usize, &js, &mut out);
-                (leaves[lo].0, out)
-            })
-            .collect();
+        // Rows in waves, each kept only as compact (leaf node, leaf node, s) entries.
+        let mut pairs: Vec<(u32, u32, f64)> = Vec::new();
+        let mut sampled: Vec<(u32, u32, f64)> = Vec::new();
+        for wave in rows.chunks(PAIR_WAVE) {
+            let exact: Vec<(u32, Vec<RawEntry>)> = wave
+                .par_iter()
+                .map(|&(lo, hi)| {
+                    let js: Vec<u32> = leaves[lo..hi].iter().map(|p| p.1).collect();
+                    let mut out = Vec::with_capacity(js.len());
+                    kernel.partners(leaves[lo].0 as usize, &js, &mut out);
+                    (leaves[lo].0, out)
+                })
+                .collect();
+            for (i, es) in exact {
+                for e in es {
+                    pairs.push((tree.leaf_of[i as usize], tree.leaf_of[e.j as usize], e.s));
+                    if e.var > 0.0 {
+                        sampled.push((i, e.j, e.var));
+                    }
+                }
+            }
+        }
+        let leaf_pairs = leaves.len();
+        drop(leaves);
+        drop(rows);
         let t_pairs = start.elapsed();
         let n_nodes = tree.nodes.len();
-        let mut deg = vec![0u64; n_nodes + 1];
-        let pair_nodes = |i: u32, e: &RawEntry| (tree.leaf_of[i as usize], tree.leaf_of[e.j as usize], e.s);
-        let all = refined
-            .links
-            .iter()
-            .map(|l| (l.a, l.b, l.s))
-            .chain(exact.iter().flat_map(|(i, es)| es.iter().map(move |e| pair_nodes(*i, e))));
-        for (a, b, _) in all.clone() {
-            deg[a as usize + 1] += 1;
-            deg[b as usize + 1] += 1;
-        }
-        for k in 0..n_nodes {
-            deg[k + 1] += deg[k];
-        }
-        let mut fill = deg.clone();
-        let mut adj = vec![(0u32, 0.0); deg[n_nodes] as usize];
-        for (a, b, s) in all {
-            adj[fill[a as usize] as usize] = (b, s);
-            fill[a as usize] += 1;
-            adj[fill[b as usize] as usize] = (a, s);
-            fill[b as usize] += 1;
-        }
-        let sampled: Vec<(u32, u32, f64)> = exact
-            .iter()
-            .flat_map(|(i, es)| es.iter().filter(|e| e.var > 0.0).map(move |e| (*i, e.j, e.var)))
-            .collect();
-        let leaf_pairs = leaves.len();
-        let links = refined.links;
-        let bytes = std::mem::size_of_val(&adj[..])
-            + std::mem::size_of_val(&deg[..])
-            + std::mem::size_of_val(&links[..])
+        let mut links = refined.links;
+        links.par_sort_unstable_by_key(|l| (l.a, l.b));
+        pairs.par_sort_unstable_by_key(|p| (p.0, p.1));
+        let link_adj = Adjacency::new(n_nodes, links.iter().map(|l| (l.a, l.b)));
+        let pair_adj = Adjacency::new(n_nodes, pairs.iter().map(|p| (p.0, p.1)));
+        let bytes = std::mem::size_of_val(&links[..])
+            + std::mem::size_of_val(&pairs[..])
+            + link_adj.bytes()
+            + pair_adj.bytes()
             + n_nodes * std::mem::size_of::<tree::Node>();
         let stats = Stats {
             nodes: n_nodes,
@@ -274,7 +270,7 @@ impl Hierarchy {
         };
         let areas = tree.geom.iter().map(|g| g.area).collect();
         let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
-        Ok(Hierarchy { tree, areas, ptr: deg, adj, links, sampled, g: None, names, ambient: None, stats })
+        Ok(Hierarchy { tree, areas, links, link_adj, pairs, pair_adj, sampled, g: None, names, ambient: None, stats })
     }
 
     /// Area-weighted means of `x` (patch order) over every node.
@@ -314,12 +310,19 @@ impl Hierarchy {
         y
     }
 
-    /// Per node: Σ over its links of f(link value, other node).
-    fn gather(&self, f: impl Fn(f64, u32) -> f64 + Sync) -> Vec<f64> {
+    /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o, in a fixed order.
+    fn gather(&self, m: &[f64]) -> Vec<f64> {
+        let (links, pairs) = (&self.links, &self.pairs);
         (0..self.tree.nodes.len())
             .into_par_iter()
             .map(|k| {
-                self.adj[self.ptr[k] as usize..self.ptr[k + 1] as usize].iter().map(|&(o, s)| f(s, o)).sum()
+                self.link_adj.sum(k, |e, from_a| {
+                    let l = &links[e];
+                    l.s * m[if from_a { l.b } else { l.a } as usize]
+                }) + self.pair_adj.sum(k, |e, from_a| {
+                    let p = &pairs[e];
+                    p.2 * m[if from_a { p.1 } else { p.0 } as usize]
+                })
             })
             .collect()
     }
@@ -406,7 +409,7 @@ impl Hierarchy {
         let scale = |i: usize| w.map_or(1.0, |w| w[i]) * g.map_or(1.0, |g| g[i]);
         let xs: Vec<f64> = x.par_iter().enumerate().map(|(i, x)| x * scale(i)).collect();
         let m = self.pull(&xs);
-        let z = self.gather(|s, o| s * m[o as usize]);
+        let z = self.gather(&m);
         let mut y = self.push(&z);
         y.par_iter_mut().enumerate().for_each(|(i, y)| *y *= scale(i));
         y
@@ -466,7 +469,8 @@ impl Hierarchy {
             .take(super::diagnostics::WORST_ROWS)
             .map(|i| (self.names[i].clone(), dev[i]))
             .collect();
-        let negatives = self.adj.iter().filter(|e| e.1 < 0.0).count()
+        let negatives = self.links.iter().filter(|l| l.s < 0.0).count()
+            + self.pairs.iter().filter(|p| p.2 < 0.0).count()
             + self.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
         Diagnostics { max_row_error, rms_row_error, reciprocity: 0.0, negatives, worst }
     }
@@ -537,19 +541,69 @@ impl Operator for Hierarchy {
         0.0
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
-        for k in 0..self.tree.nodes.len() {
-            let own = self.tree.patches(k as u32);
-            for &(o, s) in &self.adj[self.ptr[k] as usize..self.ptr[k + 1] as usize] {
-                if s != 0.0 {
-                    let first = self.tree.patches(o)[0] as usize;
-                    for &p in own {
-                        f(p as usize, first);
-                    }
-                    for &q in self.tree.patches(o) {
-                        f(own[0] as usize, q as usize);
-                    }
+        let ends = self.links.iter().map(|l| (l.a, l.b, l.s)).chain(self.pairs.iter().copied());
+        for (a, b, s) in ends {
+            if s != 0.0 {
+                let (pa, pb) = (self.tree.patches(a), self.tree.patches(b));
+                for &p in pa {
+                    f(p as usize, pb[0] as usize);
+                }
+                for &q in pb {
+                    f(pa[0] as usize, q as usize);
                 }
             }
         }
+    }
+}
+
+/// Rows of exact patch pairs evaluated per wave (bounds the memory of their raw entries).
+const PAIR_WAVE: usize = 1 << 14;
+
+/// Both directions of a list of (a, b) entries sorted by a: entries by a are contiguous
+/// (`ptr_a`), entries by b are listed in `by_b` (`ptr_b`). Sums run in a fixed order, so
+/// results do not depend on the thread count.
+#[derive(Debug, Clone, Default)]
+struct Adjacency {
+    ptr_a: Vec<u64>,
+    ptr_b: Vec<u64>,
+    by_b: Vec<u32>,
+}
+
+impl Adjacency {
+    fn new(nodes: usize, ends: impl Iterator<Item = (u32, u32)> + Clone) -> Self {
+        let (mut ptr_a, mut ptr_b) = (vec![0u64; nodes + 1], vec![0u64; nodes + 1]);
+        for (a, b) in ends.clone() {
+            ptr_a[a as usize + 1] += 1;
+            ptr_b[b as usize + 1] += 1;
+        }
+        for k in 0..nodes {
+            ptr_a[k + 1] += ptr_a[k];
+            ptr_b[k + 1] += ptr_b[k];
+        }
+        let mut fill = ptr_b.clone();
+        let mut by_b = vec![0u32; ptr_b[nodes] as usize];
+        for (e, (_, b)) in ends.enumerate() {
+            by_b[fill[b as usize] as usize] = e as u32;
+            fill[b as usize] += 1;
+        }
+        Adjacency { ptr_a, ptr_b, by_b }
+    }
+
+    /// Σ f(entry, true) over entries whose a is k, then Σ f(entry, false) over those whose b
+    /// is k.
+    #[inline]
+    fn sum(&self, k: usize, f: impl Fn(usize, bool) -> f64) -> f64 {
+        let a: f64 = (self.ptr_a[k] as usize..self.ptr_a[k + 1] as usize).map(|e| f(e, true)).sum();
+        let b: f64 = self.by_b[self.ptr_b[k] as usize..self.ptr_b[k + 1] as usize]
+            .iter()
+            .map(|&e| f(e as usize, false))
+            .sum();
+        a + b
+    }
+
+    fn bytes(&self) -> usize {
+        std::mem::size_of_val(&self.ptr_a[..])
+            + std::mem::size_of_val(&self.ptr_b[..])
+            + std::mem::size_of_val(&self.by_b[..])
     }
 }
