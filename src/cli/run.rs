@@ -498,8 +498,13 @@ fn clustered_solve(
     };
     let tol = cfg.tolerance_given.unwrap_or(exchange::hierarchy::DEFAULT_TOLERANCE);
     eprintln!("lambert: exchange: hierarchical, heat-rate tolerance {tol:e} ({why})");
-    let run = solve::clustered::solve_scene(scene, &cfg.params, mode, tol, params)
-        .map_err(|e| with_outward_hint(scene, e))?;
+    // `--tolerance` is the heat-rate tolerance here; the exact pairs keep `auto`'s own goal on
+    // each F, tightened with it (sampled pairs must not dominate the heat-rate error).
+    let vf = viewfactor::Params {
+        tolerance: (tol * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE),
+        ..cfg.params.clone()
+    };
+    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params).map_err(|e| with_outward_hint(scene, e))?;
     print_enforcement(mode, &run.report);
     let s = &run.stats;
     eprintln!(

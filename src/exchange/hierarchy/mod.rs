@@ -36,6 +36,10 @@ use tree::Tree;
 /// [`LEAK_TOL`]) before it counts as a leak.
 pub const LEAK_ERR_SIGMAS: f64 = 3.0;
 
+/// `auto`'s goal on each F of the exact patch pairs, as a share of the heat-rate tolerance
+/// (capped at the view-factor default): sampled pairs stay well inside the heat-rate budget.
+pub const PAIR_TOLERANCE_SHARE: f64 = 0.01;
+
 /// Default relative heat-rate tolerance of the hierarchical path.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
 
