@@ -455,6 +455,9 @@ impl ExchangePath {
 /// `--exchange auto` goes hierarchical above this many patches (measured in
 /// validation/scale.md: below it the dense path is as fast and exact).
 const HIERARCHICAL_MIN_PATCHES: usize = 12_000;
+/// `--exchange auto` stays dense (while it fits) for tolerances below this: the links' cost
+/// grows faster than the dense store's as the tolerance tightens (validation/scale.md).
+const HIERARCHICAL_MIN_TOLERANCE: f64 = 1e-3;
 
 /// The hierarchical path when chosen (forced, or by `auto` for a large scene or one whose
 /// dense store cannot fit); `None` sends the run to the dense paths.
@@ -485,8 +488,17 @@ fn clustered_solve(
                 return Ok(None);
             }
             let fits = exchange::dense::check_fits(n, 8.0, &scene.source).is_ok();
-            if n <= HIERARCHICAL_MIN_PATCHES && fits {
-                eprintln!("lambert: exchange: dense ({n} patches <= {HIERARCHICAL_MIN_PATCHES}; --exchange hierarchical for clustered links)");
+            // A tight tolerance costs the links more than the dense store costs the pairs.
+            let tight = cfg.tolerance_given.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
+            if fits && (n <= HIERARCHICAL_MIN_PATCHES || tight) {
+                eprintln!(
+                    "lambert: exchange: dense ({n} patches{}; --exchange hierarchical for clustered links)",
+                    if tight {
+                        format!(", tolerance below {HIERARCHICAL_MIN_TOLERANCE:e}")
+                    } else {
+                        format!(" <= {HIERARCHICAL_MIN_PATCHES}")
+                    }
+                );
                 return Ok(None);
             }
             if fits {
@@ -504,7 +516,8 @@ fn clustered_solve(
         tolerance: (tol * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE),
         ..cfg.params.clone()
     };
-    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params).map_err(|e| with_outward_hint(scene, e))?;
+    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)
+        .map_err(|e| with_outward_hint(scene, e))?;
     print_enforcement(mode, &run.report);
     let s = &run.stats;
     eprintln!(

@@ -316,7 +316,8 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
         return Some((1.0, 0.0, 0));
     }
     let _ = (dj, room, s);
-    let mut rng = Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let mut rng =
+        Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let mut clear = 0usize;
     for cast in 1..=VIS_RAYS {
         let (i, pi) = sample(ctx, na, &mut rng);
