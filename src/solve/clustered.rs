@@ -1,7 +1,8 @@
 //! The `solve` run on the hierarchical exchange ([`crate::exchange::hierarchy`]): links built
 //! for the relative heat-rate tolerance, enforced (closure or capped scaling with the
 //! ambient), solved by the same Jacobi-preconditioned CG as the dense path, and each patch's
-//! heat rate given an error estimate from the cluster links.
+//! heat rate given an error estimate: the links' direct errors carried through the
+//! inter-reflections ([`super::dense::propagate_errors`]).
 use super::{Params, Solution};
 use crate::exchange::hierarchy::Hierarchy;
 use crate::exchange::{Enforce, EnforceReport};
@@ -35,7 +36,8 @@ pub fn solve_scene(
     let mut solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
     let e_amb = scene.ambient.map(|a| crate::SIGMA * a.temperature.powi(4));
-    solution.heat_rate_error = Some(h.heat_rate_errors(&j, e_amb));
+    let direct = h.heat_rate_errors(&j, e_amb);
+    solution.heat_rate_error = Some(super::dense::propagate_errors(scene, &h, &direct)?);
     solution.info.solver = "conjugate gradients on the link hierarchy".into();
     Ok(ClusteredRun { solution, report, stats: h.stats })
 }

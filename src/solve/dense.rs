@@ -80,22 +80,7 @@ pub fn solve_operator(
         )
         .into());
     }
-    let mut eps = Vec::with_capacity(n);
-    let mut rows = Vec::with_capacity(n);
-    for p in &scene.patches {
-        let surf = &scene.surfaces[p.surface];
-        let condition = surf.condition.ok_or_else(|| {
-            Error::from(InputError::surface(
-                &scene.source,
-                surf.name.clone(),
-                "no boundary condition: `solve` needs `temperature` or `heat_flux`",
-            ))
-        })?;
-        eps.push(surf.emissivity);
-        rows.push(
-            super::Node { surface: p.surface, area: 0.0, emissivity: surf.emissivity, condition }.row_kind(),
-        );
-    }
+    let (eps, rows) = row_kinds(scene)?;
     let e_amb = scene.ambient.map_or(0.0, |a| SIGMA * a.temperature.powi(4));
     let areas = t.areas();
     // Unknowns: every node but the black temperature nodes, whose J = E_b is known.
@@ -191,6 +176,66 @@ pub fn solve_operator(
         heat_rate_error: None,
     })
 }
+
+/// Per patch: emissivity and row kind (T or q), or the error of a surface without a boundary
+/// condition.
+fn row_kinds(scene: &Scene) -> Result<(Vec<f64>, Vec<RowKind>)> {
+    let mut eps = Vec::with_capacity(scene.patches.len());
+    let mut rows = Vec::with_capacity(scene.patches.len());
+    for p in &scene.patches {
+        let surf = &scene.surfaces[p.surface];
+        let condition = surf.condition.ok_or_else(|| {
+            Error::from(InputError::surface(
+                &scene.source,
+                surf.name.clone(),
+                "no boundary condition: `solve` needs `temperature` or `heat_flux`",
+            ))
+        })?;
+        eps.push(surf.emissivity);
+        rows.push(
+            super::Node { surface: p.surface, area: 0.0, emissivity: surf.emissivity, condition }.row_kind(),
+        );
+    }
+    Ok((eps, rows))
+}
+
+/// Carries per-patch errors `e` of the exchange term (W, |δS J|) through the inter-reflections:
+/// K δJ = δS J with K = D − S an M-matrix (K⁻¹ ≥ 0), so |δJ| ≤ K⁻¹ e, and a temperature
+/// patch's heat rate A ε/ρ (E_b − J) moves by at most A ε/ρ · (K⁻¹ e)_i. A black patch's error
+/// is its direct e_i; a flux patch's heat rate is prescribed (its temperature carries the
+/// error). Returns the heat-rate error bound per patch, W.
+pub fn propagate_errors(scene: &Scene, t: &dyn Operator, e: &[f64]) -> Result<Vec<f64>> {
+    let n = t.len();
+    let (eps, rows) = row_kinds(scene)?;
+    let areas = t.areas();
+    let mut d = vec![0.0; n];
+    let mut unknown = vec![true; n];
+    for i in 0..n {
+        match rows[i] {
+            RowKind::Temperature(_) if eps[i] >= 1.0 => unknown[i] = false,
+            RowKind::Temperature(_) => d[i] = areas[i] / (1.0 - eps[i]),
+            RowKind::Flux(_) => d[i] = areas[i],
+        }
+    }
+    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
+    let diag: Vec<f64> = (0..n).map(|i| if unknown[i] { d[i] - t.self_term(i) } else { 1.0 }).collect();
+    let rhs: Vec<f64> = (0..n).map(|i| mask[i] * e[i]).collect();
+    let apply = |x: &[f64]| -> Vec<f64> {
+        let sx = t.matvec_scaled(None, x);
+        (0..n).map(|i| mask[i] * (d[i] * x[i] - sx[i])).collect()
+    };
+    let (y, _, _) = pcg(&apply, &diag, &rhs, ERROR_CG_TOL, CG_ITER_FLOOR + n);
+    Ok((0..n)
+        .map(|i| match rows[i] {
+            RowKind::Temperature(_) if eps[i] >= 1.0 => e[i],
+            RowKind::Temperature(_) => areas[i] * eps[i] / (1.0 - eps[i]) * y[i].max(0.0),
+            RowKind::Flux(_) => 0.0,
+        })
+        .collect())
+}
+
+/// Relative residual of the error propagation solve (an estimate needs two digits).
+const ERROR_CG_TOL: f64 = 1e-6;
 
 /// Refuses a group of unknowns without a temperature anchor (as
 /// [`super::system::check_anchored`]): rows whose dominance margin D_i − Σ_{j unknown} s̄_ij is

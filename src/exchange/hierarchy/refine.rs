@@ -8,8 +8,9 @@
 //!   Σ_cd (V_c·d̂)(−V_d·d̂)/(π r_cd²), its error |S⁽²⁾ − S⁽¹⁾| against the one-point estimate,
 //!   times a visible fraction from rays through the BVH when a blocker meets the pair's
 //!   hull (its union box and the capsule around the centroids): [`VIS_RAYS`] rays between
-//!   uniform points that must all agree, else the link is split. A shadow edge that no ray
-//!   meets is not in the bound; the validation compares the estimate with measured errors.
+//!   uniform points; unanimous rays are trusted, a mixed result is kept with two standard
+//!   errors in the bound when that fits, else split. A shadow edge that no ray meets is not
+//!   in the bound; the validation compares the estimate with measured errors.
 //!
 //! Two single patches always form a leaf pair, evaluated later by the exact kernel.
 //!
@@ -30,8 +31,12 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// kernel varies too much for a cluster estimate; touching patches end as exact leaf pairs).
 pub const NEAR: f64 = 0.5;
 /// Visibility rays of a cluster link whose hull may meet a blocker: all clear or all blocked
-/// is trusted (the classic hierarchical-radiosity rule), any disagreement splits the link.
+/// is trusted (the classic hierarchical-radiosity rule); a partly visible link is kept with
+/// the sampled fraction and [`VIS_SIGMAS`] standard errors when that fits its budget, else
+/// split.
 pub const VIS_RAYS: usize = 16;
+/// Standard errors of a partly visible link's sampled fraction counted in its bound.
+pub const VIS_SIGMAS: f64 = 2.0;
 /// Term of the geometric error relative to S (ρ/R)², added to |S⁽²⁾ − S⁽¹⁾|: the one-point
 /// estimate's own error between parallel squares is (ρ/R)²/3 · S, and symmetric child layouts
 /// can make the two estimates agree by accident.
@@ -315,9 +320,10 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     if !found {
         return Some((1.0, 0.0, 0));
     }
-    let _ = (dj, room, s);
     let mut rng =
         Pcg64Mcg::seed_from_u64(ctx.seed ^ ((a as u64) << 32 | b as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    // A partly visible link is kept only if even the widest sampling error fits its budget.
+    let partial_fits = VIS_SIGMAS * s * 0.5 / (VIS_RAYS as f64).sqrt() * dj <= room;
     let mut clear = 0usize;
     for cast in 1..=VIS_RAYS {
         let (i, pi) = sample(ctx, na, &mut rng);
@@ -325,12 +331,17 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
         if !vis.occluded(pi, pj, i, j) {
             clear += 1;
         }
-        // Partly visible: split (the first disagreement decides).
-        if clear != 0 && clear != cast {
+        if !partial_fits && clear != 0 && clear != cast {
             return None;
         }
     }
-    Some((clear as f64 / VIS_RAYS as f64, 0.0, VIS_RAYS as u64))
+    let v = clear as f64 / VIS_RAYS as f64;
+    let err = if clear == 0 || clear == VIS_RAYS {
+        0.0
+    } else {
+        VIS_SIGMAS * s * (v * (1.0 - v) / VIS_RAYS as f64).sqrt()
+    };
+    Some((v, err, VIS_RAYS as u64))
 }
 
 /// A point drawn uniformly by area over the patches of node n, and its patch.
