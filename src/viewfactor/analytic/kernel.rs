@@ -236,7 +236,38 @@ impl<'s> AnalyticKernel<'s> {
     }
 }
 
-impl AnalyticKernel<'_> {
+impl<'s> AnalyticKernel<'s> {
+    /// The entry of pair (i, j) given its shadow status; None when blocked or zero.
+    #[inline]
+    fn entry(
+        &self,
+        shadows: &Shadows<'s>,
+        i: usize,
+        j: usize,
+        status: Status<'_>,
+        (reuse, scratch): (&mut RowLookup<'_>, &mut Scratch),
+        work: &mut super::obstructed::PairWork,
+    ) -> Option<RawEntry> {
+        let entry = match status {
+            Status::Blocked => return None,
+            Status::Clear => RawEntry {
+                j: j as u32,
+                method: MethodSet::ANALYTIC,
+                s: self.unobstructed(i, j, reuse, scratch),
+                var: 0.0,
+            },
+            Status::Partial(partial) => {
+                let u = self.unobstructed(i, j, reuse, scratch);
+                if !(u > 0.0) {
+                    return None;
+                }
+                let r = shadows.pair(i, j, u, partial, work);
+                RawEntry { j: j as u32, method: r.method, s: r.s, var: r.var }
+            }
+        };
+        (entry.s > 0.0).then_some(entry)
+    }
+
     /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, all > i),
     /// exactly as [`RowKernel::row`] computes them; entries with s = 0 are left out. Blockers
     /// are classified only within the box of the receivers.
@@ -263,27 +294,14 @@ impl AnalyticKernel<'_> {
         SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
             shadows.classify_row_in(i, region, row);
             for &j in js {
-                let ju = j as usize;
-                let entry = match row.status(ju) {
-                    Status::Blocked => continue,
-                    Status::Clear => RawEntry {
-                        j,
-                        method: MethodSet::ANALYTIC,
-                        s: self.unobstructed(i, ju, &mut reuse, &mut scratch),
-                        var: 0.0,
-                    },
-                    Status::Partial(partial) => {
-                        let u = self.unobstructed(i, ju, &mut reuse, &mut scratch);
-                        if !(u > 0.0) {
-                            continue;
-                        }
-                        let r = shadows.pair(i, ju, u, partial, work);
-                        RawEntry { j, method: r.method, s: r.s, var: r.var }
-                    }
-                };
-                if entry.s > 0.0 {
-                    out.push(entry);
-                }
+                out.extend(self.entry(
+                    shadows,
+                    i,
+                    j as usize,
+                    row.status(j as usize),
+                    (&mut reuse, &mut scratch),
+                    work,
+                ));
             }
         });
     }
@@ -331,26 +349,14 @@ impl RowKernel for AnalyticKernel<'_> {
         SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
             shadows.classify_row(i, row);
             for j in i + 1..n {
-                let entry = match row.status(j) {
-                    Status::Blocked => continue,
-                    Status::Clear => RawEntry {
-                        j: j as u32,
-                        method: MethodSet::ANALYTIC,
-                        s: self.unobstructed(i, j, &mut reuse, &mut scratch),
-                        var: 0.0,
-                    },
-                    Status::Partial(partial) => {
-                        let u = self.unobstructed(i, j, &mut reuse, &mut scratch);
-                        if !(u > 0.0) {
-                            continue;
-                        }
-                        let r = shadows.pair(i, j, u, partial, work);
-                        RawEntry { j: j as u32, method: r.method, s: r.s, var: r.var }
-                    }
-                };
-                if entry.s > 0.0 {
-                    out.entries.push(entry);
-                }
+                out.entries.extend(self.entry(
+                    shadows,
+                    i,
+                    j,
+                    row.status(j),
+                    (&mut reuse, &mut scratch),
+                    work,
+                ));
             }
         });
         out.pairs = (n - i - 1) as u64;
