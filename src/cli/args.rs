@@ -93,8 +93,8 @@ pub struct SolveArgs {
     /// direct, jacobi or gauss-seidel.
     #[arg(long, default_value = "direct")]
     pub solver: String,
-    /// Exchange store: auto, dense (every patch pair) or hierarchical (clustered links with
-    /// heat-rate error control, for large scenes) [default: auto, by patch count and memory].
+    /// Exchange store: auto (by patch count, tolerance and memory), dense (every patch pair) or
+    /// hierarchical (clustered links with heat-rate error control, for large scenes).
     #[arg(long, default_value = "auto")]
     pub exchange: String,
 }
