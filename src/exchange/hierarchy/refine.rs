@@ -209,8 +209,8 @@ fn split_mixed(a: u32, b: u32, na: &Node, nb: &Node) -> Decision {
     }
 }
 
-/// True when no point of `b` lies strictly in front of every... of any plane of the parallel
-/// cluster `a`: b is behind (or on) all of a's planes, so nothing of a sees b.
+/// True when every point of `b` lies behind (or on) every plane of the parallel cluster `a`:
+/// then no patch of a sees b.
 fn behind(a: &Node, b: &Node, snap: f64) -> bool {
     match a.planes {
         Some((lo, _)) => b.support(a.axis) <= lo + snap,
@@ -292,7 +292,7 @@ fn projected(a: &Node, b: &Node) -> f64 {
 }
 
 /// Visible fraction of link (a, b) with estimate `s`, its error in m² and the rays cast;
-/// `None` when rays cannot bring the error under `room / dj` (split instead).
+/// `None` when the rays disagree and their sampling error would not fit `room` (split).
 fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Option<(f64, f64, u64)> {
     let (Some(blockers), Some(vis)) = (ctx.blockers, ctx.vis) else { return Some((1.0, 0.0, 0)) };
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
@@ -300,13 +300,12 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     let (p, q, r) = (na.centroid, nb.centroid, na.radius.max(nb.radius));
     let seg = q - p;
     let len2 = seg.length_squared();
-    let mut found = false;
     let mut hits = Vec::new();
     let (ulo, uhi) = (na.lo_box.min(nb.lo_box), na.hi_box.max(nb.hi_box));
     blockers.blockers_where(
         |lo, hi| {
             // Both the union box and the capsule hold the hull of A ∪ B.
-            if found || !(lo.cmple(uhi).all() && hi.cmpge(ulo).all()) {
+            if !(lo.cmple(uhi).all() && hi.cmpge(ulo).all()) {
                 return false;
             }
             let c = 0.5 * (lo + hi);
@@ -316,8 +315,7 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
         },
         &mut hits,
     );
-    found |= !hits.is_empty();
-    if !found {
+    if hits.is_empty() {
         return Some((1.0, 0.0, 0));
     }
     let mut rng =
