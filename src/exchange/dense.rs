@@ -63,18 +63,9 @@ pub fn leaks(t: &Triangle) -> Vec<(usize, f64, f64)> {
 
 /// Residuals of the raw rows (before) or of the triangle with its ambient (after).
 fn diagnostics(d: &DenseExchange, sums: &[f64], reciprocity: f64, open: bool) -> Diagnostics {
-    let t = &d.t;
-    let n = t.n;
-    let dev: Vec<f64> = (0..n).map(|i| sums[i] / t.areas[i] - 1.0).collect();
-    let err: Vec<f64> = dev.iter().map(|&x| if open { x.max(0.0) } else { x.abs() }).collect();
-    let max_row_error = err.iter().copied().fold(0.0, f64::max);
-    let rms_row_error = if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
-    let negatives = t.s.par_iter().filter(|&&x| x < 0.0).count()
+    let negatives = d.t.s.par_iter().filter(|&&x| x < 0.0).count()
         + d.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
-    let mut order: Vec<usize> = (0..n).filter(|&i| err[i] > 0.0).collect();
-    order.sort_by(|&a, &b| err[b].total_cmp(&err[a]).then(a.cmp(&b)));
-    let worst = order.into_iter().take(WORST_ROWS).map(|i| (d.names[i].clone(), dev[i])).collect();
-    Diagnostics { max_row_error, rms_row_error, reciprocity, negatives, worst }
+    Diagnostics::from_rows(sums, &d.t.areas, &d.names, open, reciprocity, negatives)
 }
 
 fn max_abs(t: &Triangle) -> f64 {

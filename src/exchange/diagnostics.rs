@@ -25,22 +25,34 @@ pub struct Diagnostics {
 impl Diagnostics {
     /// Measures `ex`; `open` selects the one-sided row error of open scenes.
     pub fn of(ex: &Exchange, open: bool) -> Self {
-        let n = ex.len();
-        let sums = ex.row_sums();
-        let dev: Vec<f64> = (0..n).map(|i| sums[i] / ex.areas[i] - 1.0).collect();
-        let err: Vec<f64> = dev.iter().map(|&d| if open { d.max(0.0) } else { d.abs() }).collect();
-        let max_row_error = err.iter().copied().fold(0.0, f64::max);
-        let rms_row_error =
-            if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
         let (num, den) = ex.fold_mirrored((0.0f64, 0.0f64), |(num, den), s, sji| {
             (num.max((s - sji).abs()), den.max(s.abs()))
         });
         let reciprocity = if den > 0.0 { num / den } else { 0.0 };
         let amb_neg = ex.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
         let negatives = ex.s.data().iter().filter(|&&x| x < 0.0).count() + amb_neg;
+        Self::from_rows(&ex.row_sums(), &ex.areas, &ex.names, open, reciprocity, negatives)
+    }
+
+    /// The row residuals of row sums `sums` (m²) over `areas`, with the other two measures
+    /// given: shared by every exchange store.
+    pub fn from_rows(
+        sums: &[f64],
+        areas: &[f64],
+        names: &[String],
+        open: bool,
+        reciprocity: f64,
+        negatives: usize,
+    ) -> Self {
+        let n = sums.len();
+        let dev: Vec<f64> = (0..n).map(|i| sums[i] / areas[i] - 1.0).collect();
+        let err: Vec<f64> = dev.iter().map(|&d| if open { d.max(0.0) } else { d.abs() }).collect();
+        let max_row_error = err.iter().copied().fold(0.0, f64::max);
+        let rms_row_error =
+            if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
         let mut order: Vec<usize> = (0..n).filter(|&i| err[i] > 0.0).collect();
         order.sort_by(|&a, &b| err[b].total_cmp(&err[a]).then(a.cmp(&b)));
-        let worst = order.into_iter().take(WORST_ROWS).map(|i| (ex.names[i].clone(), dev[i])).collect();
+        let worst = order.into_iter().take(WORST_ROWS).map(|i| (names[i].clone(), dev[i])).collect();
         Self { max_row_error, rms_row_error, reciprocity, negatives, worst }
     }
 }

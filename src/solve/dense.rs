@@ -184,13 +184,7 @@ fn row_kinds(scene: &Scene) -> Result<(Vec<f64>, Vec<RowKind>)> {
     let mut rows = Vec::with_capacity(scene.patches.len());
     for p in &scene.patches {
         let surf = &scene.surfaces[p.surface];
-        let condition = surf.condition.ok_or_else(|| {
-            Error::from(InputError::surface(
-                &scene.source,
-                surf.name.clone(),
-                "no boundary condition: `solve` needs `temperature` or `heat_flux`",
-            ))
-        })?;
+        let condition = super::system::condition(scene, p.surface)?;
         eps.push(surf.emissivity);
         rows.push(
             super::Node { surface: p.surface, area: 0.0, emissivity: surf.emissivity, condition }.row_kind(),

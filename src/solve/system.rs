@@ -49,6 +49,18 @@ pub enum RowKind {
     Flux(f64),
 }
 
+/// The boundary condition of surface `s`, or the error that names a surface without one.
+pub fn condition(scene: &Scene, s: usize) -> Result<crate::scene::BoundaryCondition> {
+    let surf = &scene.surfaces[s];
+    surf.condition.ok_or_else(|| {
+        Error::from(InputError::surface(
+            &scene.source,
+            surf.name.clone(),
+            "no boundary condition: `solve` needs `temperature` or `heat_flux`",
+        ))
+    })
+}
+
 /// Nodes of `ex` with the properties of their surfaces; every surface needs a condition.
 pub fn nodes(scene: &Scene, ex: &Exchange) -> Result<Vec<Node>> {
     let expected = match ex.level {
@@ -69,14 +81,12 @@ pub fn nodes(scene: &Scene, ex: &Exchange) -> Result<Vec<Node>> {
                 Level::Patch => scene.patches[i].surface,
             };
             let surf = &scene.surfaces[s];
-            let condition = surf.condition.ok_or_else(|| {
-                Error::from(InputError::surface(
-                    &scene.source,
-                    surf.name.clone(),
-                    "no boundary condition: `solve` needs `temperature` or `heat_flux`",
-                ))
-            })?;
-            Ok(Node { surface: s, area: ex.areas[i], emissivity: surf.emissivity, condition })
+            Ok(Node {
+                surface: s,
+                area: ex.areas[i],
+                emissivity: surf.emissivity,
+                condition: condition(scene, s)?,
+            })
         })
         .collect()
 }

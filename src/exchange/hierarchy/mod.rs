@@ -182,16 +182,7 @@ impl Hierarchy {
         let blockers = kernel.shadows().map(|s| s.blockers());
         let vis = blockers.map(|_| Visibility::new(scene));
         let bounds = radiosity_bounds(scene);
-        let mut radiosity = vec![(0.0, 0.0); tree.nodes.len()];
-        for k in (0..tree.nodes.len()).rev() {
-            let n = &tree.nodes[k];
-            radiosity[k] = if n.is_leaf() {
-                bounds[tree.order[n.lo as usize] as usize]
-            } else {
-                let (l, r) = (radiosity[n.kids[0] as usize], radiosity[n.kids[1] as usize]);
-                (l.0.min(r.0), l.1.max(r.1))
-            };
-        }
+        let radiosity = tree.ranges(|p| bounds[p]);
         let mut acc = 0.0;
         let prefix = tree
             .order
@@ -372,17 +363,7 @@ impl Hierarchy {
     /// ambient takes what the links miss.
     pub fn heat_rate_errors(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
         let nodes = &self.tree.nodes;
-        let mut range = vec![(0.0, 0.0); nodes.len()];
-        for k in (0..nodes.len()).rev() {
-            let n = &nodes[k];
-            range[k] = if n.is_leaf() {
-                let v = j[self.tree.order[n.lo as usize] as usize];
-                (v, v)
-            } else {
-                let (l, r) = (range[n.kids[0] as usize], range[n.kids[1] as usize]);
-                (f64::min(l.0, r.0), f64::max(l.1, r.1))
-            };
-        }
+        let range = self.tree.ranges(|p| (j[p], j[p]));
         let n = self.areas.len();
         let g = |k: usize| self.g.as_ref().map_or(1.0, |g| g[k]);
         let gmax = (0..self.areas.len()).map(g).fold(1.0, f64::max);
@@ -475,23 +456,11 @@ impl Hierarchy {
     }
 
     fn diagnostics(&self, sums: &[f64], open: bool) -> Diagnostics {
-        let n = self.areas.len();
-        let dev: Vec<f64> = (0..n).map(|i| sums[i] / self.areas[i] - 1.0).collect();
-        let err: Vec<f64> = dev.iter().map(|&x| if open { x.max(0.0) } else { x.abs() }).collect();
-        let max_row_error = err.iter().copied().fold(0.0, f64::max);
-        let rms_row_error =
-            if n == 0 { 0.0 } else { (err.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt() };
-        let mut order: Vec<usize> = (0..n).filter(|&i| err[i] > 0.0).collect();
-        order.sort_by(|&a, &b| err[b].total_cmp(&err[a]).then(a.cmp(&b)));
-        let worst = order
-            .into_iter()
-            .take(super::diagnostics::WORST_ROWS)
-            .map(|i| (self.names[i].clone(), dev[i]))
-            .collect();
         let negatives = self.links.iter().filter(|l| l.s < 0.0).count()
             + self.pairs.iter().filter(|p| p.2 < 0.0).count()
             + self.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
-        Diagnostics { max_row_error, rms_row_error, reciprocity: 0.0, negatives, worst }
+        // Reciprocity is exact by construction.
+        Diagnostics::from_rows(sums, &self.areas, &self.names, open, 0.0, negatives)
     }
 
     /// A closed scene whose surface row falls short of 1 by more than its links' error allows

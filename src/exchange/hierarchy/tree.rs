@@ -70,6 +70,18 @@ impl Node {
         self.hi == self.lo
     }
 
+    /// Index (0, 1, 2) of the longest side of the node's box.
+    pub fn longest_axis(&self) -> usize {
+        let ext = self.hi_box - self.lo_box;
+        if ext.x >= ext.y && ext.x >= ext.z {
+            0
+        } else if ext.y >= ext.z {
+            1
+        } else {
+            2
+        }
+    }
+
     /// Largest value of `dir · x` over the node's box.
     #[inline]
     pub fn support(&self, dir: DVec3) -> f64 {
@@ -153,6 +165,21 @@ impl Tree {
         Tree { nodes, order, leaf_of, geom }
     }
 
+    /// Per node: (min, max) over its patches of the leaf ranges `leaf(patch)`.
+    pub fn ranges(&self, leaf: impl Fn(usize) -> (f64, f64)) -> Vec<(f64, f64)> {
+        let mut out = vec![(0.0, 0.0); self.nodes.len()];
+        for k in (0..self.nodes.len()).rev() {
+            let n = &self.nodes[k];
+            out[k] = if n.is_leaf() {
+                leaf(self.order[n.lo as usize] as usize)
+            } else {
+                let (l, r) = (out[n.kids[0] as usize], out[n.kids[1] as usize]);
+                (l.0.min(r.0), l.1.max(r.1))
+            };
+        }
+        out
+    }
+
     /// Patch ids of node `k`.
     #[inline]
     pub fn patches(&self, k: u32) -> &[u32] {
@@ -196,14 +223,7 @@ fn build(ctx: &Build, order: &mut [u32], base: u32, nodes: &mut Vec<Node>) -> u3
 /// Keeps surfaces whole: orders the patches by (surface centroid along the longest axis,
 /// surface) and cuts at the surface boundary nearest the middle.
 fn split_surfaces(ctx: &Build, order: &mut [u32], node: &Node) -> usize {
-    let ext = node.hi_box - node.lo_box;
-    let axis = if ext.x >= ext.y && ext.x >= ext.z {
-        0
-    } else if ext.y >= ext.z {
-        1
-    } else {
-        2
-    };
+    let axis = node.longest_axis();
     let mut sums: std::collections::BTreeMap<u32, (f64, f64)> = std::collections::BTreeMap::new();
     for &p in order.iter() {
         let g = &ctx.geom[p as usize];
@@ -299,14 +319,7 @@ fn split_orientation(geom: &[PatchGeom], order: &mut [u32], node: &Node) -> Opti
 
 /// Cuts at the median centroid along the longest box axis.
 fn split_space(geom: &[PatchGeom], order: &mut [u32], node: &Node) -> usize {
-    let ext = node.hi_box - node.lo_box;
-    let axis = if ext.x >= ext.y && ext.x >= ext.z {
-        0
-    } else if ext.y >= ext.z {
-        1
-    } else {
-        2
-    };
+    let axis = node.longest_axis();
     let mid = order.len() / 2;
     let key = |p: u32| geom[p as usize].centroid[axis];
     order.select_nth_unstable_by(mid, |&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
