@@ -9,8 +9,8 @@
 mod scenes;
 
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, Rung, GAUSS_REL_TOL};
-use lambert::viewfactor::analytic::obstructed::{Policy, EXACT_REL_TOL};
 use lambert::viewfactor::closed_form::{parallel_opposed_rectangles, perpendicular_common_edge};
+use lambert::viewfactor::shadow::policy::{Policy, EXACT_REL_TOL};
 use lambert::viewfactor::{engine, Level, Method, Params};
 use rayon::prelude::*;
 use std::collections::BTreeMap;

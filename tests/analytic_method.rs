@@ -10,8 +10,8 @@ use lambert::geometry::Polygon;
 use lambert::scene::Scene;
 use lambert::viewfactor::analytic::contour::polygon_polygon;
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, Rung, GAUSS_REL_TOL};
-use lambert::viewfactor::analytic::occlusion::Occlusion;
 use lambert::viewfactor::closed_form::{parallel_opposed_rectangles, perpendicular_common_edge};
+use lambert::viewfactor::shadow::detect::Occlusion;
 use lambert::viewfactor::{compute, Level, Method, MethodSet, Params};
 use rand::{Rng, SeedableRng};
 

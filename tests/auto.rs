@@ -5,9 +5,9 @@ use common::{cube_faces, F_BLOCKED, F_PARALLEL, F_PERPENDICULAR};
 use lambert::geometry::DVec3;
 use lambert::scene::Scene;
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
-use lambert::viewfactor::analytic::obstructed::Policy;
-use lambert::viewfactor::auto::MC_SIGMAS;
 use lambert::viewfactor::engine;
+use lambert::viewfactor::shadow::policy::Policy;
+use lambert::viewfactor::shadow::policy::MC_SIGMAS;
 use lambert::viewfactor::{self, Level, Method, MethodSet, Params, ViewFactors};
 
 fn run(scene: &Scene, method: Method, tolerance: f64, level: Level) -> ViewFactors {

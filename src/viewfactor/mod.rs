@@ -20,6 +20,7 @@ pub mod engine;
 pub mod hemicube;
 pub mod monte_carlo;
 pub mod progress;
+pub mod shadow;
 pub mod single_plane;
 pub mod sink;
 pub mod triangle;

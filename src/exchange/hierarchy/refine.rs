@@ -20,7 +20,7 @@
 //! gets the same relative accuracy, loosened where its radiosity difference ΔJ is small (ΔJ:
 //! the range of the radiosity bounds of the patches of A ∪ B).
 use super::tree::{Node, Tree, NONE};
-use crate::viewfactor::analytic::blockers::Blockers;
+use crate::viewfactor::shadow::blockers::Blockers;
 use crate::visibility::Visibility;
 use glam::DVec3;
 use rand::{Rng, SeedableRng};

@@ -2,7 +2,7 @@
 //! rung of the ladder.
 //!
 //! Per row, when the scene has blockers, the receivers are first classified against them
-//! ([`super::obstructed::Shadows`]): clear, blocked by one blocker (F = 0), or partly blocked.
+//! ([`Shadows`]): clear, blocked by one blocker (F = 0), or partly blocked.
 //!
 //! Per pair, cheapest test first:
 //! 1. same plane (plane id) → 0;
@@ -20,12 +20,14 @@
 use super::contour::polygon_polygon;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
-use super::obstructed::{Policy, ShadowScratch, Shadows, EXACT_REL_TOL};
-use super::obstruction::Status;
-use super::occlusion::Occlusion;
 use super::planes::PlaneGroups;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
+use crate::viewfactor::shadow::branch::PairWork;
+use crate::viewfactor::shadow::classify::Status;
+use crate::viewfactor::shadow::detect::Occlusion;
+use crate::viewfactor::shadow::policy::{Policy, EXACT_REL_TOL};
+use crate::viewfactor::shadow::{ShadowScratch, Shadows};
 use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::Result;
 use glam::DVec3;
@@ -246,7 +248,7 @@ impl<'s> AnalyticKernel<'s> {
         j: usize,
         status: Status<'_>,
         (reuse, scratch): (&mut RowLookup<'_>, &mut Scratch),
-        work: &mut super::obstructed::PairWork,
+        work: &mut PairWork,
     ) -> Option<RawEntry> {
         let entry = match status {
             Status::Blocked => return None,

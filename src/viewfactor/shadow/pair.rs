@@ -13,8 +13,8 @@
 //! to a blocker is not chosen as emitter because a small one is slightly farther.
 use super::adaptive::{AdaptInfo, AdaptScratch, Integrator};
 use super::blockers::Blockers;
-use super::obstruction::clip_front;
-use super::shadow::ShadowGeometry;
+use super::classify::clip_front;
+use super::viewpoint::ShadowGeometry;
 use crate::geometry::Polygon;
 use glam::DVec3;
 

@@ -3,7 +3,7 @@
 //! For row i:
 //! 1. the blockers with a point strictly in front of patch i come from the blocker hierarchy;
 //! 2. each is clipped to i's front half-space (the rest meets no segment leaving i) and its
-//!    penumbra and umbra from i are built ([`super::penumbra`]);
+//!    penumbra and umbra from i are built ([`super::volume`]);
 //! 3. the patch hierarchy is walked once for all these volumes: a subtree is pruned when it is
 //!    clear of every penumbra, blocked whole when it is inside some umbra, and the remaining
 //!    receivers that face i are classified one by one against the volumes still in play:
@@ -12,9 +12,9 @@
 //! A receiver absent from the result is unobstructed. The cost follows the receivers near each
 //! blocker's shadow boundary, not N × blockers.
 use super::blockers::Blockers;
-use super::penumbra::{Build, Class, Region, ShadowVolume};
-use super::polygon_ops::clip_ring;
+use super::volume::{Build, Class, Region, ShadowVolume};
 use crate::scene::Scene;
+use crate::viewfactor::analytic::polygon_ops::clip_ring;
 use glam::DVec3;
 
 /// The obstruction status of receiver j in a row.

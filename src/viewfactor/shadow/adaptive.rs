@@ -1,5 +1,5 @@
 //! Adaptive integration of the shaded integrand over the emitter: ∫_E g dA, with g from
-//! [`super::shadow::ShadowGeometry::shaded`].
+//! [`super::viewpoint::ShadowGeometry::shaded`].
 //!
 //! g is continuous but has kinks wherever a shadow edge crosses a receiver edge, so raising a
 //! fixed order converges slowly; the emitter is split instead (View3D's `ViewRP`/`ViewTP`):
@@ -10,7 +10,7 @@
 //!   the estimates sum to the tolerance;
 //! - every cell is split down to [`AdaptParams::min_depth`] first;
 //! - **blockers are re-classified per cell** with the exact penumbra/umbra planes
-//!   ([`super::penumbra`]): a blocker clear of the cell's penumbra is dropped, one whose umbra
+//!   ([`super::volume`]): a blocker clear of the cell's penumbra is dropped, one whose umbra
 //!   holds the whole receiver makes g equal to the unobstructed integrand on that cell, and a
 //!   cell with no blocker left contributes exactly 0;
 //! - **no blocker goes unseen**: a cell in whose penumbra a blocker still lies, but from none
@@ -18,9 +18,9 @@
 //!   the two rules agree. This is what View3D lacks (it misses small blockers near edges,
 //!   research/view3d.md §4 gunter2); the split stops as soon as the smaller cells' penumbrae
 //!   clear the receiver or the shadow is sampled, or at [`AdaptParams::max_depth`].
-use super::obstruction::clip_front;
-use super::penumbra::{plane_of, Build, Class, Plane, ShadowVolume};
-use super::shadow::{Scratch, ShadowGeometry};
+use super::classify::clip_front;
+use super::viewpoint::{Scratch, ShadowGeometry};
+use super::volume::{plane_of, Build, Class, Plane, ShadowVolume};
 use crate::geometry::quadrature::gauss_legendre;
 use glam::DVec3;
 
@@ -428,7 +428,7 @@ pub fn emitter_cells(ring: &[DVec3], normal: DVec3) -> Vec<Cell> {
     if convex {
         return (1..m - 1).map(|k| Cell::Tri([ring[0], ring[k], ring[k + 1]])).collect();
     }
-    super::shadow::ear_indices(&flat)
+    super::viewpoint::ear_indices(&flat)
         .into_iter()
         .map(|[i, j, k]| Cell::Tri([ring[i], ring[j], ring[k]]))
         .collect()

@@ -2,50 +2,24 @@
 //! unobstructed ladder.
 //!
 //! [`Shadows`] holds the scene's blockers and the integration rules; per row it classifies the
-//! receivers ([`super::obstruction::classify_row`]) and per partly obstructed pair it returns
+//! receivers ([`super::classify::classify_row`]) and per partly obstructed pair it returns
 //! the obstructed exchange area under a [`Policy`]:
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
 //!   unobstructed value, rules 3×3 vs 4×4 per cell, minimum depth [`EXACT_MIN_DEPTH`];
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F
-//!   (see [`crate::viewfactor::auto`]).
+//!   (see [`super::policy`]).
 use super::adaptive::{AdaptParams, Integrator};
 use super::blockers::Blockers;
-use super::obstruction::{classify_row, RowShadows};
+use super::classify::{classify_row, RowShadows};
+use super::mc_pair::{estimate, Budget, PatchSampler, SegmentBlocker};
 use super::pair::{shadowed, PairScratch};
+use super::policy::{
+    choose, Choice, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, MAX_DEPTH, MC_MAX_SAMPLES, MC_SIGMAS,
+};
 use crate::scene::Scene;
-use crate::viewfactor::auto::mc_pair::{estimate, Budget, PatchSampler, SegmentBlocker};
-use crate::viewfactor::auto::{choose, Choice, MC_MAX_SAMPLES, MC_SIGMAS};
 use crate::viewfactor::MethodSet;
 use glam::DVec3;
-
-/// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
-/// target (5e-8, `kernel::GAUSS_REL_TOL`), so shadows never dominate the method's error.
-pub const EXACT_REL_TOL: f64 = 1e-8;
-/// `analytic` splits every emitter at least once: four cells, 100 viewpoints, before trusting
-/// the rules (the per-cell blocker checks then catch what coarse rules would miss).
-pub const EXACT_MIN_DEPTH: u32 = 1;
-/// `auto` also splits every emitter once: one cell's rules alone can agree on a wrong value.
-pub const AUTO_MIN_DEPTH: u32 = 1;
-/// Deepest split (4⁸ = 65 536 cells per pair at most), as View3D's maxO.
-pub const MAX_DEPTH: u32 = 8;
-
-/// How partly obstructed pairs are computed.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Policy {
-    /// Shadow integration to `rel_tol` × the unobstructed value.
-    Exact {
-        /// Relative target.
-        rel_tol: f64,
-    },
-    /// Cheapest estimator meeting `tol` on each F.
-    Auto {
-        /// Absolute goal on each F.
-        tol: f64,
-        /// Monte Carlo seed.
-        seed: u64,
-    },
-}
 
 /// One obstructed entry.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,7 +97,7 @@ impl<'s> Shadows<'s> {
 
     /// As [`Self::classify_row`] for the receivers whose boxes meet `region` (lo, hi).
     pub fn classify_row_in(&self, i: usize, region: (DVec3, DVec3), row: &mut RowShadows) {
-        super::obstruction::classify_row_in(self.scene, &self.blockers, i, i + 1, Some(region), row);
+        super::classify::classify_row_in(self.scene, &self.blockers, i, i + 1, Some(region), row);
     }
 
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
@@ -177,7 +151,8 @@ mod tests {
     use super::*;
     use crate::geometry::Polygon;
     use crate::viewfactor::analytic::contour::polygon_polygon;
-    use crate::viewfactor::analytic::obstruction::Status;
+    use crate::viewfactor::shadow::classify::Status;
+    use crate::viewfactor::shadow::policy::EXACT_REL_TOL;
 
     fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
         Polygon::new(crate::geometry::fixtures::square(z, x0, y0, s, up)).unwrap()

@@ -1,44 +1,38 @@
-//! `auto`, the default method: per pair, the cheapest method that meets `--tolerance`.
+//! The policy for partly obstructed pairs: exact shadow integration (`analytic`) or, under
+//! `auto`, the cheaper of shadow integration and Monte Carlo per pair ([`choose`]).
 //!
-//! **Decision rule.** `--tolerance` τ is an absolute goal on each F, so on each exchange area
-//! the goal is τ·A_i. Per pair (i, j):
-//! 1. back-facing or coplanar → 0 (exact);
-//! 2. no blocker reaches the pair (exact classification, [`super::analytic::obstruction`]) →
-//!    the analytic ladder with relative target [`LADDER_SHARE`]·τ (F ≤ 1, so the absolute goal
-//!    holds, and so does every row sum and surface total);
-//! 3. one blocker holds the whole receiver in its umbra → 0 (exact);
-//! 4. partly obstructed → the cheaper of two estimators of the obstructed value, both anchored
-//!    on the exact unobstructed value u = (A_i F_ij)_unobstructed:
-//!    - **analytic-shadowed**: u − ∫_E g dA with the adaptive shadow integration
-//!      ([`super::analytic::adaptive`], rules 2×2 vs 3×3 per cell, the emitter split at least
-//!      once, refined until the rules agree to τ·A_i); expected cost [`SHADOW_EVAL_NS`] ×
-//!      (1 + b·[`SHADOW_BLOCKER_FACTOR`]) per viewpoint, [`SHADOW_EVALS`] viewpoints at the
-//!      minimum depth, times about √(u/(τA_i)) for the refinement;
-//!    - **Monte Carlo** ([`mc_pair`]): u·ΣKV/ΣK; its standard error is at most
-//!      u·√(¼/n), so n = ¼(Z·u/(τA_i))² samples (Z = [`MC_SIGMAS`]) always meet the goal,
-//!      at [`MC_SAMPLE_NS`] × (1 + b·[`MC_BLOCKER_FACTOR`]) each, b the number of blockers.
-//!
-//!    The entry records which one produced it (`analytic-shadowed` or `mc-area`).
-//!
-//! Effort therefore goes only where the error needs it: nothing is sampled for clear or fully
-//! hidden pairs, and a small pair far below the goal costs a handful of samples.
-pub mod mc_pair;
+//! The cost model of [`choose`]: shadow integration costs [`SHADOW_EVAL_NS`] ×
+//! (1 + b·[`SHADOW_BLOCKER_FACTOR`]) per viewpoint, [`SHADOW_EVALS`] viewpoints at the minimum
+//! depth, times about √(u/goal) for the refinement; Monte Carlo needs n = ¼(Z·u/goal)²
+//! samples (Z = [`MC_SIGMAS`]) at [`MC_SAMPLE_NS`] × (1 + b·[`MC_BLOCKER_FACTOR`]) each, b the
+//! number of partial blockers.
 
-use super::analytic::kernel::AnalyticKernel;
-use super::analytic::obstructed::Policy;
-use super::Params;
-use crate::scene::Scene;
+/// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
+/// target (5e-8, `kernel::GAUSS_REL_TOL`), so shadows never dominate the method's error.
+pub const EXACT_REL_TOL: f64 = 1e-8;
+/// `analytic` splits every emitter at least once: four cells, 100 viewpoints, before trusting
+/// the rules (the per-cell blocker checks then catch what coarse rules would miss).
+pub const EXACT_MIN_DEPTH: u32 = 1;
+/// `auto` also splits every emitter once: one cell's rules alone can agree on a wrong value.
+pub const AUTO_MIN_DEPTH: u32 = 1;
+/// Deepest split (4⁸ = 65 536 cells per pair at most), as View3D's maxO.
+pub const MAX_DEPTH: u32 = 8;
 
-/// Share of the tolerance given to the Gauss ladder on clear pairs, as a relative target:
-/// a tenfold margin on the ladder's error model costs little (its rules converge
-/// exponentially) and keeps the ladder's systematic error well inside every total.
-pub const LADDER_SHARE: f64 = 0.1;
-
-/// The `auto` kernel for `scene`: the analytic kernel with the [`Policy::Auto`] obstructed
-/// branch and the ladder's relative target [`LADDER_SHARE`] × `--tolerance`.
-pub fn kernel<'s>(scene: &'s Scene, params: &Params) -> AnalyticKernel<'s> {
-    let tol = params.tolerance;
-    AnalyticKernel::with_policy(scene, LADDER_SHARE * tol, Policy::Auto { tol, seed: params.seed })
+/// How partly obstructed pairs are computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Policy {
+    /// Shadow integration to `rel_tol` × the unobstructed value.
+    Exact {
+        /// Relative target.
+        rel_tol: f64,
+    },
+    /// Cheapest estimator meeting `tol` on each F.
+    Auto {
+        /// Absolute goal on each F.
+        tol: f64,
+        /// Monte Carlo seed.
+        seed: u64,
+    },
 }
 
 /// Monte Carlo must meet the goal at this many standard errors (about 95 %).

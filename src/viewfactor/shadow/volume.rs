@@ -15,7 +15,7 @@
 //!
 //! A convex receiver outside one penumbra plane is clear; one inside every umbra plane is
 //! blocked. Anything else is partial and goes to the shadow integrator.
-use super::polygon_ops::{convex_disjoint, convex_hull, twice_area, HalfPlane};
+use crate::viewfactor::analytic::polygon_ops::{convex_disjoint, convex_hull, twice_area, HalfPlane};
 pub use crate::visibility::boxes::Region;
 use glam::{DVec2, DVec3};
 

@@ -12,9 +12,9 @@
 //!   segment between two patches can cross it (the walls of a convex room never block).
 //! - Both hierarchies are walked with a box predicate; boxes are padded, so a conservative
 //!   predicate gives a conservative query.
-use super::polygon_ops::{convex_hull, twice_area};
 use crate::geometry::Polygon;
 use crate::scene::Scene;
+use crate::viewfactor::analytic::polygon_ops::{convex_hull, twice_area};
 use crate::visibility::boxes::BoxTree;
 use glam::{DVec2, DVec3};
 

@@ -15,13 +15,13 @@
 //!   cut as in View3D, no point at infinity (for a bounded convex hull the constraints force
 //!   W > 0), and every shadow lands inside the hull;
 //! - the shadows' union is built as disjoint convex pieces (each new shadow minus the pieces
-//!   so far, [`super::polygon_ops::subtract_convex`]);
+//!   so far, [`crate::viewfactor::analytic::polygon_ops::subtract_convex`]);
 //! - Lambert's formula over those pieces gives g(p) = F(dA_p → shaded part).
 //!
 //! The pair's exchange area is then A·F = (A·F)_unobstructed − ∫_E g dA, which never exceeds
 //! the unobstructed value since g ≥ 0.
-use super::lambert::edge_term;
-use super::polygon_ops::{
+use crate::viewfactor::analytic::lambert::edge_term;
+use crate::viewfactor::analytic::polygon_ops::{
     clip_convex, clip_ring, subtract_convex, twice_area, HalfPlane, PieceSet, Scratch as OpsScratch,
 };
 use glam::{DVec2, DVec3};
@@ -152,7 +152,7 @@ impl ShadowGeometry {
         let mut hull_pts: Vec<DVec2> = receiver.iter().flatten().copied().collect();
         let receiver_ring = hull_pts.iter().map(|q| q.extend(0.0)).collect();
         let mut hull_ring = Vec::new();
-        super::polygon_ops::convex_hull(&mut hull_pts, &mut hull_ring);
+        crate::viewfactor::analytic::polygon_ops::convex_hull(&mut hull_pts, &mut hull_ring);
         let hull = edges_of(&hull_ring);
         let convex = convex && receiver.len() == 1;
         // Blockers: in front of the receiver (z ≥ 0) and of the emitter's plane.

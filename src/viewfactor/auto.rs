@@ -1,0 +1,38 @@
+//! `auto`, the default method: per pair, the cheapest method that meets `--tolerance`.
+//!
+//! **Decision rule.** `--tolerance` τ is an absolute goal on each F, so on each exchange area
+//! the goal is τ·A_i. Per pair (i, j):
+//! 1. back-facing or coplanar → 0 (exact);
+//! 2. no blocker reaches the pair (exact classification, [`super::shadow::classify`]) →
+//!    the analytic ladder with relative target [`LADDER_SHARE`]·τ (F ≤ 1, so the absolute goal
+//!    holds, and so does every row sum and surface total);
+//! 3. one blocker holds the whole receiver in its umbra → 0 (exact);
+//! 4. partly obstructed → the cheaper of two estimators of the obstructed value, both anchored
+//!    on the exact unobstructed value u = (A_i F_ij)_unobstructed, chosen per pair by
+//!    [`choose`](super::shadow::policy::choose) (the cost model and its constants live in [`super::shadow::policy`]):
+//!    - **analytic-shadowed**: u − ∫_E g dA with the adaptive shadow integration
+//!      ([`super::shadow::adaptive`], rules 2×2 vs 3×3 per cell, the emitter split at least
+//!      once, refined until the rules agree to τ·A_i);
+//!    - **Monte Carlo** ([`super::shadow::mc_pair`]): u·ΣKV/ΣK; its standard error is at most
+//!      u·√(¼/n), so n = ¼(Z·u/(τA_i))² samples always meet the goal.
+//!
+//!    The entry records which one produced it (`analytic-shadowed` or `mc-area`).
+//!
+//! Effort therefore goes only where the error needs it: nothing is sampled for clear or fully
+//! hidden pairs, and a small pair far below the goal costs a handful of samples.
+use super::analytic::kernel::AnalyticKernel;
+use super::shadow::policy::Policy;
+use super::Params;
+use crate::scene::Scene;
+
+/// Share of the tolerance given to the Gauss ladder on clear pairs, as a relative target:
+/// a tenfold margin on the ladder's error model costs little (its rules converge
+/// exponentially) and keeps the ladder's systematic error well inside every total.
+pub const LADDER_SHARE: f64 = 0.1;
+
+/// The `auto` kernel for `scene`: the analytic kernel with the [`Policy::Auto`] obstructed
+/// branch and the ladder's relative target [`LADDER_SHARE`] × `--tolerance`.
+pub fn kernel<'s>(scene: &'s Scene, params: &Params) -> AnalyticKernel<'s> {
+    let tol = params.tolerance;
+    AnalyticKernel::with_policy(scene, LADDER_SHARE * tol, Policy::Auto { tol, seed: params.seed })
+}

@@ -1,0 +1,38 @@
+//! The exact-shadow branch: obstructed patch pairs, from blocker detection to the obstructed
+//! exchange area. Depends on `analytic`'s exact kernels (Lambert, planes) and on geometry;
+//! never on `auto`, which picks a [`Policy`] and hands it to the analytic kernel.
+//!
+//! Blockers and detection:
+//! - [`blockers`]: the scene's convex blockers (surface outlines) and their box hierarchies;
+//! - [`detect`]: which patch pairs have part of their view cut (the unshadowed analytic
+//!   method's check, a separating-axis test per blocker plane);
+//!
+//! Classification:
+//! - [`volume`]: exact clear / blocked / partial class of a receiver against one blocker
+//!   (penumbra and umbra volumes);
+//! - [`classify`]: per row, the obstructed receivers and their partial blockers;
+//!
+//! Integration:
+//! - [`viewpoint`]: shadow clipping from one viewpoint (the shaded integrand g);
+//! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification;
+//! - [`pair`]: one obstructed pair: emitter choice, shadow integration, A·F;
+//! - [`mc_pair`]: the Monte Carlo ratio estimator for one pair (`auto` only);
+//!
+//! Policy:
+//! - [`policy`]: [`Policy`] (exact or `auto`), and [`policy::choose`], the per-pair
+//!   shadow-integration-vs-Monte-Carlo decision with its cost model;
+//! - [`branch`]: [`Shadows`], the branch a kernel row calls: classify, then integrate under
+//!   the policy.
+pub mod adaptive;
+pub mod blockers;
+pub mod branch;
+pub mod classify;
+pub mod detect;
+pub mod mc_pair;
+pub mod pair;
+pub mod policy;
+pub mod viewpoint;
+pub mod volume;
+
+pub use branch::{Obstructed, PairWork, ShadowScratch, Shadows};
+pub use policy::Policy;
