@@ -145,7 +145,7 @@ const LEAN_SURFACES: usize = 512;
 /// `viewfactors` on the lean packed store when the output is patch-level, enforced, or has
 /// many surfaces (and the method has a row kernel); false sends the run to the sparse path.
 fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) -> Result<bool> {
-    let symmetric = matches!(cfg.params.method, Method::Auto | Method::Analytic);
+    let symmetric = cfg.params.method.is_symmetric();
     let wanted = level == Level::Patch || mode != Enforce::None || scene.surfaces.len() > LEAN_SURFACES;
     if cfg.params.method.is_monte_carlo() || !(symmetric || mode != Enforce::None) || !wanted {
         return Ok(false);
@@ -230,19 +230,10 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
     let ex = Exchange::from_viewfactors(vf);
     let mut leaks: Vec<(usize, f64)> =
         exchange::enforce::leaks(&ex).iter().map(|l| (l.node, l.row_sum)).collect();
-    // The exact method's error is far below the general threshold: check against its own.
-    // `auto` is exact only where every entry came from the ladder, to LADDER_SHARE × its goal;
-    // its sampled and shadow-integrated entries are covered by the general check alone.
+    // An exact method's error is far below the general threshold: check against its own.
     if leaks.is_empty() {
-        use viewfactor::analytic::kernel::LEAK_TOL;
-        let own = match method {
-            Method::Analytic => Some(LEAK_TOL),
-            Method::Auto if vf.rows.iter().flatten().all(|e| e.method == MethodSet::ANALYTIC) => {
-                Some(LEAK_TOL.max(viewfactor::auto::LADDER_SHARE * tolerance))
-            }
-            _ => None,
-        };
-        if let Some(tol) = own {
+        let all_ladder = || vf.rows.iter().flatten().all(|e| e.method == MethodSet::ANALYTIC);
+        if let Some(tol) = method.own_leak_tol(tolerance, all_ladder) {
             leaks = viewfactor::analytic::kernel::leaks(vf, tol);
         }
     }
@@ -324,7 +315,7 @@ fn with_outward_hint(scene: &Scene, e: Error) -> Error {
 
 /// Rays per patch when the method counts hits with equal weights.
 fn hit_rays(p: &viewfactor::Params) -> Option<usize> {
-    matches!(p.method, viewfactor::Method::McCosine | viewfactor::Method::McUniform).then_some(p.samples)
+    p.method.counts_hits().then_some(p.samples)
 }
 
 fn mode_name(m: Enforce) -> &'static str {
@@ -551,7 +542,7 @@ fn lean_served(
     mode: Enforce,
     params: &solve::Params,
 ) -> bool {
-    let symmetric = matches!(vf.method, Method::Auto | Method::Analytic);
+    let symmetric = vf.method.is_symmetric();
     a.viewfactors.is_none()
         && a.conductances.is_none()
         && scene.spectral.is_none()

@@ -8,7 +8,7 @@
 //!
 //! The triangle already holds s̄ = ½(s + sᵀ): reciprocity is exact by storage.
 use super::diagnostics::{Diagnostics, WORST_ROWS};
-use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS, LEAK_TOL, LEAK_TOL_SINGLE_PLANE};
+use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS};
 use super::linalg::{dot, norm};
 use super::operator::Operator;
 use crate::error::InputError;
@@ -48,12 +48,7 @@ pub fn leaks(t: &Triangle) -> Vec<(usize, f64, f64)> {
             let p = t.raw_row_sums[i] / t.areas[i];
             let m = t.raw_row_methods[i];
             let sigma = t.raw_row_vars[i].sqrt() / t.areas[i];
-            let det = if m.union(MethodSet::SINGLE_PLANE) == m && !m.is_empty() {
-                LEAK_TOL_SINGLE_PLANE
-            } else {
-                LEAK_TOL
-            };
-            let threshold = det.max(LEAK_SIGMAS * sigma);
+            let threshold = m.leak_tol().max(LEAK_SIGMAS * sigma);
             (1.0 - p > threshold).then_some((i, p, threshold))
         })
         .collect();

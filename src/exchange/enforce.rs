@@ -18,15 +18,8 @@ use std::str::FromStr;
 
 /// Closure target: max |Σ_j F_ij − 1| after enforcement (a few hundred ulps of 1).
 pub const CLOSURE_TOL: f64 = 1e-12;
-/// Leak threshold for deterministic methods: analytic and hemicube rows close to ~1e-5 or
-/// better, so a shortfall above 1e-3 is geometry, not method error.
-pub const LEAK_TOL: f64 = 1e-3;
-/// Leak threshold for single-plane, whose finite plane misses up to ~1 % of grazing
-/// directions (literature.md §4: the plane captures 0.9919 at half-width 10).
-pub const LEAK_TOL_SINGLE_PLANE: f64 = 2e-2;
-/// Monte Carlo rows leak when short by more than this many standard errors of the row sum
-/// (and by more than [`LEAK_TOL`]): a false alarm needs a 4σ event.
-pub const LEAK_SIGMAS: f64 = 4.0;
+/// The leak thresholds are the methods' own knowledge ([`crate::viewfactor::accuracy`]).
+pub use crate::viewfactor::accuracy::{LEAK_SIGMAS, LEAK_TOL, LEAK_TOL_SINGLE_PLANE};
 
 /// The SPEC.md enforcement modes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -144,12 +137,7 @@ pub fn leaks(ex: &Exchange) -> Vec<Leak> {
             } else {
                 ex.var[ip[i]..ip[i + 1]].iter().sum::<f64>().sqrt() / ex.areas[i]
             };
-            let det = if methods.union(MethodSet::SINGLE_PLANE) == methods && !methods.is_empty() {
-                LEAK_TOL_SINGLE_PLANE
-            } else {
-                LEAK_TOL
-            };
-            let threshold = det.max(LEAK_SIGMAS * sigma);
+            let threshold = methods.leak_tol().max(LEAK_SIGMAS * sigma);
             (1.0 - p > threshold).then_some(Leak { node: i, row_sum: p, threshold })
         })
         .collect();

@@ -1,38 +1,27 @@
-//! Per-method error models: the absolute tolerance a method must meet on a reference quantity,
-//! and the run budget (samples, resolution, goal) that the model is evaluated at.
+//! Reference checks: the absolute tolerance a method must meet on a reference quantity, and
+//! the run budget (samples, resolution, goal) it is evaluated at.
 //!
-//! | method | tolerance on F_IJ |
+//! The tolerance on F_IJ is the method's own error model
+//! ([`Method::error_bound`](crate::viewfactor::Method::error_bound), in
+//! [`crate::viewfactor::accuracy`]) plus the reference's uncertainty and [`ABS_FLOOR`]:
+//!
+//! | method | error model |
 //! |---|---|
-//! | analytic | `ANALYTIC_REL`·F + reference uncertainty |
-//! | auto | its `--tolerance` goal + reference uncertainty |
-//! | mc-* | `MC_SIGMAS`·max(σ̂, σ_binomial) + reference uncertainty |
-//! | hemicube | point-sampling bias + `RASTER_COEFF`·√F / R + uncertainty |
+//! | analytic | `ANALYTIC_REL`·F |
+//! | auto | its `--tolerance` goal |
+//! | mc-* | `MC_ERROR_SIGMAS`·max(σ̂, σ_binomial) |
+//! | hemicube | point-sampling bias + `RASTER_COEFF`·√F / R |
 //! | single-plane | the hemicube terms + min(F, missed hemisphere fraction) |
 //!
 //! The point-sampling bias bounds the hemicube's proximity error whether it projects from the
 //! centroid or from a few Gauss points per patch (its adaptive positions).
 use super::case::VfRef;
+use crate::viewfactor::accuracy::ErrorInputs;
 use crate::viewfactor::{Method, Params};
 
-/// Analytic relative tolerance: the contour integral is exact to ~1e-12; 1e-9 leaves room for
-/// f64 summation over many patch pairs (literature §2, robust integrator recipe).
-pub const ANALYTIC_REL: f64 = 1e-9;
 /// Absolute floor for every tolerance: sums of O(1) terms carry ~1e-15 round-off, and a
 /// structural zero must come out below this.
 pub const ABS_FLOOR: f64 = 1e-13;
-/// Monte Carlo: standard errors allowed. Two-sided normal tail 6e-5 per check, so a false alarm
-/// over a few hundred Monte Carlo checks stays near 1 %.
-pub const MC_SIGMAS: f64 = 4.0;
-/// Hemicube / single-plane rasterisation error ≤ `RASTER_COEFF`·√F/R: a target of angular size θ
-/// spans θR/2 pixels and loses O(1) pixel per edge, so δF ∝ θ/R ∝ √F/R; literature §4 gives
-/// 0.42·√0.2 at the adjacent cube face and ≤ 0.95·√F for aliasing small targets; 2 bounds both.
-pub const RASTER_COEFF: f64 = 2.0;
-/// Single plane: the hemisphere fraction outside its plane of half-width s at unit height,
-/// 1 − 4·F_corner(s, s, 1) (literature §4), the method's one-sided grazing bias.
-pub fn single_plane_missed() -> f64 {
-    let s = crate::viewfactor::single_plane::DEFAULT_HALF_WIDTH;
-    1.0 - 4.0 * super::oracle::closed::element_to_rectangle_corner(s, s, 1.0)
-}
 /// Heat quantities from exact factors: F exact to 1e-9, amplified by the enclosure's condition
 /// (λ_min(K) ≈ 0.29 in E3), plus the solver's round-off.
 pub const HEAT_EXACT_REL: f64 = 1e-7;
@@ -94,24 +83,9 @@ impl Budget {
 /// Tolerance of `method` (run with `params`) on reference `r`; `sigma` is the reported standard
 /// error and `rays` the samples cast from the emitting surface.
 pub fn view_factor(method: Method, params: &Params, r: &VfRef, sigma: f64, rays: f64) -> f64 {
-    let f = r.value;
-    let model = match method {
-        Method::Analytic => ANALYTIC_REL * f,
-        Method::Auto => params.tolerance,
-        Method::McArea | Method::McUniform | Method::McCosine => {
-            // The binomial σ of the reference value guards against a zero-hit estimate whose own
-            // σ̂ is 0.
-            let binomial = (f * (1.0 - f).max(0.0) / rays.max(1.0)).sqrt();
-            MC_SIGMAS * sigma.max(binomial)
-        }
-        Method::Hemicube => r.point_bias + raster(f, params.resolution),
-        Method::SinglePlane => r.point_bias + raster(f, params.resolution) + f.min(single_plane_missed()),
-    };
+    let model =
+        method.error_bound(params, &ErrorInputs { f: r.value, sigma, rays, point_bias: r.point_bias });
     model + r.uncertainty + ABS_FLOOR
-}
-
-fn raster(f: f64, resolution: usize) -> f64 {
-    RASTER_COEFF * f.sqrt() / resolution as f64
 }
 
 #[cfg(test)]

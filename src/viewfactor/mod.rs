@@ -7,12 +7,15 @@
 //! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
+//! - [`accuracy`]: what each method knows about its own error (leak thresholds, error model,
+//!   accuracy knob), asked by the CLI, enforcement and validation;
 //! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
 use crate::scene::Scene;
 use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
 
+pub mod accuracy;
 pub mod analytic;
 pub mod auto;
 pub mod closed_form;

@@ -6,7 +6,8 @@ use super::sweep::{measure, series, table, Point};
 use crate::report::charts::{self, Chart};
 use crate::scene::Scene;
 use crate::validate::runner::METHODS;
-use crate::viewfactor::{Method, Params, ViewFactors};
+use crate::viewfactor::accuracy::Knob;
+use crate::viewfactor::{Params, ViewFactors};
 use crate::Result;
 use std::path::Path;
 
@@ -32,18 +33,18 @@ fn sweep(
 ) -> Vec<Point> {
     let mut points = Vec::new();
     for method in METHODS {
-        let runs: Vec<(f64, Params)> = match method {
-            Method::Analytic | Method::Auto => k
+        let runs: Vec<(f64, Params)> = match method.knob() {
+            Knob::Tolerance => k
                 .tolerances
                 .iter()
                 .map(|&t| (t, Params { method, tolerance: t, ..Params::default() }))
                 .collect(),
-            Method::Hemicube | Method::SinglePlane => k
+            Knob::Resolution => k
                 .resolutions
                 .iter()
                 .map(|&r| (r as f64, Params { method, resolution: r, ..Params::default() }))
                 .collect(),
-            _ => k
+            Knob::Samples => k
                 .samples
                 .iter()
                 .map(|&n| (n as f64, Params { method, samples: n, seed: 1, ..Params::default() }))
