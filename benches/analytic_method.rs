@@ -3,7 +3,7 @@
 //!
 //! `cargo bench --bench analytic_method`. On a shared machine prefer the CPU-time examples
 //! (`analytic_scaling`, `cube_speed`): criterion measures wall time.
-#[path = "../tests/support/analytic_scenes.rs"]
+#[path = "../tests/common/analytic_scenes.rs"]
 mod scenes;
 
 use criterion::{criterion_group, criterion_main, Criterion};

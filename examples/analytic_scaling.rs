@@ -8,7 +8,7 @@
 //! ROW_STRIDE = k > 1 only every k-th row is computed (in parallel, through the same kernel)
 //! and the full run's time is *estimated* from the pairs those rows cover: for runs that would
 //! take too long (N ≈ 100k has 5e9 pairs). Prints wall and CPU time, pairs/s and peak RSS.
-#[path = "../tests/support/analytic_scenes.rs"]
+#[path = "../tests/common/analytic_scenes.rs"]
 mod scenes;
 
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};

@@ -5,7 +5,7 @@
 //! `cargo run --release --example cube_speed -- [n=36] [threads] [rungs|direct]`; with `rungs`, a
 //! second (untimed) pass counts the pairs per ladder rung; with `direct`, every pair is
 //! evaluated (no translated-pair tables), which measures the ladder's raw speed.
-#[path = "../tests/support/analytic_scenes.rs"]
+#[path = "../tests/common/analytic_scenes.rs"]
 mod scenes;
 
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, Rung, GAUSS_REL_TOL};

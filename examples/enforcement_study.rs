@@ -8,8 +8,8 @@
 
 // Dense matrix sums read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-#[path = "../tests/support/mod.rs"]
-mod support;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use lambert::exchange::{enforce, ClosureMethod, Diagnostics, Enforce, EnforceParams, Exchange};
 use lambert::scene::BoundaryCondition::Temperature;
@@ -92,10 +92,10 @@ fn heat_rates(scene: &Scene, ex: &Exchange) -> Vec<f64> {
 }
 
 fn main() {
-    let (scene, s) = support::box_scene([1.0, 2.0, 3.0], 2, &props());
+    let (scene, s) = common::box_scene([1.0, 2.0, 3.0], 2, &props());
     let n = s.len();
     let areas = scene.patch_areas();
-    let exact_ex = Exchange::from_viewfactors(&support::patch_vf(&scene, &s));
+    let exact_ex = Exchange::from_viewfactors(&common::patch_vf(&scene, &s));
     let q_exact = heat_rates(&scene, &exact_ex);
     let variants = [
         Variant::Raw,
@@ -115,7 +115,7 @@ fn main() {
         for (k, rays) in [1000u32, 200].into_iter().enumerate() {
             let mut sum2 = 0.0;
             for seed in 0..SEEDS {
-                let vf = support::multinomial(&scene, &s, rays, 1000 * rays as u64 + seed);
+                let vf = common::multinomial(&scene, &s, rays, 1000 * rays as u64 + seed);
                 let mut ex = Exchange::from_viewfactors(&vf);
                 apply(v, &mut ex);
                 for i in 0..n {

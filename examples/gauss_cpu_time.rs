@@ -2,7 +2,7 @@
 //! (loaded) machines where wall-clock benches are inflated:
 //! `cargo run --release --example gauss_cpu_time`. Reads the thread's on-CPU nanoseconds from
 //! /proc/thread-self/schedstat (Linux only).
-#[path = "../tests/support/analytic_scenes.rs"]
+#[path = "../tests/common/analytic_scenes.rs"]
 mod scenes;
 
 use glam::DVec3;

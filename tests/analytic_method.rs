@@ -2,8 +2,9 @@
 //! against the closed forms, surface aggregation with F_II > 0, open scenes, the Gauss
 //! ladder's error bound swept over separations, determinism, and pairs whose view is partly
 //! blocked (shadowed exactly; blocker detection checked against brute-force sampling).
-#[path = "support/analytic_scenes.rs"]
-mod scenes;
+mod common;
+
+use common::analytic_scenes as scenes;
 
 use glam::{DQuat, DVec3};
 use lambert::geometry::Polygon;

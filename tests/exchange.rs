@@ -3,7 +3,7 @@
 //! thread-count determinism.
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-mod support;
+mod common;
 
 use lambert::exchange::{enforce, ClosureMethod, Diagnostics, Enforce, EnforceParams, Exchange};
 use lambert::scene::BoundaryCondition::HeatFlux;
@@ -16,7 +16,7 @@ use rand_pcg::Pcg64;
 const CLOSED: f64 = 1e-11;
 
 fn box24() -> (lambert::scene::Scene, Vec<Vec<f64>>) {
-    support::box_scene([1.0, 2.0, 3.0], 2, &[(0.5, HeatFlux(0.0)); 6])
+    common::box_scene([1.0, 2.0, 3.0], 2, &[(0.5, HeatFlux(0.0)); 6])
 }
 
 /// Exact factors with a deterministic relative perturbation of up to `amp` (reciprocity and
@@ -28,7 +28,7 @@ fn perturbed(amp: f64, seed: u64) -> (ViewFactors, Vec<Vec<f64>>) {
         .iter()
         .map(|r| r.iter().map(|&v| v * (1.0 + amp * (2.0 * rng.random::<f64>() - 1.0))).collect())
         .collect();
-    let mut vf = support::patch_vf(&scene, &noisy);
+    let mut vf = common::patch_vf(&scene, &noisy);
     // Declare the noise as each entry's standard error, so the leak check accepts it.
     for e in vf.rows.iter_mut().flatten() {
         e.std_error = amp * e.factor;
@@ -68,7 +68,7 @@ fn every_closure_method_closes_and_keeps_zeros() {
 #[test]
 fn exact_factors_are_a_fixed_point() {
     let (scene, s) = box24();
-    let vf = support::patch_vf(&scene, &s);
+    let vf = common::patch_vf(&scene, &s);
     for m in [ClosureMethod::SymmetricScaling, ClosureMethod::WeightedLs] {
         let mut ex = Exchange::from_viewfactors(&vf);
         enforce(&mut ex, &closed(Enforce::Closure, m)).unwrap();
@@ -83,7 +83,7 @@ fn exact_factors_are_a_fixed_point() {
 #[test]
 fn max_likelihood_on_hit_counts() {
     let (scene, s) = box24();
-    let vf = support::multinomial(&scene, &s, 1000, 7);
+    let vf = common::multinomial(&scene, &s, 1000, 7);
     let mut ex = Exchange::from_viewfactors(&vf);
     assert!(ex.has_hit_counts());
     let rep = enforce(&mut ex, &closed(Enforce::Closure, ClosureMethod::Auto)).unwrap();
@@ -115,7 +115,7 @@ fn leaking_closed_scene_is_refused() {
         .iter()
         .map(|r| r.iter().enumerate().map(|(j, &v)| if j >= n - 4 { 0.0 } else { v }).collect())
         .collect();
-    let mut ex = Exchange::from_viewfactors(&support::patch_vf(&scene, &cut));
+    let mut ex = Exchange::from_viewfactors(&common::patch_vf(&scene, &cut));
     let p = EnforceParams { source: "box.toml".into(), ..closed(Enforce::Closure, ClosureMethod::Auto) };
     let err = enforce(&mut ex, &p).unwrap_err();
     assert_eq!(err.exit_code(), 2);
@@ -123,12 +123,12 @@ fn leaking_closed_scene_is_refused() {
     assert!(msg.contains("box.toml") && msg.contains("leaks") && msg.contains("#"), "{msg}");
     // Reciprocity alone does not refuse, and a tiny shortfall below the threshold closes.
     assert!(enforce(
-        &mut Exchange::from_viewfactors(&support::patch_vf(&scene, &cut)),
+        &mut Exchange::from_viewfactors(&common::patch_vf(&scene, &cut)),
         &closed(Enforce::Reciprocity, ClosureMethod::Auto)
     )
     .is_ok());
     let short: Vec<Vec<f64>> = s.iter().map(|r| r.iter().map(|v| v * (1.0 - 5e-4)).collect()).collect();
-    let mut ex = Exchange::from_viewfactors(&support::patch_vf(&scene, &short));
+    let mut ex = Exchange::from_viewfactors(&common::patch_vf(&scene, &short));
     enforce(&mut ex, &closed(Enforce::Closure, ClosureMethod::Auto)).unwrap();
     assert_closed_and_reciprocal(&ex, &s);
 }
@@ -169,7 +169,7 @@ fn bipartite_pair_closes() {
     // Two plates that see only each other (a bipartite graph: singular constraint matrix).
     let names = vec!["a".to_string(), "b".to_string()];
     for m in [ClosureMethod::SymmetricScaling, ClosureMethod::WeightedLs, ClosureMethod::UnweightedLs] {
-        let vf = support::vf_from_s(
+        let vf = common::vf_from_s(
             names.clone(),
             vec![2.0, 2.0],
             &[vec![0.0, 1.9995], vec![1.9991, 0.0]],
@@ -185,7 +185,7 @@ fn bipartite_pair_closes() {
         );
     }
     // Unequal areas on the two sides: closure is infeasible and says so.
-    let vf = support::vf_from_s(
+    let vf = common::vf_from_s(
         names,
         vec![2.0, 2.001],
         &[vec![0.0, 1.9995], vec![1.9995, 0.0]],
@@ -200,7 +200,7 @@ fn bipartite_pair_closes() {
 #[test]
 fn enforcement_is_thread_count_independent() {
     let (scene, s) = box24();
-    let vf = support::multinomial(&scene, &s, 200, 11);
+    let vf = common::multinomial(&scene, &s, 200, 11);
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
@@ -217,7 +217,7 @@ fn enforcement_is_thread_count_independent() {
 #[test]
 fn aggregation_preserves_closure() {
     let (scene, s) = box24();
-    let vf = support::multinomial(&scene, &s, 500, 5);
+    let vf = common::multinomial(&scene, &s, 500, 5);
     let mut ex = Exchange::from_viewfactors(&vf);
     enforce(&mut ex, &closed(Enforce::Closure, ClosureMethod::Auto)).unwrap();
     let group: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();

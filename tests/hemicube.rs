@@ -3,18 +3,17 @@
 //! Errors are split as the methods make them: *pixel* error, checked against Lambert's exact
 //! point-to-polygon factor at the same projection positions, and *position* (proximity)
 //! error, checked against the catalogue area factors. Tolerances follow the §4 error models
-//! (support.rs): O(h²) for the midpoint delta factors, O(h) where edges cut pixels, aliasing
+//! (common/hemicube.rs): O(h²) for the midpoint delta factors, O(h) where edges cut pixels, aliasing
 //! for targets a few pixels wide, and the single plane's grazing-angle loss.
-#[path = "hemicube/support.rs"]
-mod support;
+mod common;
 
+use common::hemicube::*;
 use glam::{DAffine3, DVec3};
 use lambert::scene::Scene;
 use lambert::viewfactor::hemicube::{HemicubeKernel, Positions};
 use lambert::viewfactor::single_plane::{SinglePlaneKernel, SinglePlaneOptions, Spacing};
 use lambert::viewfactor::{compute, Level, Method, Params};
 use lambert::Error;
-use support::*;
 
 #[test]
 fn cube_from_floor_centre_converges_at_the_model_orders() {

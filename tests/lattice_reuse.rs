@@ -3,8 +3,9 @@
 //! congruent pairs), on gridded boxes (any grid sizes, mirrored and swapped
 //! grid steps, rotated and shifted), on a scene file with blockers, and the tables do serve
 //! the pairs they should.
-#[path = "support/analytic_scenes.rs"]
-mod scenes;
+mod common;
+
+use common::analytic_scenes as scenes;
 
 use glam::{DQuat, DVec3};
 use lambert::scene::Scene;

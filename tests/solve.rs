@@ -2,14 +2,14 @@
 //! from C-11/C-14) and closed forms (concentric cubes), all solvers, energy balance.
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-mod support;
+mod common;
 
+use common::rect_exact as rect;
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::scene::BoundaryCondition::{HeatFlux, Temperature};
 use lambert::scene::{BoundaryCondition, Scene};
 use lambert::solve::{self, Params, Solution, Solver};
 use lambert::SIGMA;
-use support::rect;
 
 /// E1–E5 are quoted to 8 significant figures; the solves match to ~1e-12, so 1e-6 relative
 /// is the brief's bound with room for the reference rounding only.
@@ -62,7 +62,7 @@ fn rectangle_oracle_matches_catalogue() {
 #[test]
 fn box_patch_factors_close_and_reciprocate() {
     let props = [(0.5, HeatFlux(0.0)); 6];
-    let (scene, s) = support::box_scene([1.0, 2.0, 3.0], 2, &props);
+    let (scene, s) = common::box_scene([1.0, 2.0, 3.0], 2, &props);
     let areas = scene.patch_areas();
     for i in 0..s.len() {
         let sum: f64 = s[i].iter().sum::<f64>() / areas[i];
@@ -96,8 +96,8 @@ fn check_e3(sol: &Solution) {
 #[test]
 fn e3_cube_furnace_every_solver() {
     // E3 is the six-node (uniform radiosity per face) answer: one patch per face.
-    let (scene, s) = support::box_scene([1.0; 3], 1, &e3_props());
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+    let (scene, s) = common::box_scene([1.0; 3], 1, &e3_props());
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
     for (solver, dense_max) in SOLVERS {
         let p = Params { solver, dense_max, dense_full_max: dense_max, ..Params::default() };
         check_e3(&solve::solve_gray(&scene, &ex, &p).expect("solve").by_surface(&scene));
@@ -110,8 +110,8 @@ const SOLVERS: [(Solver, usize); 4] =
 #[test]
 fn subdivided_cube_solvers_agree_and_balance() {
     // 3×3 patches per face: no closed form, but every solver must agree and conserve energy.
-    let (scene, s) = support::box_scene([1.0; 3], 3, &e3_props());
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+    let (scene, s) = common::box_scene([1.0; 3], 3, &e3_props());
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
     let sols: Vec<Solution> = SOLVERS
         .iter()
         .map(|&(solver, dense_max)| {
@@ -134,8 +134,8 @@ fn cube_refinement_converges_below_six_node_answer() {
     // converge monotonically (measured: 21 386, 20 339, 20 080 W for 1, 2, 3 splits; 19 871 at 8).
     let q: Vec<f64> = (1..=3)
         .map(|split| {
-            let (scene, s) = support::box_scene([1.0; 3], split, &e3_props());
-            let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+            let (scene, s) = common::box_scene([1.0; 3], split, &e3_props());
+            let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
             solve::solve_gray(&scene, &ex, &Params::default()).unwrap().by_surface(&scene).results[4]
                 .heat_rate
         })
@@ -145,7 +145,7 @@ fn cube_refinement_converges_below_six_node_answer() {
 
 #[test]
 fn e4_cube_open_to_space() {
-    let (closed, s) = support::box_scene([1.0; 3], 1, &e3_props());
+    let (closed, s) = common::box_scene([1.0; 3], 1, &e3_props());
     // Drop the ceiling (last patch) and open the scene to black space at 0 K.
     let mut b = Scene::builder().ambient(0.0);
     for surf in closed.surfaces.iter().take(5) {
@@ -155,7 +155,7 @@ fn e4_cube_open_to_space() {
     let scene = b.build();
     let n = scene.patches.len();
     let s: Vec<Vec<f64>> = s[..n].iter().map(|r| r[..n].to_vec()).collect();
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Reciprocity);
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Reciprocity);
     let sol = solve::solve_gray(&scene, &ex, &Params::default()).unwrap().by_surface(&scene);
     let q = sol.results[4].heat_rate;
     assert!(rel(q, 29_580.808) < REF_TOL, "E4 q = {q}");
@@ -178,20 +178,20 @@ fn concentric_cubes_closed_form() {
     let scene = Scene::builder()
         .surface(
             "inner",
-            support::rect::box_faces([1.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(),
+            common::rect_exact::box_faces([1.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(),
             e1,
             Some(Temperature(t1)),
         )
         .surface(
             "outer",
-            support::rect::box_faces([3.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(),
+            common::rect_exact::box_faces([3.0; 3], 1).iter().map(|f| f.1[0].polygon()).collect(),
             e2,
             Some(Temperature(t2)),
         )
         .build();
     // Stand-in polygons: only names and areas matter, the factors are given.
     let names = vec!["inner".to_string(), "outer".to_string()];
-    let vf = support::vf_from_s(
+    let vf = common::vf_from_s(
         names,
         vec![a1, a2],
         &[vec![0.0, s12], vec![s12, s22]],
@@ -210,8 +210,8 @@ fn concentric_cubes_closed_form() {
 #[test]
 fn all_flux_closed_enclosure_is_refused() {
     let props = [(0.5, HeatFlux(100.0)); 6];
-    let (scene, s) = support::box_scene([1.0; 3], 1, &props);
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+    let (scene, s) = common::box_scene([1.0; 3], 1, &props);
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
     let err = solve::solve_gray(&scene, &ex, &Params::default()).unwrap_err();
     assert_eq!(err.exit_code(), 2, "{err}");
     assert!(err.to_string().contains("no temperature anchor"), "{err}");
@@ -223,8 +223,8 @@ fn black_surfaces_are_eliminated() {
     let wall = (0.5, HeatFlux(0.0));
     let props = |e: f64| [wall, wall, wall, wall, (e, Temperature(1000.0)), (e, Temperature(400.0))];
     let run = |e: f64| {
-        let (scene, s) = support::box_scene([1.0; 3], 1, &props(e));
-        let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+        let (scene, s) = common::box_scene([1.0; 3], 1, &props(e));
+        let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
         let sol = solve::solve_gray(&scene, &ex, &Params::default()).unwrap();
         assert_balance(&sol);
         (sol.info.unknowns, sol.results[4].heat_rate)
@@ -237,8 +237,8 @@ fn black_surfaces_are_eliminated() {
 
 #[test]
 fn iterative_no_convergence_is_typed() {
-    let (scene, s) = support::box_scene([1.0; 3], 1, &e3_props());
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+    let (scene, s) = common::box_scene([1.0; 3], 1, &e3_props());
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
     let p = Params { solver: Solver::Jacobi, max_iterations: 2, ..Params::default() };
     let err = solve::solve_gray(&scene, &ex, &p).unwrap_err();
     assert_eq!(err.exit_code(), 1);
@@ -323,7 +323,7 @@ fn e2_cryogenic_tubes_with_and_without_shield() {
         vec![0.0, 0.0, 0.0, pi * d3],
         vec![0.0, 0.0, pi * d3, pi * (d2 - d3)],
     ];
-    let vf = support::vf_from_s(
+    let vf = common::vf_from_s(
         names,
         areas.clone(),
         &s,

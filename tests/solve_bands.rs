@@ -1,7 +1,7 @@
 //! Semi-gray bands: blackbody fractions against quadrature, one-band and equal-band limits
 //! against the gray solve, the two-surface closed form per band, and Newton recovering a
 //! temperature from its flux.
-mod support;
+mod common;
 
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::geometry::quadrature::gauss_legendre;
@@ -64,13 +64,13 @@ fn two_surface(
     c1: lambert::scene::BoundaryCondition,
     c2: lambert::scene::BoundaryCondition,
 ) -> (Scene, Exchange) {
-    let faces = |d: f64| support::rect::box_faces([d; 3], 1).iter().map(|f| f.1[0].polygon()).collect();
+    let faces = |d: f64| common::rect_exact::box_faces([d; 3], 1).iter().map(|f| f.1[0].polygon()).collect();
     let scene = Scene::builder()
         .surface("inner", faces(1.0), 0.5, Some(c1))
         .surface("outer", faces(3.0), 0.5, Some(c2))
         .build();
     let names = vec!["inner".to_string(), "outer".to_string()];
-    let vf = support::vf_from_s(
+    let vf = common::vf_from_s(
         names,
         vec![6.0, 54.0],
         &[vec![0.0, 6.0], vec![6.0, 48.0]],
@@ -120,8 +120,8 @@ fn equal_band_emissivities_reduce_to_gray() {
     // E3-like cube with adiabatic walls: bands with the gray ε everywhere give the gray answer.
     let wall = (0.5, HeatFlux(0.0));
     let props = [wall, wall, wall, wall, (0.8, Temperature(1000.0)), (0.6, Temperature(400.0))];
-    let (scene, s) = support::box_scene([1.0; 3], 2, &props);
-    let mut ex = Exchange::from_viewfactors(&support::patch_vf(&scene, &s));
+    let (scene, s) = common::box_scene([1.0; 3], 2, &props);
+    let mut ex = Exchange::from_viewfactors(&common::patch_vf(&scene, &s));
     enforce(&mut ex, &EnforceParams { mode: Enforce::Closure, ..Default::default() }).unwrap();
     let gray = solve::solve_gray(&scene, &ex, &Params::default()).unwrap();
     let eps: Vec<Vec<f64>> = scene.surfaces.iter().map(|s| vec![s.emissivity; 3]).collect();

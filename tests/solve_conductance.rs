@@ -2,7 +2,7 @@
 //! ambient node, and agreement with the radiosity solve (literature.md §5).
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-mod support;
+mod common;
 
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::scene::BoundaryCondition::{HeatFlux, Temperature};
@@ -55,8 +55,8 @@ fn conductances_reproduce_the_radiosity_solve() {
     let t = [500.0, 600.0, 700.0, 800.0, 1000.0, 400.0];
     let e = [0.3, 0.5, 1.0, 0.7, 0.8, 0.6];
     let props: [(f64, BoundaryCondition); 6] = std::array::from_fn(|k| (e[k], Temperature(t[k])));
-    let (scene, s) = support::box_scene([1.0, 2.0, 3.0], 2, &props);
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Closure);
+    let (scene, s) = common::box_scene([1.0, 2.0, 3.0], 2, &props);
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Closure);
     let c = solve::conductance::radk(&scene, &ex, &Params::default()).unwrap();
     check_radk(&c);
     let sol = solve::solve_gray(&scene, &ex, &Params::default()).unwrap();
@@ -72,7 +72,7 @@ fn conductances_reproduce_the_radiosity_solve() {
 
 #[test]
 fn conductances_with_ambient_node() {
-    let (closed, s) = support::box_scene([1.0; 3], 1, &e3_props());
+    let (closed, s) = common::box_scene([1.0; 3], 1, &e3_props());
     let mut b = Scene::builder().ambient(0.0);
     for surf in closed.surfaces.iter().take(5) {
         let polys = closed.patches[surf.patches.clone()].iter().map(|p| p.polygon.clone()).collect();
@@ -80,7 +80,7 @@ fn conductances_with_ambient_node() {
     }
     let scene = b.build();
     let s: Vec<Vec<f64>> = s[..5].iter().map(|r| r[..5].to_vec()).collect();
-    let ex = exchange(&scene, &support::patch_vf(&scene, &s), Enforce::Reciprocity);
+    let ex = exchange(&scene, &common::patch_vf(&scene, &s), Enforce::Reciprocity);
     let c = solve::conductance::radk(&scene, &ex, &Params::default()).unwrap();
     assert_eq!(c.names.last().map(String::as_str), Some("ambient"));
     check_radk(&c);

@@ -1,5 +1,20 @@
-//! Scenes with closed-form view factors, shared by the integration tests, benches and examples.
-#![allow(dead_code)]
+//! The shared helpers of the integration tests (one `mod common;` per test binary; benches
+//! and examples include this file with `#[path]`).
+//!
+//! This file: scenes with closed-form view factors (parallel, perpendicular and blocked squares,
+//! cubes, concentric boxes, an icosphere) and cosine rays. Submodules:
+//! - [`rect_exact`]: exact exchange areas between axis-aligned rectangles (C-11, C-14 and
+//!   their extensions);
+//! - [`exact_vf`]: hand-made view-factor matrices: exact box factors and multinomial counts;
+//! - [`analytic_scenes`]: subdivided boxes, an L-shaped room and plates with blockers;
+//! - [`hemicube`]: closed forms, scenes and error models of the projection methods.
+#![allow(dead_code, unused_imports)]
+pub mod analytic_scenes;
+pub mod exact_vf;
+pub mod hemicube;
+pub mod rect_exact;
+
+pub use exact_vf::{box_scene, multinomial, patch_vf, vf_from_s};
 use glam::DVec2;
 use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame, PolygonSampler};
 use lambert::geometry::{DVec3, Polygon};

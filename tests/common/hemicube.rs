@@ -1,5 +1,5 @@
-//! Closed forms, scenes and helpers for tests/hemicube.rs.
-#![allow(dead_code)]
+//! Closed forms, scenes and helpers for tests/hemicube.rs (the hemicube and single-plane
+//! kernels).
 use glam::DVec3;
 use lambert::geometry::quadrature::AreaRule;
 use lambert::geometry::Polygon;

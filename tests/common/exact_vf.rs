@@ -1,6 +1,6 @@
-//! Shared test helpers: exact box factors and hand-made view-factor matrices.
-#![allow(dead_code)]
-pub mod rect;
+//! Hand-made view-factor matrices: exact box factors (from [`super::rect_exact`]) and
+//! multinomial hit counts drawn from them.
+use super::rect_exact as rect;
 
 use lambert::scene::{BoundaryCondition, Scene};
 use lambert::viewfactor::{Entry, Level, MethodSet, ViewFactors};

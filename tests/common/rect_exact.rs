@@ -3,7 +3,6 @@
 //! pairs from the common-edge formula C-14 (V2) extended by bilinearity across the edge
 //! (V4) and the translation-kernel identity along it (V5):
 //! S([a,b],[c,d]) = ½[Φ(b−c) − Φ(a−c) − Φ(b−d) + Φ(a−d)].
-#![allow(dead_code)]
 use glam::DVec3;
 use lambert::geometry::Polygon;
 use std::f64::consts::PI;

@@ -1,5 +1,6 @@
-//! Programmatic scenes for the analytic method's tests, benches and examples (included with
-//! `#[path]`): subdivided boxes, an L-shaped room and plates with blockers.
+//! Programmatic scenes for the analytic method's tests, benches and examples (benches and
+//! examples include this file alone with `#[path]`): subdivided boxes, an L-shaped room and
+//! plates with blockers.
 #![allow(dead_code)]
 use glam::DVec3;
 use lambert::geometry::Polygon;
