@@ -10,6 +10,7 @@
 //!   exact. A cell may hold several disjoint pieces; each becomes a
 //!   patch. If a glued ring fails validation, its convex pieces are kept instead.
 use super::glue::{area2, glue_all, P};
+use super::tolerance::GRID_SNAP_REL;
 use super::{Polygon, PolygonError};
 use glam::DVec3;
 
@@ -62,13 +63,9 @@ fn line(lo: f64, hi: f64, k: usize, n: usize) -> f64 {
     }
 }
 
-/// Snapping distance to a grid line, relative to the polygon's extent: a few ulps, so points
-/// that round-off puts beside a line (a diagonal through a cell corner) land on it exactly,
-/// while the area moves by far less than 1e-12.
-const SNAP_TOL: f64 = 1e-14;
-
 /// Keeps the part of `ring` with sign·(p[axis] − c) ≥ 0 (Sutherland–Hodgman, canonical
 /// intersections; points within `snap` of the line are put on it, p[axis] = c exactly).
+// Not `super::clip::clip_ring`: snaps onto the line and interpolates in a canonical direction.
 fn clip(ring: &[P], axis: usize, c: f64, sign: f64, snap: f64) -> Vec<P> {
     let ring: Vec<P> = ring
         .iter()
@@ -112,7 +109,7 @@ fn clip(ring: &[P], axis: usize, c: f64, sign: f64, snap: f64) -> Vec<P> {
 pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>, PolygonError> {
     let frame = PlaneFrame::of(poly);
     let (lo, hi) = frame.bounds(poly);
-    let snap = SNAP_TOL * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    let snap = GRID_SNAP_REL * (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let xs: Vec<f64> = (0..=nu).map(|i| line(lo[0], hi[0], i, nu)).collect();
     let ys: Vec<f64> = (0..=nv).map(|j| line(lo[1], hi[1], j, nv)).collect();
     let sources: Vec<Vec<P>> = if poly.is_convex() {

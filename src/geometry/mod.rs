@@ -5,25 +5,25 @@
 //! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
 //! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
+//! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
+//! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
+//! - [`tolerance`]: every geometric epsilon, one name per concept, with its reason.
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
+pub mod clip;
+pub mod convex;
 mod glue;
 pub mod grid_clip;
 pub mod polygon;
 pub mod quadrature;
 pub mod sampling;
 pub mod subdivide;
+pub mod tolerance;
 
 pub use glam::DVec3;
 pub use polygon::{Polygon, PolygonError};
 
-/// Relative planarity tolerance: a vertex may sit this fraction of the polygon's diameter off
-/// its best-fit plane (CAD exports carry f32 round-off, about 1e-7).
-pub const PLANARITY_TOL: f64 = 1e-6;
-
-/// Relative collinearity tolerance: a polygon whose area is below this fraction of its
-/// diameter squared is degenerate (zero area or collinear vertices).
-pub const DEGENERACY_TOL: f64 = 1e-12;
+pub use tolerance::{DEGENERACY_TOL, PLANARITY_TOL};
 
 /// Shapes shared by the unit tests.
 #[cfg(test)]

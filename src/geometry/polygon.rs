@@ -1,6 +1,6 @@
 //! Planar simple polygons: construction with validation, Newell normal, area, centroid,
 //! ear-clipping triangulation and Sutherland–Hodgman clipping by a plane.
-use super::{DEGENERACY_TOL, PLANARITY_TOL};
+use super::tolerance::{CONVEX_TURN_REL, DEGENERACY_TOL, PLANARITY_TOL};
 use glam::DVec3;
 
 /// Why a vertex list is not a valid polygon.
@@ -136,7 +136,7 @@ impl Polygon {
         let n = self.vertices.len();
         (0..n).all(|k| {
             let (a, b, c) = (self.vertices[k], self.vertices[(k + 1) % n], self.vertices[(k + 2) % n]);
-            (b - a).cross(c - b).dot(self.normal) >= -1e-14 * (b - a).length() * (c - b).length()
+            (b - a).cross(c - b).dot(self.normal) >= -CONVEX_TURN_REL * (b - a).length() * (c - b).length()
         })
     }
 
@@ -152,6 +152,8 @@ impl Polygon {
     /// Part of the polygon on the side `(x − point)·normal ≥ 0`; `None` if nothing of positive
     /// area remains. Sutherland–Hodgman, so a non-convex polygon may come back with
     /// zero-width bridges, which integrate to nothing.
+    // Not `super::clip::clip_ring`: the ring starts at the first vertex (patch vertex order
+    // feeds every result), with de-duplication and a degeneracy check.
     pub fn clip(&self, point: DVec3, normal: DVec3) -> Option<Polygon> {
         let d: Vec<f64> = self.vertices.iter().map(|v| (*v - point).dot(normal)).collect();
         if d.iter().all(|&x| x >= 0.0) {

@@ -13,6 +13,7 @@
 //! - [`vs3`]: View3D `.vs3` input files (F 3, F 3a) as a model or a whole scene;
 //! - [`bands`]: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
 use crate::error::InputError;
+use crate::geometry::tolerance::SURFACE_COPLANAR_TOL;
 use crate::geometry::Polygon;
 use glam::DVec3;
 use std::ops::Range;
@@ -288,16 +289,15 @@ impl SceneBuilder {
     }
 }
 
-/// Relative tolerance for "these patches share one plane and one normal".
-const COPLANAR_TOL: f64 = 1e-9;
-
 /// True when all polygons share one plane and one facing.
 fn is_planar_set(polys: &[Polygon]) -> bool {
     let Some(first) = polys.first() else { return true };
     let scale = polys.iter().map(|p| p.bounding_radius()).fold(0.0, f64::max).max(1e-300);
     polys.iter().all(|p| {
-        p.normal().dot(first.normal()) > 1.0 - COPLANAR_TOL
-            && p.vertices().iter().all(|v| first.plane_distance(*v).abs() <= COPLANAR_TOL * scale * 1e3)
+        p.normal().dot(first.normal()) > 1.0 - SURFACE_COPLANAR_TOL
+            && p.vertices()
+                .iter()
+                .all(|v| first.plane_distance(*v).abs() <= SURFACE_COPLANAR_TOL * scale * 1e3)
     })
 }
 

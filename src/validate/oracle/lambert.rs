@@ -5,6 +5,7 @@ use glam::DVec3;
 use std::f64::consts::PI;
 
 /// Keeps the part of `ring` with `(x − p)·n ≥ 0` (Sutherland–Hodgman on a convex ring).
+// The oracle keeps its own clipper: it must not share code with what it checks.
 pub fn clip_ring(ring: &[DVec3], p: DVec3, n: DVec3) -> Vec<DVec3> {
     let d: Vec<f64> = ring.iter().map(|v| (*v - p).dot(n)).collect();
     let mut out = Vec::with_capacity(ring.len() + 2);

@@ -15,17 +15,10 @@
 //! No vertex is nudged; shared vertices and edges are exact limits of the formulas.
 use super::edge::{pair_term, Edge};
 use super::ring::{classify, clip_into, Ring, Side, INLINE};
+use crate::geometry::tolerance::{CONTOUR_CLIP_SNAP_REL, CONTOUR_COPLANAR_REL};
 use crate::geometry::Polygon;
 use glam::DVec3;
 use std::f64::consts::TAU;
-
-/// A polygon whose vertices all lie within this distance (normalised frame, i.e. relative to
-/// the pair's size) of the other's plane is coplanar with it: F = 0. Round-off level, so
-/// nearly coplanar geometry is still integrated as given.
-const COPLANAR: f64 = 1e-12;
-/// Clipping counts vertices within this distance (normalised) of the plane as on it, so a
-/// polygon touching the other's plane along an edge is kept whole, not cut into slivers.
-const CLIP_SNAP: f64 = 1e-13;
 
 /// Round-off of one edge-pair term in units of ε times its magnitude (the sizes of the parts
 /// that cancel, see [`super::edge::Term`]): a handful of rounded operations on each. Measured:
@@ -77,26 +70,27 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     qr.fill_mapped(q, origin, inv);
     let (op, oq) = ((cp - origin) * inv, (cq - origin) * inv);
     // Step: coplanar pairs exchange nothing.
-    let coplanar =
-        |ring: &Ring, o: DVec3, n: DVec3| ring.as_slice().iter().all(|v| (*v - o).dot(n).abs() <= COPLANAR);
+    let coplanar = |ring: &Ring, o: DVec3, n: DVec3| {
+        ring.as_slice().iter().all(|v| (*v - o).dot(n).abs() <= CONTOUR_COPLANAR_REL)
+    };
     if coplanar(&qr, op, np) || coplanar(&pr, oq, nq) {
         return none;
     }
     // Step: each polygon clipped to the other's front half-space.
     let (mut pc, mut qc) = (Ring::new(), Ring::new());
-    let p_ring = match classify(pr.as_slice(), oq, nq, CLIP_SNAP) {
+    let p_ring = match classify(pr.as_slice(), oq, nq, CONTOUR_CLIP_SNAP_REL) {
         Side::Outside => return none,
         Side::Inside => pr.as_slice(),
         Side::Cut => {
-            clip_into(pr.as_slice(), oq, nq, CLIP_SNAP, &mut pc);
+            clip_into(pr.as_slice(), oq, nq, CONTOUR_CLIP_SNAP_REL, &mut pc);
             pc.as_slice()
         }
     };
-    let q_ring = match classify(qr.as_slice(), op, np, CLIP_SNAP) {
+    let q_ring = match classify(qr.as_slice(), op, np, CONTOUR_CLIP_SNAP_REL) {
         Side::Outside => return none,
         Side::Inside => qr.as_slice(),
         Side::Cut => {
-            clip_into(qr.as_slice(), op, np, CLIP_SNAP, &mut qc);
+            clip_into(qr.as_slice(), op, np, CONTOUR_CLIP_SNAP_REL, &mut qc);
             qc.as_slice()
         }
     };

@@ -16,6 +16,7 @@
 //! Inputs are in the normalised frame of [`super::contour`] (coordinates of order 1).
 use super::angle::{atan2, atan2_pos};
 use super::gauss::{integrate, Singularity};
+use crate::geometry::tolerance::LINES_COPLANAR_REL;
 use glam::DVec3;
 
 /// Edges with |ê·f̂| below this contribute (ê·f̂)·K ≤ 1e-15·|K|: skipped (perpendicular).
@@ -26,9 +27,6 @@ const PARALLEL: f64 = 1e-16;
 /// Also parallel: sin α at the round-off of two unit vectors' cross product (≈ 4.5ε), as left
 /// by rotating parallel edges; the error bound above is then 1.6e-15·|e||f|, at round-off.
 const PARALLEL_SIN: f64 = 1e-15;
-/// Lines closer than this (normalised) are coplanar; ignoring the skew distance d changes K by
-/// O(d²·ln d), far below round-off.
-const COPLANAR: f64 = 1e-10;
 /// Below this sin α the crossing point of two coplanar lines is computed with a relative error
 /// ε/sin α too large for the closed form (it shifts the edges against each other); such pairs
 /// go to quadrature unless they share an exact vertex.
@@ -112,7 +110,7 @@ pub fn pair_term(e: &Edge, f: &Edge) -> Term {
     let t_star = w.cross(e.dir).dot(n) / sn;
     let d = w.dot(n).abs();
     let reach = s_star.abs().max((e.len - s_star).abs()).max(t_star.abs()).max((f.len - t_star).abs());
-    if d <= COPLANAR && sn >= CROSSING_MIN_SIN && reach <= scale {
+    if d <= LINES_COPLANAR_REL && sn >= CROSSING_MIN_SIN && reach <= scale {
         return coplanar(c, sn, [-s_star, e.len - s_star], [-t_star, f.len - t_star]).scaled(c);
     }
     let pinch = (t_star > 0.0 && t_star < f.len).then_some(Singularity { x: s_star, y: d / sn });

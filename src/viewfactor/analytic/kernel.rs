@@ -21,6 +21,7 @@ use super::contour::polygon_polygon;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
 use super::planes::PlaneGroups;
+use crate::geometry::tolerance::PATCH_COPLANAR_REL;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
 use crate::viewfactor::shadow::branch::PairWork;
@@ -33,9 +34,6 @@ use crate::Result;
 use glam::DVec3;
 use std::cell::RefCell;
 use std::sync::OnceLock;
-
-/// Relative tolerance for "these patches share a plane" (coplanar pairs exchange nothing).
-const COPLANAR_TOL: f64 = 1e-12;
 
 /// A closed scene's row computed by this method alone that falls short of 1 by more than this
 /// leaks (a gap, a flipped normal): every pair is exact or within [`GAUSS_REL_TOL`], so rows
@@ -120,7 +118,7 @@ impl<'s> AnalyticKernel<'s> {
             .iter()
             .map(|p| p.polygon.centroid().length() + p.polygon.bounding_radius())
             .fold(scale, f64::max);
-        let planes = PlaneGroups::new(polys.clone(), extent, COPLANAR_TOL * extent);
+        let planes = PlaneGroups::new(polys.clone(), extent, PATCH_COPLANAR_REL * extent);
         let rules = PatchRules::new(polys);
         let info = scene
             .patches

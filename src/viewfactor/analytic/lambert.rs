@@ -9,29 +9,27 @@
 //! The disk uses the same contour integral on the exact circle (see [`super::disk`]).
 use super::angle::atan2_pos;
 use super::ring::{classify, clip_into, Ring, Side};
+use crate::geometry::tolerance::POINT_IN_PLANE_REL;
 use crate::geometry::Polygon;
 use glam::DVec3;
 use std::f64::consts::TAU;
 
 pub use super::disk::point_to_disk;
 
-/// A point within this fraction of the polygon's size from its plane is in the plane: F = 0.
-const IN_PLANE: f64 = 1e-14;
-
 /// Lambert point-to-polygon factor F(dA → poly) for an element at `p` with unit normal `n`,
 /// polygon clipped to the element's front half-space first (literature V12).
 pub fn point_to_polygon(p: DVec3, n: DVec3, poly: &Polygon) -> f64 {
     let size = poly.bounding_radius();
-    if poly.plane_distance(p) <= IN_PLANE * size {
+    if poly.plane_distance(p) <= POINT_IN_PLANE_REL * size {
         return 0.0;
     }
     let v = poly.vertices();
-    match classify(v, p, n, IN_PLANE * size) {
+    match classify(v, p, n, POINT_IN_PLANE_REL * size) {
         Side::Outside => 0.0,
         Side::Inside => point_to_ring(p, n, v).max(0.0),
         Side::Cut => {
             let mut clipped = Ring::new();
-            clip_into(v, p, n, IN_PLANE * size, &mut clipped);
+            clip_into(v, p, n, POINT_IN_PLANE_REL * size, &mut clipped);
             if clipped.is_empty() {
                 return 0.0;
             }

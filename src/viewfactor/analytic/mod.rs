@@ -11,8 +11,7 @@
 //! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
 //!
 //! Shadows: obstructed pairs are the [`super::shadow`] module's; the kernel calls its
-//! [`Shadows`](super::shadow::Shadows) branch. The 2-D convex clipping and subtraction used
-//! there is [`polygon_ops`].
+//! [`Shadows`](super::shadow::Shadows) branch.
 //!
 //! The method on a scene:
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
@@ -29,5 +28,4 @@ pub mod ladder;
 pub mod lambert;
 pub mod lattice;
 pub mod planes;
-pub mod polygon_ops;
 pub mod ring;

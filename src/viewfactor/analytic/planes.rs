@@ -1,11 +1,10 @@
 //! Grouping polygons by the (unoriented) plane they lie in: coplanar patch pairs exchange
 //! nothing, and blockers in one plane are tested together.
+use crate::geometry::tolerance::PLANE_NORMAL_COS_TOL;
 use crate::geometry::Polygon;
 use glam::DVec3;
 use std::collections::HashMap;
 
-/// Cosine tolerance for "same plane direction" (normals within ~1.4e-6 rad).
-const NORMAL_COS_TOL: f64 = 1e-12;
 /// Quantisation of the hash key; only speeds up the search, membership is verified exactly.
 const KEY_STEPS: f64 = 1e6;
 
@@ -64,7 +63,7 @@ impl PlaneGroups {
             let found = index.get(&key(&plane)).and_then(|cands| {
                 cands.iter().copied().find(|&c| {
                     let rep = &g.planes[c as usize];
-                    rep.normal.dot(plane.normal) > 1.0 - NORMAL_COS_TOL
+                    rep.normal.dot(plane.normal) > 1.0 - PLANE_NORMAL_COS_TOL
                         && poly.vertices().iter().all(|v| rep.distance(*v).abs() <= tol)
                 })
             });

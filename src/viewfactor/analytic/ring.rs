@@ -121,6 +121,7 @@ pub fn classify(src: &[DVec3], point: DVec3, normal: DVec3, snap: f64) -> Side {
 /// Vertices within `snap` of the plane count as on it (kept, never split), so a polygon that
 /// touches the plane along an edge is not cut into slivers by round-off. A non-convex ring may
 /// come back with zero-width bridges along the plane; their edges cancel in every contour sum.
+// Not `geometry::clip::clip_ring`: writes a stack `Ring` and drops repeated vertices.
 pub fn clip_into(src: &[DVec3], point: DVec3, normal: DVec3, snap: f64, out: &mut Ring) {
     out.clear();
     let n = src.len();

@@ -22,6 +22,7 @@ pub(crate) fn sphere_outside(planes: &[HalfSpace], centre: DVec3, radius: f64) -
 
 /// Clips the ring `input` by every half-space; the result is left in `out` (fewer than three
 /// vertices means nothing is left). `tmp` is scratch.
+// Not `geometry::clip::clip_ring`: interpolates from the inside vertex (watertight edges).
 pub(crate) fn clip_polygon(
     input: &[DVec3],
     planes: &[HalfSpace],

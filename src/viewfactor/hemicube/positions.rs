@@ -15,6 +15,7 @@
 //! turned; tests/hemicube.rs).
 use super::prepare::Prepared;
 use crate::geometry::quadrature::AreaRule;
+use crate::geometry::tolerance::PARALLELOGRAM_REL;
 use crate::geometry::Polygon;
 use glam::DVec2;
 
@@ -42,9 +43,6 @@ pub const NEAR_RATIO_2: f64 = 1.5;
 
 /// The golden angle π(3 − √5): successive turns never repeat modulo the faces' 90° symmetry.
 const GOLDEN_ANGLE: f64 = 2.399963229728653;
-
-/// Parallelogram test: |v0 + v2 − v1 − v3| below this fraction of the diameter.
-const PARALLELOGRAM_TOL: f64 = 1e-12;
 
 impl Positions {
     /// The Gauss order q for patch `i` of `prep`.
@@ -91,7 +89,7 @@ pub(crate) fn rule(polygon: &Polygon, q: usize) -> AreaRule {
     if v.len() == 3 {
         return AreaRule::triangle(v[0], v[1], v[2], q);
     }
-    if v.len() == 4 && (v[0] + v[2] - v[1] - v[3]).length() <= PARALLELOGRAM_TOL * diameter {
+    if v.len() == 4 && (v[0] + v[2] - v[1] - v[3]).length() <= PARALLELOGRAM_REL * diameter {
         return AreaRule::parallelogram(v[0], v[1] - v[0], v[3] - v[0], q);
     }
     let n = polygon.normal();

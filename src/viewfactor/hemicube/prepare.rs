@@ -9,15 +9,12 @@
 //!   way its vertices run);
 //! - polygons whose plane holds the eye (coplanar neighbours, edge-on faces) project to zero
 //!   area and are skipped, as is the eye's own patch.
+use crate::geometry::tolerance::EYE_IN_PLANE_REL;
 use crate::scene::Scene;
 use glam::DVec3;
 
 /// Item-buffer id of a blocker: occludes, receives nothing.
 pub(crate) const NO_RECEIVER: u32 = u32::MAX;
-
-/// Relative distance (of the scene size) below which the eye counts as lying in a polygon's
-/// plane: subdivided coplanar patches differ from exactly coplanar by f64 round-off only.
-const IN_PLANE_TOL: f64 = 1e-9;
 
 /// One polygon of the flattened scene.
 #[derive(Debug, Clone, Copy)]
@@ -86,7 +83,7 @@ impl Prepared {
     /// Lower bound on the distance from `eye` to the nearest polygon in front of the plane
     /// (`eye`, `n`) other than `skip`; infinity when there is none.
     pub fn nearest_in_front(&self, eye: DVec3, n: DVec3, skip: usize) -> f64 {
-        let tol = IN_PLANE_TOL * self.scale;
+        let tol = EYE_IN_PLANE_REL * self.scale;
         let mut best = f64::INFINITY;
         for (k, p) in self.polys.iter().enumerate() {
             let ahead = (p.centroid - eye).dot(n);
@@ -180,7 +177,7 @@ impl Gathered {
     pub fn gather(&mut self, prep: &Prepared, eye: &Eye, own: usize) {
         self.polys.clear();
         self.verts.clear();
-        let tol = IN_PLANE_TOL * prep.scale;
+        let tol = EYE_IN_PLANE_REL * prep.scale;
         for (k, p) in prep.polys.iter().enumerate() {
             if k == own {
                 continue;

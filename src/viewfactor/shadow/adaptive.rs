@@ -21,7 +21,9 @@
 use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry};
 use super::volume::{plane_of, Build, Class, Plane, ShadowVolume};
+use crate::geometry::convex::{ear_indices, is_convex_local};
 use crate::geometry::quadrature::gauss_legendre;
+use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, PARALLELOGRAM_REL};
 use glam::DVec3;
 
 /// One emitter cell in the receiver frame.
@@ -350,8 +352,6 @@ impl Integrator {
 
 /// Most emitter pieces after splitting along kink planes.
 const MAX_PIECES: usize = 64;
-/// Edges whose directions differ by less than this angle (radians) are parallel.
-const PARALLEL_TOL: f64 = 1e-9;
 
 /// Root cells of the emitter, split first along the planes where g has kinks:
 /// - a blocker's plane: the blocker turns from front to back as the viewpoint crosses it, which
@@ -371,7 +371,7 @@ pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
             let db = (c - a).normalize_or_zero();
             for &(q0, q1) in &recv {
                 let dr = (q1 - q0).normalize_or_zero();
-                if db.cross(dr).length() < PARALLEL_TOL {
+                if db.cross(dr).length() < EDGE_PARALLEL_ANGLE {
                     if let Some(p) = Plane::through(q0, q1, a, snap * (q1 - q0).length()) {
                         planes.push(p);
                     }
@@ -414,24 +414,17 @@ pub fn emitter_cells(ring: &[DVec3], normal: DVec3) -> Vec<Cell> {
     if m == 4 {
         let (a, b, c, d) = (ring[0], ring[1], ring[2], ring[3]);
         let scale = (c - a).length() + (d - b).length();
-        if ((a + c) - (b + d)).length() <= 1e-12 * scale {
+        if ((a + c) - (b + d)).length() <= PARALLELOGRAM_REL * scale {
             return vec![Cell::Para { o: a, u: b - a, v: d - a }];
         }
     }
     let (e1, _) = normal.any_orthonormal_pair();
     let e2 = normal.cross(e1);
     let flat: Vec<glam::DVec2> = ring.iter().map(|v| glam::DVec2::new(v.dot(e1), v.dot(e2))).collect();
-    let convex = (0..m).all(|k| {
-        let (a, b, c) = (flat[k], flat[(k + 1) % m], flat[(k + 2) % m]);
-        (b - a).perp_dot(c - b) >= -1e-14 * (b - a).length() * (c - b).length()
-    });
-    if convex {
+    if is_convex_local(&flat) {
         return (1..m - 1).map(|k| Cell::Tri([ring[0], ring[k], ring[k + 1]])).collect();
     }
-    super::viewpoint::ear_indices(&flat)
-        .into_iter()
-        .map(|[i, j, k]| Cell::Tri([ring[i], ring[j], ring[k]]))
-        .collect()
+    ear_indices(&flat).into_iter().map(|[i, j, k]| Cell::Tri([ring[i], ring[j], ring[k]])).collect()
 }
 
 #[cfg(test)]

@@ -12,19 +12,12 @@
 //!   segment between two patches can cross it (the walls of a convex room never block).
 //! - Both hierarchies are walked with a box predicate; boxes are padded, so a conservative
 //!   predicate gives a conservative query.
+use crate::geometry::convex::{convex_hull, twice_area};
+use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, TILE_AREA_REL};
 use crate::geometry::Polygon;
 use crate::scene::Scene;
-use crate::viewfactor::analytic::polygon_ops::{convex_hull, twice_area};
 use crate::visibility::boxes::BoxTree;
 use glam::{DVec2, DVec3};
-
-/// Box padding as a fraction of the scene size: boxes already hold their vertices exactly
-/// (rounded outwards); this margin covers the round-off of the predicates evaluated on them.
-const BOX_PAD_REL: f64 = 1e-9;
-/// Relative tolerance for "the patches tile their convex hull" (areas agree to round-off).
-const TILE_AREA_REL: f64 = 1e-9;
-/// A point this fraction of the scene size off a plane is on it (round-off of the vertices).
-pub const SNAP_REL: f64 = 1e-10;
 
 /// Where a blocker comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,8 +68,8 @@ impl Blockers {
                 (l.min(v), h.max(v))
             });
         let size = if lo.x <= hi.x { (hi - lo).length() + lo.abs().max(hi.abs()).max_element() } else { 1.0 };
-        let pad = BOX_PAD_REL * size;
-        let snap = SNAP_REL * size;
+        let pad = BLOCKER_BOX_PAD_REL * size;
+        let snap = BLOCKER_SNAP_REL * size;
         let patch_tree = BoxTree::new(scene.patches.iter().map(|p| bounds(p.polygon.vertices())), pad);
         let mut all = Vec::new();
         collect(scene, &mut all);

@@ -13,8 +13,8 @@
 //! blocker's shadow boundary, not N × blockers.
 use super::blockers::Blockers;
 use super::volume::{Build, Class, Region, ShadowVolume};
+use crate::geometry::clip::clip_ring;
 use crate::scene::Scene;
-use crate::viewfactor::analytic::polygon_ops::clip_ring;
 use glam::DVec3;
 
 /// The obstruction status of receiver j in a row.

@@ -13,15 +13,12 @@
 //! (the cube) no plane qualifies, so the check costs O(N·planes) once and nothing per pair.
 //! Candidate search within an active plane is a linear scan with a bounding-box test; a BVH
 //! will replace it.
+use crate::geometry::tolerance::OCCLUSION_TOL;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
 use crate::viewfactor::analytic::planes::{Plane, PlaneGroups};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
-
-/// Relative thickness below which an overlap counts as touching, not blocking: far above the
-/// round-off of coordinates (1e-16 relative), far below any modelled feature.
-pub const OCCLUSION_TOL: f64 = 1e-9;
 
 /// What blocks a view: a patch (index into [`Scene::patches`]) or an obstruction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -280,35 +277,21 @@ fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
     })
 }
 
-fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-}
-
-/// Andrew's monotone chain; counter-clockwise, collinear points dropped.
+/// Convex hull of the distinct points of `p`, counter-clockwise, collinear points dropped
+/// (the shared [`geometry::convex::convex_hull`](crate::geometry::convex::convex_hull) on the
+/// sorted, de-duplicated points).
 fn convex_hull(mut p: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     p.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     p.dedup();
-    if p.len() < 3 {
-        return p;
-    }
-    let mut h: Vec<[f64; 2]> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
-        let start = h.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> =
-            if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
-        for &q in iter {
-            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0.0 {
-                h.pop();
-            }
-            h.push(q);
-        }
-        h.pop();
-    }
-    h
+    let mut pts: Vec<DVec2> = p.iter().map(|q| DVec2::new(q[0], q[1])).collect();
+    let mut hull = Vec::with_capacity(2 * pts.len());
+    crate::geometry::convex::convex_hull(&mut pts, &mut hull);
+    hull.iter().map(|q| [q.x, q.y]).collect()
 }
 
 /// True when two convex polygons overlap by more than `tol` along every separating-axis
 /// candidate (the edge normals of both).
+// Not `geometry::convex::convex_disjoint`: projected intervals with a thickness `tol`.
 fn overlap_2d(a: &[[f64; 2]], b: &[[f64; 2]], tol: f64) -> bool {
     for poly in [a, b] {
         for k in 0..poly.len() {

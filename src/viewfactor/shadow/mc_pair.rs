@@ -16,6 +16,7 @@
 //! - **Budget.** The sample doubles until the standard error meets the goal.
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
 use crate::geometry::sampling::PolygonSampler;
+use crate::geometry::tolerance::PARALLELOGRAM_REL;
 use crate::geometry::Polygon;
 use crate::viewfactor::monte_carlo::{mix64, stream_key};
 use glam::{DVec2, DVec3};
@@ -47,7 +48,7 @@ impl PatchSampler {
         let v = p.vertices();
         if v.len() == 4 {
             let scale = (v[2] - v[0]).length() + (v[3] - v[1]).length();
-            if ((v[0] + v[2]) - (v[1] + v[3])).length() <= 1e-12 * scale {
+            if ((v[0] + v[2]) - (v[1] + v[3])).length() <= PARALLELOGRAM_REL * scale {
                 return PatchSampler::Para { o: v[0], u: v[1] - v[0], v: v[3] - v[0] };
             }
         }

@@ -15,21 +15,20 @@
 //!   cut as in View3D, no point at infinity (for a bounded convex hull the constraints force
 //!   W > 0), and every shadow lands inside the hull;
 //! - the shadows' union is built as disjoint convex pieces (each new shadow minus the pieces
-//!   so far, [`crate::viewfactor::analytic::polygon_ops::subtract_convex`]);
+//!   so far, [`crate::geometry::convex::subtract_convex`]);
 //! - Lambert's formula over those pieces gives g(p) = F(dA_p → shaded part).
 //!
 //! The pair's exchange area is then A·F = (A·F)_unobstructed − ∫_E g dA, which never exceeds
 //! the unobstructed value since g ≥ 0.
-use crate::viewfactor::analytic::lambert::edge_term;
-use crate::viewfactor::analytic::polygon_ops::{
-    clip_convex, clip_ring, subtract_convex, twice_area, HalfPlane, PieceSet, Scratch as OpsScratch,
+use crate::geometry::clip::{clip_homogeneous, clip_ring};
+use crate::geometry::convex::{
+    clip_convex, ear_indices, is_convex, subtract_convex, twice_area, HalfPlane, PieceSet,
+    Scratch as OpsScratch,
 };
+use crate::geometry::tolerance::SHADOW_SNAP_REL;
+use crate::viewfactor::analytic::lambert::edge_term;
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;
-
-/// Relative size (of the receiver) below which a vertex sits on a line and a piece is a
-/// sliver: far below any accuracy goal, far above f64 round-off of the clipped coordinates.
-pub const SNAP_REL: f64 = 1e-12;
 
 /// An orthonormal frame: the receiver's plane is z = 0, its front is +z.
 #[derive(Debug, Clone, Copy)]
@@ -116,7 +115,7 @@ impl ShadowGeometry {
         let centroid = r.iter().copied().sum::<DVec3>() / r.len() as f64;
         let frame = Frame::new(centroid, n_r);
         let scale = r.iter().map(|v| v.distance(centroid)).fold(0.0, f64::max);
-        let snap = SNAP_REL * scale;
+        let snap = SHADOW_SNAP_REL * scale;
         let n_el = frame.vector(n_e);
         // Emitter in the frame, kept in front of the receiver (z ≥ 0).
         let e_loc: Vec<DVec3> = e.iter().map(|&x| frame.point(x)).collect();
@@ -152,7 +151,7 @@ impl ShadowGeometry {
         let mut hull_pts: Vec<DVec2> = receiver.iter().flatten().copied().collect();
         let receiver_ring = hull_pts.iter().map(|q| q.extend(0.0)).collect();
         let mut hull_ring = Vec::new();
-        crate::viewfactor::analytic::polygon_ops::convex_hull(&mut hull_pts, &mut hull_ring);
+        crate::geometry::convex::convex_hull(&mut hull_pts, &mut hull_ring);
         let hull = edges_of(&hull_ring);
         let convex = convex && receiver.len() == 1;
         // Blockers: in front of the receiver (z ≥ 0) and of the emitter's plane.
@@ -289,7 +288,7 @@ impl ShadowGeometry {
         s.hom.clear();
         s.hom.extend(b.iter().map(|x| DVec3::new(h * x.x - x.z * p.x, h * x.y - x.z * p.y, h - x.z)));
         for e in &self.hull {
-            clip_hom(&s.hom, DVec3::new(e.n.x, e.n.y, e.c), &mut s.hom2);
+            clip_homogeneous(&s.hom, DVec3::new(e.n.x, e.n.y, e.c), &mut s.hom2);
             std::mem::swap(&mut s.hom, &mut s.hom2);
             if s.hom.len() < 3 {
                 return false;
@@ -339,25 +338,6 @@ fn lambert(p: DVec3, n: DVec3, ring: &[DVec2]) -> f64 {
     sum / TAU
 }
 
-/// Sutherland–Hodgman in homogeneous coordinates against l·(X, Y, W) ≥ 0.
-fn clip_hom(src: &[DVec3], l: DVec3, out: &mut Vec<DVec3>) {
-    out.clear();
-    let m = src.len();
-    let mut a = src[m - 1];
-    let mut da = l.dot(a);
-    for &b in src {
-        let db = l.dot(b);
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-        if db >= 0.0 {
-            out.push(b);
-        }
-        a = b;
-        da = db;
-    }
-}
-
 /// Clips a planar 3-D ring to n·x + c ≥ 0 (snapping within `snap` of the plane).
 fn clip3(src: &[DVec3], n: DVec3, c: f64, snap: f64) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(src.len() + 2);
@@ -388,46 +368,4 @@ fn intersect(piece: &[DVec2], edges: &[HalfPlane], snap: f64, out: &mut Vec<DVec
             return;
         }
     }
-}
-
-fn is_convex(ring: &[DVec2]) -> bool {
-    let m = ring.len();
-    let scale = ring.iter().map(|q| q.length_squared()).fold(0.0, f64::max);
-    (0..m).all(|k| {
-        let (a, b, c) = (ring[k], ring[(k + 1) % m], ring[(k + 2) % m]);
-        (b - a).perp_dot(c - b) >= -1e-14 * scale
-    })
-}
-
-/// Ear clipping of a simple counter-clockwise 2-D ring: triangles as vertex indices.
-pub(crate) fn ear_indices(ring: &[DVec2]) -> Vec<[usize; 3]> {
-    let mut idx: Vec<usize> = (0..ring.len()).collect();
-    let mut tris = Vec::new();
-    let orient = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
-    let mut guard = 0;
-    while idx.len() > 3 && guard < ring.len() * ring.len() {
-        guard += 1;
-        let m = idx.len();
-        let ear = (0..m).find(|&k| {
-            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
-            let (a, b, c) = (ring[ia], ring[ib], ring[ic]);
-            orient(a, b, c) > 0.0
-                && !idx.iter().any(|&q| {
-                    let p = ring[q];
-                    q != ia
-                        && q != ib
-                        && q != ic
-                        && orient(a, b, p) >= 0.0
-                        && orient(b, c, p) >= 0.0
-                        && orient(c, a, p) >= 0.0
-                })
-        });
-        let Some(k) = ear else { break };
-        tris.push([idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]]);
-        idx.remove(k);
-    }
-    if idx.len() == 3 {
-        tris.push([idx[0], idx[1], idx[2]]);
-    }
-    tris
 }

@@ -15,7 +15,8 @@
 //!
 //! A convex receiver outside one penumbra plane is clear; one inside every umbra plane is
 //! blocked. Anything else is partial and goes to the shadow integrator.
-use crate::viewfactor::analytic::polygon_ops::{convex_disjoint, convex_hull, twice_area, HalfPlane};
+use crate::geometry::clip::clip_ring_keep;
+use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area, HalfPlane};
 pub use crate::visibility::boxes::Region;
 use glam::{DVec2, DVec3};
 
@@ -356,33 +357,14 @@ impl Part {
     }
 }
 
-/// The part of a convex ring with p(x) ≥ 0, vertices within `snap` of the plane kept on it.
+/// The part of a convex ring with p(x) ≥ 0, vertices within `snap` of the plane kept on it
+/// (a remainder under three vertices is kept: the caller tests it).
 fn clip_side(ring: &[DVec3], p: Plane, snap: f64, out: &mut Vec<DVec3>) {
-    out.clear();
-    let side = |x: DVec3| {
-        let d = p.eval(x);
-        if d.abs() <= snap {
-            0.0
-        } else {
-            d
-        }
-    };
-    let mut a = ring[ring.len() - 1];
-    let mut da = side(a);
-    for &b in ring {
-        let db = side(b);
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-        if db >= 0.0 {
-            out.push(b);
-        }
-        a = b;
-        da = db;
-    }
+    clip_ring_keep(ring, |x| p.eval(x), snap, out);
 }
 
 /// True when every point lies outside the convex ring (beyond one of its edges).
+// Not `geometry::convex::convex_disjoint`: no three-vertex guard on `ring`.
 fn points_outside(pts: &[DVec2], ring: &[DVec2], snap: f64) -> bool {
     let m = ring.len();
     (0..m).any(|k| match HalfPlane::left_of(ring[k], ring[(k + 1) % m]) {

@@ -2,6 +2,7 @@
 //! (Duffy) n×n rule on each triangle of a triangulation made once. Points are stored as
 //! structure-of-arrays, orders 1..=[`CACHED_ORDERS`] cached for every patch.
 use crate::geometry::quadrature::{gauss_legendre, AreaRule};
+use crate::geometry::tolerance::PARALLELOGRAM_CAD_REL;
 use crate::geometry::Polygon;
 use glam::DVec3;
 use std::sync::OnceLock;
@@ -11,8 +12,6 @@ pub const MAX_ORDER: usize = 6;
 /// Orders 1..=CACHED_ORDERS are precomputed per patch (the far field uses them); higher
 /// orders are generated per pair, where their n⁴ kernel evaluations dominate anyway.
 pub const CACHED_ORDERS: usize = 4;
-/// Relative tolerance for "this quad is a parallelogram" (f32 CAD round-off is ~1e-7).
-const PARALLELOGRAM_TOL: f64 = 1e-9;
 
 /// A piece of a patch on which a tensor Gauss rule is polynomially exact.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,7 +66,7 @@ fn pieces_of(poly: &Polygon) -> Vec<Piece> {
     if v.len() == 4 {
         let (u, w) = (v[1] - v[0], v[3] - v[0]);
         let scale = u.length().max(w.length());
-        if (v[2] - (v[0] + u + w)).length() <= PARALLELOGRAM_TOL * scale {
+        if (v[2] - (v[0] + u + w)).length() <= PARALLELOGRAM_CAD_REL * scale {
             return vec![Piece::Parallelogram { o: v[0], u, v: w }];
         }
     }

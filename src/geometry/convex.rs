@@ -1,15 +1,17 @@
-//! 2-D convex polygon operations behind exact shadow clipping.
+//! 2-D convex polygon operations (behind exact shadow clipping and blocker classification).
 //!
-//! - [`HalfPlane`]: a unit-normal line n·q + c ≥ 0 (kept side);
-//! - [`clip_ring`]: Sutherland–Hodgman on a convex 2-D or 3-D ring, with on-line snapping
-//!   ([`clip_convex`]: against a [`HalfPlane`]);
+//! - [`HalfPlane`]: a unit-normal line n·q + c ≥ 0 (kept side); [`clip_convex`] clips a
+//!   ring to one with the shared clipper ([`super::clip::clip_ring`]);
 //! - [`subtract_convex`]: piece \ shadow as disjoint convex pieces (View3D's `PolygonOverlap`
 //!   idea, without its 12-vertex limit), so a union of shadows leaves a non-convex remainder
 //!   held as a [`PieceSet`];
-//! - [`convex_hull`], [`convex_disjoint`], [`convex_contains`]: the 2-D tests of the blocker
-//!   classification.
+//! - [`convex_hull`], [`convex_disjoint`], [`convex_contains`], [`is_convex`] (and
+//!   [`is_convex_local`]): the 2-D tests of the blocker classification;
+//! - [`ear_indices`]: ear clipping of a simple 2-D ring (non-convex receivers and emitters).
 //!
 //! Every ring is counter-clockwise. Nothing here allocates once the buffers have grown.
+use super::clip::clip_ring;
+use super::tolerance::CONVEX_TURN_REL;
 use glam::DVec2;
 
 /// Kept side of a line: `n·q + c ≥ 0`, `n` a unit vector, so `eval` is a signed distance.
@@ -64,41 +66,6 @@ pub fn twice_area(ring: &[DVec2]) -> f64 {
 /// near-duplicate vertex is created.
 pub fn clip_convex(src: &[DVec2], hp: HalfPlane, snap: f64, out: &mut Vec<DVec2>) {
     clip_ring(src, |q| hp.eval(q), snap, out);
-}
-
-/// Sutherland–Hodgman on a convex ring of 2-D or 3-D points: keeps `dist(x) ≥ 0`, a signed
-/// distance, writing the kept ring to `out` (cleared first; left empty when fewer than three
-/// vertices remain). Distances within `snap` of zero count as on the boundary.
-pub fn clip_ring<P>(src: &[P], dist: impl Fn(P) -> f64, snap: f64, out: &mut Vec<P>)
-where
-    P: Copy + std::ops::Add<Output = P> + std::ops::Sub<Output = P> + std::ops::Mul<f64, Output = P>,
-{
-    out.clear();
-    let Some(&last) = src.last() else { return };
-    let side = |x: P| {
-        let d = dist(x);
-        if d.abs() <= snap {
-            0.0
-        } else {
-            d
-        }
-    };
-    let mut a = last;
-    let mut da = side(a);
-    for &b in src {
-        let db = side(b);
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-        if db >= 0.0 {
-            out.push(b);
-        }
-        a = b;
-        da = db;
-    }
-    if out.len() < 3 {
-        out.clear();
-    }
 }
 
 /// Convex rings stored back to back: the unshaded remainder of a receiver.
@@ -236,6 +203,60 @@ pub fn convex_contains(ring: &[DVec2], pts: &[DVec2], margin: f64) -> bool {
             Some(h) => pts.iter().all(|&q| h.eval(q) >= margin),
             None => true,
         })
+}
+
+/// True when every turn of the counter-clockwise ring is left or straight, a right turn down
+/// to [`CONVEX_TURN_REL`] × (largest |q|²) counting as straight.
+pub fn is_convex(ring: &[DVec2]) -> bool {
+    let m = ring.len();
+    let scale = ring.iter().map(|q| q.length_squared()).fold(0.0, f64::max);
+    (0..m).all(|k| {
+        let (a, b, c) = (ring[k], ring[(k + 1) % m], ring[(k + 2) % m]);
+        (b - a).perp_dot(c - b) >= -CONVEX_TURN_REL * scale
+    })
+}
+
+/// As [`is_convex`], a right turn down to [`CONVEX_TURN_REL`] × the product of the two edge
+/// lengths at the corner counting as straight (the scale of [`Polygon::is_convex`](super::Polygon::is_convex)).
+pub fn is_convex_local(ring: &[DVec2]) -> bool {
+    let m = ring.len();
+    (0..m).all(|k| {
+        let (a, b, c) = (ring[k], ring[(k + 1) % m], ring[(k + 2) % m]);
+        (b - a).perp_dot(c - b) >= -CONVEX_TURN_REL * (b - a).length() * (c - b).length()
+    })
+}
+
+/// Ear clipping of a simple counter-clockwise 2-D ring: triangles as vertex indices.
+pub fn ear_indices(ring: &[DVec2]) -> Vec<[usize; 3]> {
+    let mut idx: Vec<usize> = (0..ring.len()).collect();
+    let mut tris = Vec::new();
+    let orient = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
+    let mut guard = 0;
+    while idx.len() > 3 && guard < ring.len() * ring.len() {
+        guard += 1;
+        let m = idx.len();
+        let ear = (0..m).find(|&k| {
+            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
+            let (a, b, c) = (ring[ia], ring[ib], ring[ic]);
+            orient(a, b, c) > 0.0
+                && !idx.iter().any(|&q| {
+                    let p = ring[q];
+                    q != ia
+                        && q != ib
+                        && q != ic
+                        && orient(a, b, p) >= 0.0
+                        && orient(b, c, p) >= 0.0
+                        && orient(c, a, p) >= 0.0
+                })
+        });
+        let Some(k) = ear else { break };
+        tris.push([idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]]);
+        idx.remove(k);
+    }
+    if idx.len() == 3 {
+        tris.push([idx[0], idx[1], idx[2]]);
+    }
+    tris
 }
 
 #[cfg(test)]
