@@ -5,6 +5,7 @@
 //! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
 //! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
+//! - [`planes`]: grouping polygons by unoriented plane (coplanar pairs, blocker planes).
 //! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
 //! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
 //! - [`tolerance`]: every geometric epsilon, one name per concept, with its reason.
@@ -14,6 +15,7 @@ pub mod clip;
 pub mod convex;
 mod glue;
 pub mod grid_clip;
+pub mod planes;
 pub mod polygon;
 pub mod quadrature;
 pub mod sampling;

@@ -20,7 +20,7 @@
 use super::contour::polygon_polygon;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
-use super::planes::PlaneGroups;
+use crate::geometry::planes::PlaneGroups;
 use crate::geometry::tolerance::PATCH_COPLANAR_REL;
 use crate::scene::Scene;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};

@@ -11,11 +11,12 @@
 //! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
 //!
 //! Shadows: obstructed pairs are the [`super::shadow`] module's; the kernel calls its
-//! [`Shadows`](super::shadow::Shadows) branch.
+//! [`Shadows`](super::shadow::Shadows) branch. Layering: the exact kernels above ←
+//! `shadow` (which integrates Lambert's edge term over shadows) ← [`kernel`] ← `auto`;
+//! no file here or in `shadow` uses `auto`.
 //!
 //! The method on a scene:
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
-//! - [`planes`]: grouping polygons by plane (coplanar pairs, blocker planes);
 //! - [`lattice`]: one evaluation per offset for translated pairs of gridded surfaces;
 //! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
 pub mod angle;
@@ -27,5 +28,4 @@ pub mod kernel;
 pub mod ladder;
 pub mod lambert;
 pub mod lattice;
-pub mod planes;
 pub mod ring;

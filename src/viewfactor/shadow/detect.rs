@@ -13,10 +13,10 @@
 //! (the cube) no plane qualifies, so the check costs O(N·planes) once and nothing per pair.
 //! Candidate search within an active plane is a linear scan with a bounding-box test; a BVH
 //! will replace it.
+use crate::geometry::planes::{Plane, PlaneGroups};
 use crate::geometry::tolerance::OCCLUSION_TOL;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
-use crate::viewfactor::analytic::planes::{Plane, PlaneGroups};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 

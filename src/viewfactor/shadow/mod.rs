@@ -1,6 +1,7 @@
 //! The exact-shadow branch: obstructed patch pairs, from blocker detection to the obstructed
-//! exchange area. Depends on `analytic`'s exact kernels (Lambert, planes) and on geometry;
-//! never on `auto`, which picks a [`Policy`] and hands it to the analytic kernel.
+//! exchange area. Depends on geometry and on `analytic`'s exact kernels (Lambert's edge term);
+//! the analytic kernel ([`crate::viewfactor::analytic::kernel`]) calls [`Shadows`]. Never
+//! depends on `auto`, which picks a [`Policy`] and hands it to the analytic kernel.
 //!
 //! Blockers and detection:
 //! - [`blockers`]: the scene's convex blockers (surface outlines) and their box hierarchies;

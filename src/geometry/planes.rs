@@ -1,7 +1,7 @@
 //! Grouping polygons by the (unoriented) plane they lie in: coplanar patch pairs exchange
 //! nothing, and blockers in one plane are tested together.
-use crate::geometry::tolerance::PLANE_NORMAL_COS_TOL;
-use crate::geometry::Polygon;
+use super::tolerance::PLANE_NORMAL_COS_TOL;
+use super::Polygon;
 use glam::DVec3;
 use std::collections::HashMap;
 
