@@ -510,6 +510,16 @@ fn clustered_solve(
     let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)
         .map_err(|e| with_outward_hint(scene, e))?;
     print_enforcement(mode, &run.report);
+    if let Some((loose, s)) = &run.first {
+        eprintln!(
+            "lambert: first pass at tolerance {loose:e} for the radiosity ranges: {} cluster links, {} patch \
+             pairs (links {:.2} s, patch pairs {:.2} s)",
+            s.links,
+            s.leaf_pairs,
+            s.refine.as_secs_f64(),
+            s.pairs.as_secs_f64()
+        );
+    }
     let s = &run.stats;
     eprintln!(
         "lambert: {n} patches, {} cluster links, {} patch pairs, {} visibility rays, store {:.1} MB \

@@ -193,6 +193,7 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
                     wall: start.elapsed(),
                 },
                 heat_rate_error: None,
+                heat_rate_shift: None,
             });
         }
         if steps == MAX_NEWTON {

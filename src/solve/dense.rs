@@ -80,23 +80,19 @@ pub fn solve_operator(
         )
         .into());
     }
-    let (eps, rows) = row_kinds(scene)?;
+    let sys = LeanSystem::new(scene, t)?;
+    let LeanSystem { eps, rows, unknown, .. } = &sys;
     let e_amb = scene.ambient.map_or(0.0, |a| SIGMA * a.temperature.powi(4));
     let areas = t.areas();
     // Unknowns: every node but the black temperature nodes, whose J = E_b is known.
     let mut known = vec![0.0; n];
-    let mut unknown = vec![true; n];
-    let mut d = vec![0.0; n];
     let mut b = vec![0.0; n];
     for i in 0..n {
         let a = areas[i];
         match rows[i] {
-            RowKind::Temperature(eb) if eps[i] >= 1.0 => (known[i], unknown[i]) = (eb, false),
-            RowKind::Temperature(eb) => {
-                let rho = 1.0 - eps[i];
-                (d[i], b[i]) = (a / rho, a * eps[i] / rho * eb);
-            }
-            RowKind::Flux(q) => (d[i], b[i]) = (a, a * q),
+            RowKind::Temperature(eb) if !unknown[i] => known[i] = eb,
+            RowKind::Temperature(eb) => b[i] = a * eps[i] / (1.0 - eps[i]) * eb,
+            RowKind::Flux(q) => b[i] = a * q,
         }
         b[i] += amb.map_or(0.0, |am| am[i]) * e_amb;
     }
@@ -106,19 +102,13 @@ pub fn solve_operator(
             b[i] += sk[i];
         }
     }
-    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
-    let diag: Vec<f64> = (0..n).map(|i| if unknown[i] { d[i] - t.self_term(i) } else { 1.0 }).collect();
-    check_anchored(scene, t, names, &unknown, &d, &diag)?;
+    check_anchored(scene, t, names, unknown, &sys.d, &sys.diag)?;
     for i in (0..n).filter(|&i| !unknown[i]) {
         b[i] = 0.0;
     }
-    // K x = D x − S̄ x on the unknowns (x is 0 on eliminated nodes, so is K x).
-    let apply = |x: &[f64]| -> Vec<f64> {
-        let sx = t.matvec_scaled(None, x);
-        (0..n).map(|i| mask[i] * (d[i] * x[i] - sx[i])).collect()
-    };
+    let apply = |x: &[f64]| sys.apply(t, x);
     let max_iter = CG_ITER_FLOOR + n;
-    let (x, iterations, residual) = pcg(&apply, &diag, &b, CG_TOL, max_iter);
+    let (x, iterations, residual) = pcg(&apply, &sys.diag, &b, CG_TOL, max_iter);
     if !(residual <= CG_STALL_TOL) {
         return Err(Error::Compute(format!(
             "conjugate gradients stopped at relative residual {residual:.3e} after {iterations} iterations"
@@ -168,13 +158,65 @@ pub fn solve_operator(
         level: Level::Patch,
         names: names.to_vec(),
         areas: areas.to_vec(),
-        emissivity: eps,
+        emissivity: sys.eps,
         surface: scene.patches.iter().map(|p| p.surface).collect(),
         results,
         ambient,
         info,
         heat_rate_error: None,
+        heat_rate_shift: None,
     })
+}
+
+/// The net-radiation system K = D − S̄ of an operator's patches, restricted to the unknowns
+/// (black temperature patches are known: J = E_b).
+struct LeanSystem {
+    /// Emissivity per patch.
+    eps: Vec<f64>,
+    /// Row kind per patch.
+    rows: Vec<RowKind>,
+    /// D: A/ρ on gray temperature rows, A on flux rows, 0 on known rows.
+    d: Vec<f64>,
+    /// True where J is unknown.
+    unknown: Vec<bool>,
+    /// 1 on unknown rows, 0 on known ones.
+    mask: Vec<f64>,
+    /// Jacobi diagonal of K (1 on known rows).
+    diag: Vec<f64>,
+}
+
+impl LeanSystem {
+    fn new(scene: &Scene, t: &dyn Operator) -> Result<Self> {
+        let n = t.len();
+        let (eps, rows) = row_kinds(scene)?;
+        let areas = t.areas();
+        let mut d = vec![0.0; n];
+        let mut unknown = vec![true; n];
+        for i in 0..n {
+            match rows[i] {
+                RowKind::Temperature(_) if eps[i] >= 1.0 => unknown[i] = false,
+                RowKind::Temperature(_) => d[i] = areas[i] / (1.0 - eps[i]),
+                RowKind::Flux(_) => d[i] = areas[i],
+            }
+        }
+        let mask = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
+        let diag = (0..n).map(|i| if unknown[i] { d[i] - t.self_term(i) } else { 1.0 }).collect();
+        Ok(LeanSystem { eps, rows, d, unknown, mask, diag })
+    }
+
+    /// K x = D x − S̄ x on the unknowns (x is 0 on known rows, so is K x).
+    fn apply(&self, t: &dyn Operator, x: &[f64]) -> Vec<f64> {
+        let sx = t.matvec_scaled(None, x);
+        (0..x.len()).map(|i| self.mask[i] * (self.d[i] * x[i] - sx[i])).collect()
+    }
+
+    /// K⁻¹ r on the unknowns (r masked), to the error estimates' accuracy.
+    fn solve(&self, t: &dyn Operator, r: &[f64]) -> Vec<f64> {
+        let rhs: Vec<f64> = r.iter().zip(&self.mask).map(|(r, m)| r * m).collect();
+        let (y, _, _) =
+            pcg(&|x: &[f64]| self.apply(t, x), &self.diag, &rhs, ERROR_CG_TOL, CG_ITER_FLOOR + r.len());
+        y
+    }
 }
 
 /// Per patch: emissivity and row kind (T or q), or the error of a surface without a boundary
@@ -199,30 +241,40 @@ fn row_kinds(scene: &Scene) -> Result<(Vec<f64>, Vec<RowKind>)> {
 /// is its direct e_i; a flux patch's heat rate is prescribed (its temperature carries the
 /// error). Returns the heat-rate error bound per patch, W.
 pub fn propagate_errors(scene: &Scene, t: &dyn Operator, e: &[f64]) -> Result<Vec<f64>> {
-    let n = t.len();
-    let (eps, rows) = row_kinds(scene)?;
+    let sys = LeanSystem::new(scene, t)?;
+    let y = sys.solve(t, e);
     let areas = t.areas();
-    let mut d = vec![0.0; n];
-    let mut unknown = vec![true; n];
-    for i in 0..n {
-        match rows[i] {
-            RowKind::Temperature(_) if eps[i] >= 1.0 => unknown[i] = false,
-            RowKind::Temperature(_) => d[i] = areas[i] / (1.0 - eps[i]),
-            RowKind::Flux(_) => d[i] = areas[i],
-        }
-    }
-    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
-    let diag: Vec<f64> = (0..n).map(|i| if unknown[i] { d[i] - t.self_term(i) } else { 1.0 }).collect();
-    let rhs: Vec<f64> = (0..n).map(|i| mask[i] * e[i]).collect();
-    let apply = |x: &[f64]| -> Vec<f64> {
-        let sx = t.matvec_scaled(None, x);
-        (0..n).map(|i| mask[i] * (d[i] * x[i] - sx[i])).collect()
-    };
-    let (y, _, _) = pcg(&apply, &diag, &rhs, ERROR_CG_TOL, CG_ITER_FLOOR + n);
-    Ok((0..n)
-        .map(|i| match rows[i] {
-            RowKind::Temperature(_) if eps[i] >= 1.0 => e[i],
-            RowKind::Temperature(_) => areas[i] * eps[i] / (1.0 - eps[i]) * y[i].max(0.0),
+    Ok((0..t.len())
+        .map(|i| match sys.rows[i] {
+            RowKind::Temperature(_) if !sys.unknown[i] => e[i],
+            RowKind::Temperature(_) => areas[i] * sys.eps[i] / (1.0 - sys.eps[i]) * y[i].max(0.0),
+            RowKind::Flux(_) => 0.0,
+        })
+        .collect())
+}
+
+/// Per-patch bound on the radiosity error (W/m²) from direct errors `e` (W), carried through
+/// the inter-reflections as in [`propagate_errors`]: zero on black temperature patches
+/// (J = E_b), the irradiation error on flux patches.
+pub fn radiosity_errors(scene: &Scene, t: &dyn Operator, e: &[f64]) -> Result<Vec<f64>> {
+    let sys = LeanSystem::new(scene, t)?;
+    let y = sys.solve(t, e);
+    Ok((0..t.len()).map(|i| if sys.unknown[i] { y[i].max(0.0) } else { 0.0 }).collect())
+}
+
+/// Heat-rate moves (W, signed) of a change `c` of each patch's net exchange Σ_j δs_ij (J_j − J_i)
+/// at fixed J, carried through the inter-reflections to first order: K δJ = c, a gray
+/// temperature patch moves by −A ε/ρ δJ_i, a black one by −c_i − (S̄ δJ)_i, a flux patch not
+/// at all (its temperature moves).
+pub fn propagate_shift(scene: &Scene, t: &dyn Operator, c: &[f64]) -> Result<Vec<f64>> {
+    let sys = LeanSystem::new(scene, t)?;
+    let y = sys.solve(t, c);
+    let sy = t.matvec_scaled(None, &y);
+    let areas = t.areas();
+    Ok((0..t.len())
+        .map(|i| match sys.rows[i] {
+            RowKind::Temperature(_) if !sys.unknown[i] => -c[i] - sy[i],
+            RowKind::Temperature(_) => -areas[i] * sys.eps[i] / (1.0 - sys.eps[i]) * y[i],
             RowKind::Flux(_) => 0.0,
         })
         .collect())

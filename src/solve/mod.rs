@@ -146,6 +146,10 @@ pub struct Solution {
     /// Estimated bound on each node's heat-rate error from approximate exchange (the
     /// hierarchical path), W; None where the exchange is exact to the method's tolerance.
     pub heat_rate_error: Option<Vec<f64>>,
+    /// The signed part of `heat_rate_error` (W, included there as |shift|): heat-rate moves
+    /// from the closure scaling, which largely cancel within a surface, so a surface counts
+    /// |Σ shift| rather than Σ |shift|.
+    pub heat_rate_shift: Option<Vec<f64>>,
 }
 
 impl Solution {
@@ -208,11 +212,15 @@ impl Solution {
             info: self.info.clone(),
             heat_rate_error: self.heat_rate_error.as_ref().map(|e| {
                 let mut out = vec![0.0; m];
+                let mut shift = vec![0.0; m];
                 for (k, v) in e.iter().enumerate() {
-                    out[self.surface[k]] += v;
+                    let c = self.heat_rate_shift.as_ref().map_or(0.0, |c| c[k]);
+                    out[self.surface[k]] += v - c.abs();
+                    shift[self.surface[k]] += c;
                 }
-                out
+                out.iter().zip(&shift).map(|(e, c)| e.max(0.0) + c.abs()).collect()
             }),
+            heat_rate_shift: None,
         }
     }
 }
@@ -242,6 +250,7 @@ pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solut
         ambient,
         info,
         heat_rate_error: None,
+        heat_rate_shift: None,
     })
 }
 

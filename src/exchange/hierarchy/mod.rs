@@ -20,7 +20,7 @@ use crate::error::InputError;
 use crate::scene::{BoundaryCondition, Scene};
 use crate::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
 use crate::viewfactor::engine::RawEntry;
-use crate::viewfactor::{auto, Method};
+use crate::viewfactor::{auto, Method, MethodSet};
 use crate::visibility::Visibility;
 use crate::{Error, Result, SIGMA};
 use rayon::prelude::*;
@@ -64,6 +64,26 @@ pub struct Stats {
     pub pairs: Duration,
 }
 
+/// Patch pairs evaluated by one build, looked up by a later one (same scene, same tree).
+#[derive(Debug, Clone)]
+pub struct PairCache {
+    leaf_of: Vec<u32>,
+    pairs: Vec<(u32, u32, f64)>,
+    sampled: Vec<(u32, u32, f64)>,
+}
+
+impl PairCache {
+    /// Exchange area and its variance of patch pair (i, j), i < j, when it was evaluated as a
+    /// pair with a nonzero value.
+    fn get(&self, i: u32, j: u32) -> Option<(f64, f64)> {
+        let key = (self.leaf_of[i as usize], self.leaf_of[j as usize]);
+        let k = self.pairs.binary_search_by_key(&key, |p| (p.0, p.1)).ok()?;
+        let var =
+            self.sampled.binary_search_by_key(&(i, j), |p| (p.0, p.1)).map_or(0.0, |m| self.sampled[m].2);
+        Some((self.pairs[k].2, var))
+    }
+}
+
 /// The link hierarchy of a scene: a symmetric exchange operator over its patches.
 #[derive(Debug, Clone)]
 pub struct Hierarchy {
@@ -92,7 +112,7 @@ pub struct Hierarchy {
 
 /// Radiosity bounds of each patch before the solve (W/m²): J = εE_b + ρH with the irradiation
 /// H between the scene's lowest and highest radiosity; flux patches span the whole range.
-fn radiosity_bounds(scene: &Scene) -> Vec<(f64, f64)> {
+pub fn radiosity_bounds(scene: &Scene) -> Vec<(f64, f64)> {
     let eb = |t: f64| SIGMA * t.powi(4);
     let mut e_lo = scene.ambient.map_or(f64::INFINITY, |a| eb(a.temperature));
     let mut e_hi = scene.ambient.map_or(0.0, |a| eb(a.temperature));
@@ -162,8 +182,22 @@ fn heat_rate_scale(scene: &Scene) -> f64 {
 
 impl Hierarchy {
     /// Builds the links of `scene` for the relative heat-rate tolerance `tol`, with the patch
-    /// pairs from the `analytic` or `auto` kernel of `vf`.
+    /// pairs from the `analytic` or `auto` kernel of `vf` and the a-priori radiosity bounds.
     pub fn build(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64) -> Result<Self> {
+        Self::build_bounded(scene, vf, tol, &radiosity_bounds(scene), None)
+    }
+
+    /// As [`Hierarchy::build`], with each patch's radiosity known to lie in `bounds` (lo, hi),
+    /// W/m²: a link's budget is weighed against the radiosity range of its two clusters.
+    /// Patch pairs that `known` (from an earlier build of the same scene and kernel) holds
+    /// are taken from it (and it is freed once they are).
+    pub fn build_bounded(
+        scene: &Scene,
+        vf: &crate::viewfactor::Params,
+        tol: f64,
+        bounds: &[(f64, f64)],
+        known: Option<PairCache>,
+    ) -> Result<Self> {
         if scene.patches.is_empty() {
             return Err(InputError::file(&scene.source, "the scene has no patches").into());
         }
@@ -181,7 +215,6 @@ impl Hierarchy {
         let tree = Tree::new(scene);
         let blockers = kernel.shadows().map(|s| s.blockers());
         let vis = blockers.map(|_| Visibility::new(scene));
-        let bounds = radiosity_bounds(scene);
         let radiosity = tree.ranges(|p| bounds[p]);
         let mut acc = 0.0;
         let prefix = tree
@@ -227,10 +260,17 @@ impl Hierarchy {
             let exact: Vec<(u32, Vec<RawEntry>)> = wave
                 .par_iter()
                 .map(|&(lo, hi)| {
-                    let js: Vec<u32> = leaves[lo..hi].iter().map(|p| p.1).collect();
-                    let mut out = Vec::with_capacity(js.len());
-                    kernel.partners(leaves[lo].0 as usize, &js, &mut out);
-                    (leaves[lo].0, out)
+                    let i = leaves[lo].0;
+                    let mut out = Vec::with_capacity(hi - lo);
+                    let mut js: Vec<u32> = Vec::with_capacity(hi - lo);
+                    for &(_, j) in &leaves[lo..hi] {
+                        match known.as_ref().and_then(|c| c.get(i, j)) {
+                            Some((s, var)) => out.push(RawEntry { j, method: MethodSet::ANALYTIC, s, var }),
+                            None => js.push(j),
+                        }
+                    }
+                    kernel.partners(i as usize, &js, &mut out);
+                    (i, out)
                 })
                 .collect();
             for (i, es) in exact {
@@ -243,13 +283,13 @@ impl Hierarchy {
             }
         }
         let leaf_pairs = leaves.len();
-        drop(leaves);
-        drop(rows);
+        drop((leaves, rows, known));
         let t_pairs = start.elapsed();
         let n_nodes = tree.nodes.len();
         let mut links = refined.links;
         links.par_sort_unstable_by_key(|l| (l.a, l.b));
         pairs.par_sort_unstable_by_key(|p| (p.0, p.1));
+        sampled.par_sort_unstable_by_key(|p| (p.0, p.1));
         let link_adj = Adjacency::new(n_nodes, links.iter().map(|l| (l.a, l.b)));
         let pair_adj = Adjacency::new(n_nodes, pairs.iter().map(|p| (p.0, p.1)));
         let bytes = std::mem::size_of_val(&links[..])
@@ -281,6 +321,12 @@ impl Hierarchy {
             ambient: None,
             stats,
         })
+    }
+
+    /// The patch pairs alone, for a later build of the same scene and kernel; the links and
+    /// indexes are freed.
+    pub fn into_pairs(self) -> PairCache {
+        PairCache { leaf_of: self.tree.leaf_of, pairs: self.pairs, sampled: self.sampled }
     }
 
     /// Area-weighted means of `x` (patch order) over every node.
@@ -339,10 +385,21 @@ impl Hierarchy {
 
     /// Per-patch bound on the row-sum error Σ_j |δs_ij| from the cluster links, m².
     pub fn row_errors(&self) -> Vec<f64> {
+        self.row_sum_of(|l| if l.s > 0.0 { l.err } else { 0.0 })
+    }
+
+    /// Per-patch exchange area that links found blocked by every ray may still have (the
+    /// rays trusted when unanimous can miss a gap), m²: the leak check allows it.
+    pub fn row_unsure(&self) -> Vec<f64> {
+        self.row_sum_of(|l| if l.s > 0.0 { 0.0 } else { l.err })
+    }
+
+    /// Per patch: Σ over the links of its clusters of `f(link)`, shared by area.
+    fn row_sum_of(&self, f: impl Fn(&Link) -> f64) -> Vec<f64> {
         let mut z = vec![0.0; self.tree.nodes.len()];
         for l in &self.links {
-            z[l.a as usize] += l.err;
-            z[l.b as usize] += l.err;
+            z[l.a as usize] += f(l);
+            z[l.b as usize] += f(l);
         }
         self.push(&z)
     }
@@ -357,10 +414,11 @@ impl Hierarchy {
         v
     }
 
-    /// Per-patch heat-rate error estimate (W) of radiosities `j`: each cluster link's error
-    /// bound times the radiosity range over its two clusters, shared by area; in an open scene
-    /// (ambient emissive power `e_amb`) also the row's error times |J_i − E_amb|, as the
-    /// ambient takes what the links miss.
+    /// Per-patch heat-rate error estimate (W) of radiosities `j` before enforcement: each
+    /// cluster link's error bound times the radiosity range over its two clusters, shared by
+    /// area, and the sampled pairs' standard errors; in an open scene (ambient emissive power
+    /// `e_amb`) also the row's error times |J_i − E_amb|, as the ambient takes what the links
+    /// miss. The enforcement's own move is [`Hierarchy::enforcement_shift`].
     pub fn heat_rate_errors(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
         let nodes = &self.tree.nodes;
         let range = self.tree.ranges(|p| (j[p], j[p]));
@@ -368,7 +426,7 @@ impl Hierarchy {
         let g = |k: usize| self.g.as_ref().map_or(1.0, |g| g[k]);
         let gmax = (0..self.areas.len()).map(g).fold(1.0, f64::max);
         let mut z = vec![0.0; nodes.len()];
-        for l in &self.links {
+        for l in self.links.iter().filter(|l| l.s > 0.0) {
             let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
             let dq = l.err * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
             z[l.a as usize] += dq;
@@ -391,17 +449,21 @@ impl Hierarchy {
                 e[i] += rows[i] * gmax * gmax * (j[i] - ea).abs();
             }
         }
-        // The enforcement scaling is a correction of the same order as the link errors: its
-        // change of each patch's net exchange Σ_j s_ij (J_j − J_i) is counted as error too.
-        if self.g.is_some() {
-            let ones = vec![1.0; n];
-            let (sj, s1) = (self.matvec_scaled(None, j), self.matvec_scaled(None, &ones));
-            let (rj, r1) = (self.apply(None, None, j), self.apply(None, None, &ones));
-            for i in 0..n {
-                e[i] += ((sj[i] - rj[i]) - j[i] * (s1[i] - r1[i])).abs();
-            }
-        }
         e
+    }
+
+    /// The enforcement's change of each patch's net exchange Σ_j s_ij (J_j − J_i) at
+    /// radiosities `j` (W, signed; zero without enforcement scales): a correction of the same
+    /// order as the link errors, counted in the error estimate.
+    pub fn enforcement_shift(&self, j: &[f64]) -> Vec<f64> {
+        let n = self.areas.len();
+        if self.g.is_none() {
+            return vec![0.0; n];
+        }
+        let ones = vec![1.0; n];
+        let (sj, s1) = (self.matvec_scaled(None, j), self.matvec_scaled(None, &ones));
+        let (rj, r1) = (self.apply(None, None, j), self.apply(None, None, &ones));
+        (0..n).map(|i| (sj[i] - rj[i]) - j[i] * (s1[i] - r1[i])).collect()
     }
 
     /// y = W G S G W x with enforcement scales `g` (None: the raw links).
@@ -418,6 +480,19 @@ impl Hierarchy {
     /// Closure (closed scenes, after the leak check) or capped scaling and the ambient (open
     /// scenes), as the dense path does; `tol` is the closure tolerance.
     pub fn enforce(&mut self, scene: &Scene, mode: Enforce, open: bool, tol: f64) -> Result<EnforceReport> {
+        self.enforce_with(scene, mode, open, tol, true)
+    }
+
+    /// As [`Hierarchy::enforce`]; `check_leaks` false skips the closed scene's leak check (a
+    /// first, loose pass whose links only bound the radiosities of the final one).
+    pub fn enforce_with(
+        &mut self,
+        scene: &Scene,
+        mode: Enforce,
+        open: bool,
+        tol: f64,
+        check_leaks: bool,
+    ) -> Result<EnforceReport> {
         let start_sums = self.matvec_scaled(None, &vec![1.0; self.areas.len()]);
         let before = self.diagnostics(&start_sums, open);
         let (method, iterations) = match (mode, open) {
@@ -428,7 +503,9 @@ impl Hierarchy {
                 ("over-full rows scaled", sweeps)
             }
             (Enforce::Closure, false) => {
-                self.refuse_leaks(scene, &start_sums)?;
+                if check_leaks {
+                    self.refuse_leaks(scene, &start_sums)?;
+                }
                 let (g, its) = closure_scales(self, tol)?;
                 self.g = Some(g);
                 ("symmetric scaling of the links", its)
@@ -467,13 +544,14 @@ impl Hierarchy {
     /// leaks. Surface rows, not patch rows: a link shares its value by area within a cluster,
     /// which moves exchange between patches of one surface but never between surfaces.
     fn refuse_leaks(&self, scene: &Scene, sums: &[f64]) -> Result<()> {
-        let (errs, vars) = (self.row_errors(), self.row_variances());
+        let (errs, vars, unsure) = (self.row_errors(), self.row_variances(), self.row_unsure());
         let m = scene.surfaces.len();
         let (mut s_sum, mut s_err, mut s_area) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-        let mut s_var = vec![0.0; m];
+        let (mut s_var, mut s_unsure) = (vec![0.0; m], vec![0.0; m]);
         for (i, p) in scene.patches.iter().enumerate() {
             s_sum[p.surface] += sums[i];
             s_err[p.surface] += errs[i];
+            s_unsure[p.surface] += unsure[i];
             s_var[p.surface] += vars[i];
             s_area[p.surface] += self.areas[i];
         }
@@ -481,9 +559,10 @@ impl Hierarchy {
             .filter(|&k| s_area[k] > 0.0)
             .filter_map(|k| {
                 let p = s_sum[k] / s_area[k];
-                // Links by their bounds, sampled pairs by their standard errors (as the dense
-                // path's leak check).
+                // Links by their bounds (and what unanimous rays may have missed), sampled
+                // pairs by their standard errors (as the dense path's leak check).
                 let allowed = LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k])
+                    + s_unsure[k] / s_area[k]
                     + LEAK_SIGMAS * s_var[k].sqrt() / s_area[k];
                 (1.0 - p > allowed).then_some((k, p))
             })

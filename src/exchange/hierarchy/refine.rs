@@ -53,7 +53,8 @@ pub struct Link {
     pub b: u32,
     /// Exchange area S_AB, m².
     pub s: f64,
-    /// Estimated bound on |S_AB − exact|, m².
+    /// Estimated bound on |S_AB − exact|, m²; for a link that every visibility ray found
+    /// blocked (s = 0), the exchange area those rays may have missed.
     pub err: f64,
 }
 
@@ -73,6 +74,21 @@ impl Refined {
         self.links.append(&mut o.links);
         self.leaves.append(&mut o.leaves);
         self.rays += o.rays;
+    }
+
+    /// The pieces of a parallel refinement in one, each list allocated once at its final
+    /// size (appending would double the largest lists' capacity on the way).
+    fn concat(pieces: Vec<Refined>) -> Refined {
+        let links = pieces.iter().map(|p| p.links.len()).sum();
+        let leaves = pieces.iter().map(|p| p.leaves.len()).sum();
+        let mut out =
+            Refined { links: Vec::with_capacity(links), leaves: Vec::with_capacity(leaves), rays: 0 };
+        for p in pieces {
+            out.links.extend_from_slice(&p.links);
+            out.leaves.extend_from_slice(&p.leaves);
+            out.rays += p.rays;
+        }
+        out
     }
 }
 
@@ -102,50 +118,51 @@ pub struct Context<'a> {
 
 /// Refines the whole scene.
 pub fn refine(ctx: &Context) -> Refined {
-    self_pair(ctx, 0)
+    Refined::concat(self_pair(ctx, 0))
 }
 
-/// All pairs within node k.
-fn self_pair(ctx: &Context, k: u32) -> Refined {
+/// All pairs within node k, as pieces.
+fn self_pair(ctx: &Context, k: u32) -> Vec<Refined> {
     let node = &ctx.tree.nodes[k as usize];
     if node.is_leaf() {
-        return Refined::default();
+        return Vec::new();
     }
     let [l, r] = node.kids;
     if node.len() > 64 {
-        let ((a, b), c) =
+        let ((mut a, b), c) =
             rayon::join(|| rayon::join(|| self_pair(ctx, l), || self_pair(ctx, r)), || pair(ctx, l, r));
-        let mut out = a;
-        out.append(b);
-        out.append(c);
-        out
+        a.extend(b);
+        a.extend(c);
+        a
     } else {
-        let mut out = self_pair(ctx, l);
-        out.append(self_pair(ctx, r));
+        let mut out = Refined::default();
+        for piece in self_pair(ctx, l).into_iter().chain(self_pair(ctx, r)) {
+            out.append(piece);
+        }
         pair_into(ctx, l, r, &mut out);
-        out
+        vec![out]
     }
 }
 
-/// Pairs between nodes a and b, in parallel while the work is large.
-fn pair(ctx: &Context, a: u32, b: u32) -> Refined {
+/// Pairs between nodes a and b, as pieces, in parallel while the work is large.
+fn pair(ctx: &Context, a: u32, b: u32) -> Vec<Refined> {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
     if na.len() * nb.len() < PAR_WORK {
         let mut out = Refined::default();
         pair_into(ctx, a, b, &mut out);
-        return out;
+        return vec![out];
     }
     match assess(ctx, a, b) {
         Decision::Split(x, other) => {
             let [c, d] = ctx.tree.nodes[x as usize].kids;
             let (mut o1, o2) = rayon::join(|| pair(ctx, c, other), || pair(ctx, d, other));
-            o1.append(o2);
+            o1.extend(o2);
             o1
         }
         decision => {
             let mut out = Refined::default();
             record(decision, a, b, ctx, &mut out);
-            out
+            vec![out]
         }
     }
 }
@@ -270,7 +287,10 @@ fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
     let Some((v, vis_err, rays)) = visibility(ctx, a, b, two, dj, budget - geo * dj) else {
         return split(ctx, a, b);
     };
-    Decision::Link { s: two * v, err: geo * v + vis_err, rays }
+    // A link that every ray found blocked is stored with s = 0; its `err` is then the exchange
+    // area the rays may have missed (the rule of succession), for the leak check only.
+    let err = if v == 0.0 { two / (VIS_RAYS + 2) as f64 } else { geo * v + vis_err };
+    Decision::Link { s: two * v, err, rays }
 }
 
 /// The node's children, or the node itself for a leaf.
