@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The scaling benchmarks: `lambert solve` on the scenes of gen_scale.py (ebox_* electronics
-# enclosures and room_* obstructed rooms, 1k to 100k patches); wall time, peak memory and the
-# exchange's `links` report of each run, one line per run.
+# enclosures, room_* gridded and troom_* triangulated obstructed rooms, 1k to 100k patches);
+# wall time, peak memory and the exchange's `links` report of each run, one line per run.
 # Usage: validation/scenes/bench_scale.sh [OUT_DIR] [SCENE ...]   (release build first)
 #   SCENE: a .toml path or a stem in validation/scenes/scale/ (ebox_10k); default: all of them,
 #   smallest first. Env: LAMBERT=path picks the binary; ARGS="--exchange hierarchical
@@ -14,10 +14,10 @@ OUT=${1:-/tmp/lambert-scale}
 shift || true
 TIMEOUT=${TIMEOUT:-900}
 mkdir -p "$OUT"
-[ -f validation/scenes/scale/ebox_100k.toml ] || python3 validation/scenes/gen_scale.py
+[ -f validation/scenes/scale/troom_100k.toml ] || python3 validation/scenes/gen_scale.py
 SCENES=("$@")
 if [ ${#SCENES[@]} -eq 0 ]; then
-  for n in 1k 2k 5k 10k 20k 50k 100k; do SCENES+=("ebox_$n" "room_$n"); done
+  for n in 1k 2k 5k 10k 20k 50k 100k; do SCENES+=("ebox_$n" "room_$n" "troom_$n"); done
 fi
 declare -A TIMED_OUT=()
 echo "# $B solve ${ARGS:-}  (timeout ${TIMEOUT} s)"
