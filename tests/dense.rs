@@ -126,9 +126,7 @@ fn black_surfaces_and_open_scenes_match_the_sparse_path() {
 fn obstructed_room_with_auto_matches_the_sparse_path() {
     // The view-factor case with gray properties: all ε 0.8, floor 1000 K, the rest 300 K.
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
-    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
-    let text = text.replacen("temperature = 300.0", "temperature = 1000.0", 1);
+    let text = heated_room();
     check_obstructed(&load(dir.path(), "room.toml", &text));
 }
 
@@ -179,6 +177,14 @@ fn a_leaking_closed_scene_is_refused_not_stretched() {
             .unwrap_err();
     assert_eq!(err.exit_code(), 2, "{err}");
     assert!(err.to_string().contains("leaks"), "{err}");
+}
+
+/// The obstructed room of cases/o3 (12×12 per wall, block 6×6 per face), every surface at
+/// ε = 0.8 and 300 K but the floor at 1000 K.
+fn heated_room() -> String {
+    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
+    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
+    text.replacen("temperature = 300.0", "temperature = 1000.0", 1)
 }
 
 fn lambert() -> Command {
@@ -355,9 +361,7 @@ fn hierarchical_open_box_with_ambient_matches_the_dense_path() {
 fn hierarchical_banded_and_obstructed_room_matches_the_dense_path() {
     // A long room (banded: far walls barely see each other) around a block, `auto` pairs.
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
-    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
-    let text = text.replacen("temperature = 300.0", "temperature = 1000.0", 1);
+    let text = heated_room();
     let scene = load(dir.path(), "room.toml", &text);
     let worst = check_against_dense("obstructed", &scene, &params(Method::Auto), HIER_TOL);
     // A looser tolerance is honoured too, with fewer links.
@@ -370,10 +374,11 @@ fn hierarchical_refuses_a_leaking_closed_scene() {
     // The obstructed room without its ceiling and without an ambient: the leak check allows
     // for what unanimous visibility rays past the block may miss, not for a missing wall.
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
-    let (head, rest) = text.split_at(text.find("[[surface]]\nname = \"ceiling\"").unwrap());
+    let text = heated_room();
+    let (head, rest) = text.split_at(
+        text.find("[[surface]]\nemissivity = 0.8\ntemperature = 300.0\nname = \"ceiling\"").unwrap(),
+    );
     let text = format!("{head}{}", &rest[rest[1..].find("[[surface]]").unwrap() + 1..]);
-    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
     let scene = load(dir.path(), "room.toml", &text);
     assert!(!scene.surfaces.iter().any(|s| s.name == "ceiling"));
     for tol in [1e-2, 1e-1] {
@@ -395,9 +400,7 @@ fn first_pass_radiosity_ranges_hold_the_dense_radiosities() {
     // The two-pass run weighs its final links against these ranges: they must contain the
     // radiosities, and be narrower than the a-priori bounds (or the pass is for nothing).
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
-    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
-    let text = text.replacen("temperature = 300.0", "temperature = 1000.0", 1);
+    let text = heated_room();
     let scene = load(dir.path(), "room.toml", &text);
     let vf = params(Method::Auto);
     let mode = Enforce::solve_default(false);
@@ -445,9 +448,7 @@ fn hierarchical_links_are_fewer_than_pairs_and_the_operator_is_symmetric() {
 fn hierarchical_runs_give_the_same_numbers_on_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("room.toml");
-    let text = std::fs::read_to_string("cases/o3_obstructed_room/scene.toml").unwrap();
-    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
-    std::fs::write(&path, text.replacen("temperature = 300.0", "temperature = 1000.0", 1)).unwrap();
+    std::fs::write(&path, heated_room()).unwrap();
     let run = |threads: &str, tol: &str| {
         let out = lambert()
             .args([
