@@ -92,12 +92,8 @@ pub struct Hierarchy {
     areas: Vec<f64>,
     /// Cluster links with their error bounds, sorted by (a, b).
     links: Vec<Link>,
-    /// Both directions of `links`.
-    link_adj: Adjacency,
     /// Exact patch pairs as (leaf node, leaf node, s), sorted.
     pairs: Vec<(u32, u32, f64)>,
-    /// Both directions of `pairs`.
-    pair_adj: Adjacency,
     /// Patch pairs estimated by sampling (`auto`): (i, j, variance of s_ij in m⁴).
     sampled: Vec<(u32, u32, f64)>,
     /// Scales g of enforcement (S → G S G), patch order.
@@ -240,62 +236,67 @@ impl Hierarchy {
         let refined = refine::refine(&ctx);
         let t_refine = start.elapsed();
         let start = Instant::now();
-        // Patch pairs by row, each row through the kernel's own row code.
-        let mut leaves = refined.leaves;
-        leaves.par_sort_unstable();
-        let mut rows: Vec<(usize, usize)> = Vec::new();
-        let mut k = 0;
-        while k < leaves.len() {
-            let i = leaves[k].0;
-            let lo = k;
-            while k < leaves.len() && leaves[k].0 == i {
-                k += 1;
-            }
-            rows.push((lo, k));
+        // Patch pairs by row, each row through the kernel's own row code, their values
+        // written into the refinement's list in place (no second list of pairs).
+        let mut pairs = refined.leaves;
+        let leaf_pairs = pairs.len();
+        let mut rows: Vec<&mut [(u32, u32, f64)]> = Vec::new();
+        let mut rest = &mut pairs[..];
+        while !rest.is_empty() {
+            let i = rest[0].0;
+            let len = rest.iter().position(|p| p.0 != i).unwrap_or(rest.len());
+            let (row, tail) = rest.split_at_mut(len);
+            rows.push(row);
+            rest = tail;
         }
-        // Rows in waves, each kept only as compact (leaf node, leaf node, s) entries.
-        let mut pairs: Vec<(u32, u32, f64)> = Vec::new();
         let mut sampled: Vec<(u32, u32, f64)> = Vec::new();
-        for wave in rows.chunks(PAIR_WAVE) {
-            let exact: Vec<(u32, Vec<RawEntry>)> = wave
-                .par_iter()
-                .map(|&(lo, hi)| {
-                    let i = leaves[lo].0;
-                    let mut out = Vec::with_capacity(hi - lo);
-                    let mut js: Vec<u32> = Vec::with_capacity(hi - lo);
-                    for &(_, j) in &leaves[lo..hi] {
+        for wave in rows.chunks_mut(PAIR_WAVE) {
+            let vars: Vec<Vec<(u32, u32, f64)>> = wave
+                .par_iter_mut()
+                .map(|row| {
+                    let i = row[0].0;
+                    let mut out = Vec::with_capacity(row.len());
+                    let mut js: Vec<u32> = Vec::with_capacity(row.len());
+                    for &(_, j, _) in row.iter() {
                         match known.as_ref().and_then(|c| c.get(i, j)) {
                             Some((s, var)) => out.push(RawEntry { j, method: MethodSet::ANALYTIC, s, var }),
                             None => js.push(j),
                         }
                     }
                     kernel.partners(i as usize, &js, &mut out);
-                    (i, out)
+                    out.sort_unstable_by_key(|e| e.j);
+                    let mut var = Vec::new();
+                    let mut k = 0;
+                    for p in row.iter_mut() {
+                        while k < out.len() && out[k].j < p.1 {
+                            k += 1;
+                        }
+                        if k < out.len() && out[k].j == p.1 {
+                            p.2 = out[k].s;
+                            if out[k].var > 0.0 {
+                                var.push((i, p.1, out[k].var));
+                            }
+                        }
+                    }
+                    var
                 })
                 .collect();
-            for (i, es) in exact {
-                for e in es {
-                    pairs.push((tree.leaf_of[i as usize], tree.leaf_of[e.j as usize], e.s));
-                    if e.var > 0.0 {
-                        sampled.push((i, e.j, e.var));
-                    }
-                }
-            }
+            sampled.extend(vars.into_iter().flatten());
         }
-        let leaf_pairs = leaves.len();
-        drop((leaves, rows, known));
+        drop((rows, known));
+        // Patch order to leaf nodes; pairs that exchange nothing are dropped.
+        pairs.retain(|p| p.2 != 0.0);
+        let leaf_of = &tree.leaf_of;
+        pairs.par_iter_mut().for_each(|p| *p = (leaf_of[p.0 as usize], leaf_of[p.1 as usize], p.2));
+        pairs.shrink_to_fit();
         let t_pairs = start.elapsed();
         let n_nodes = tree.nodes.len();
-        let mut links = refined.links;
-        links.par_sort_unstable_by_key(|l| (l.a, l.b));
+        let links = refined.links;
         pairs.par_sort_unstable_by_key(|p| (p.0, p.1));
         sampled.par_sort_unstable_by_key(|p| (p.0, p.1));
-        let link_adj = Adjacency::new(n_nodes, links.iter().map(|l| (l.a, l.b)));
-        let pair_adj = Adjacency::new(n_nodes, pairs.iter().map(|p| (p.0, p.1)));
         let bytes = std::mem::size_of_val(&links[..])
             + std::mem::size_of_val(&pairs[..])
-            + link_adj.bytes()
-            + pair_adj.bytes()
+            + std::mem::size_of_val(&sampled[..])
             + n_nodes * std::mem::size_of::<tree::Node>();
         let stats = Stats {
             nodes: n_nodes,
@@ -308,19 +309,7 @@ impl Hierarchy {
         };
         let areas = tree.geom.iter().map(|g| g.area).collect();
         let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
-        Ok(Hierarchy {
-            tree,
-            areas,
-            links,
-            link_adj,
-            pairs,
-            pair_adj,
-            sampled,
-            g: None,
-            names,
-            ambient: None,
-            stats,
-        })
+        Ok(Hierarchy { tree, areas, links, pairs, sampled, g: None, names, ambient: None, stats })
     }
 
     /// The patch pairs alone, for a later build of the same scene and kernel; the links and
@@ -366,32 +355,46 @@ impl Hierarchy {
         y
     }
 
-    /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o, in a fixed order.
+    /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o. The entries are cut into
+    /// [`GATHER_CHUNKS`] fixed ranges, each spread (both directions) into its own buffer, and
+    /// the buffers are added in order: the same sums on any thread count, and no index of the
+    /// entries by their second end.
     fn gather(&self, m: &[f64]) -> Vec<f64> {
-        let (links, pairs) = (&self.links, &self.pairs);
-        (0..self.tree.nodes.len())
+        let nodes = self.tree.nodes.len();
+        let range = |len: usize, c: usize| len * c / GATHER_CHUNKS..len * (c + 1) / GATHER_CHUNKS;
+        let bufs: Vec<Vec<f64>> = (0..GATHER_CHUNKS)
             .into_par_iter()
-            .map(|k| {
-                self.link_adj.sum(k, |e, from_a| {
-                    let l = &links[e];
-                    l.s * m[if from_a { l.b } else { l.a } as usize]
-                }) + self.pair_adj.sum(k, |e, from_a| {
-                    let p = &pairs[e];
-                    p.2 * m[if from_a { p.1 } else { p.0 } as usize]
-                })
+            .map(|c| {
+                let mut y = vec![0.0; nodes];
+                for l in &self.links[range(self.links.len(), c)] {
+                    let (a, b, s) = (l.a as usize, l.b as usize, l.s());
+                    y[a] += s * m[b];
+                    y[b] += s * m[a];
+                }
+                for &(a, b, s) in &self.pairs[range(self.pairs.len(), c)] {
+                    let (a, b) = (a as usize, b as usize);
+                    y[a] += s * m[b];
+                    y[b] += s * m[a];
+                }
+                y
             })
-            .collect()
+            .collect();
+        let mut y = vec![0.0; nodes];
+        for b in &bufs {
+            y.par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
+        }
+        y
     }
 
     /// Per-patch bound on the row-sum error Σ_j |δs_ij| from the cluster links, m².
     pub fn row_errors(&self) -> Vec<f64> {
-        self.row_sum_of(|l| if l.s > 0.0 { l.err } else { 0.0 })
+        self.row_sum_of(|l| if l.s > 0.0 { l.err() } else { 0.0 })
     }
 
     /// Per-patch exchange area that links found blocked by every ray may still have (the
     /// rays trusted when unanimous can miss a gap), m²: the leak check allows it.
     pub fn row_unsure(&self) -> Vec<f64> {
-        self.row_sum_of(|l| if l.s > 0.0 { 0.0 } else { l.err })
+        self.row_sum_of(|l| if l.s > 0.0 { 0.0 } else { l.err() })
     }
 
     /// Per patch: Σ over the links of its clusters of `f(link)`, shared by area.
@@ -428,7 +431,7 @@ impl Hierarchy {
         let mut z = vec![0.0; nodes.len()];
         for l in self.links.iter().filter(|l| l.s > 0.0) {
             let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
-            let dq = l.err * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
+            let dq = l.err() * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
             z[l.a as usize] += dq;
             z[l.b as usize] += dq;
         }
@@ -608,7 +611,7 @@ impl Operator for Hierarchy {
         0.0
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
-        let ends = self.links.iter().map(|l| (l.a, l.b, l.s)).chain(self.pairs.iter().copied());
+        let ends = self.links.iter().map(|l| (l.a, l.b, l.s())).chain(self.pairs.iter().copied());
         for (a, b, s) in ends {
             if s != 0.0 {
                 let (pa, pb) = (self.tree.patches(a), self.tree.patches(b));
@@ -626,51 +629,6 @@ impl Operator for Hierarchy {
 /// Rows of exact patch pairs evaluated per wave (bounds the memory of their raw entries).
 const PAIR_WAVE: usize = 1 << 14;
 
-/// Both directions of a list of (a, b) entries sorted by a: entries by a are contiguous
-/// (`ptr_a`), entries by b are listed in `by_b` (`ptr_b`). Sums run in a fixed order, so
-/// results do not depend on the thread count.
-#[derive(Debug, Clone, Default)]
-struct Adjacency {
-    ptr_a: Vec<u64>,
-    ptr_b: Vec<u64>,
-    by_b: Vec<u32>,
-}
-
-impl Adjacency {
-    fn new(nodes: usize, ends: impl Iterator<Item = (u32, u32)> + Clone) -> Self {
-        let (mut ptr_a, mut ptr_b) = (vec![0u64; nodes + 1], vec![0u64; nodes + 1]);
-        for (a, b) in ends.clone() {
-            ptr_a[a as usize + 1] += 1;
-            ptr_b[b as usize + 1] += 1;
-        }
-        for k in 0..nodes {
-            ptr_a[k + 1] += ptr_a[k];
-            ptr_b[k + 1] += ptr_b[k];
-        }
-        let mut fill = ptr_b.clone();
-        let mut by_b = vec![0u32; ptr_b[nodes] as usize];
-        for (e, (_, b)) in ends.enumerate() {
-            by_b[fill[b as usize] as usize] = e as u32;
-            fill[b as usize] += 1;
-        }
-        Adjacency { ptr_a, ptr_b, by_b }
-    }
-
-    /// Σ f(entry, true) over entries whose a is k, then Σ f(entry, false) over those whose b
-    /// is k.
-    #[inline]
-    fn sum(&self, k: usize, f: impl Fn(usize, bool) -> f64) -> f64 {
-        let a: f64 = (self.ptr_a[k] as usize..self.ptr_a[k + 1] as usize).map(|e| f(e, true)).sum();
-        let b: f64 = self.by_b[self.ptr_b[k] as usize..self.ptr_b[k + 1] as usize]
-            .iter()
-            .map(|&e| f(e as usize, false))
-            .sum();
-        a + b
-    }
-
-    fn bytes(&self) -> usize {
-        std::mem::size_of_val(&self.ptr_a[..])
-            + std::mem::size_of_val(&self.ptr_b[..])
-            + std::mem::size_of_val(&self.by_b[..])
-    }
-}
+/// Fixed ranges of the link and pair lists that [`Hierarchy::gather`] spreads in parallel
+/// (fixed, so that sums do not depend on the thread count).
+const GATHER_CHUNKS: usize = 16;

@@ -25,7 +25,9 @@ use crate::visibility::Visibility;
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::Mutex;
 
 /// Clusters whose radii sum to more than this fraction of their distance are split (their
 /// kernel varies too much for a cluster estimate; touching patches end as exact leaf pairs).
@@ -45,6 +47,8 @@ pub const GEO_FLOOR: f64 = 0.25;
 const PAR_WORK: usize = 4096;
 
 /// One cluster link: exchange area s between nodes a and b (a ≠ b), with its error bound.
+/// Both are stored in single precision (16 bytes a link): the rounding of `s` is added to
+/// the bound, which is rounded up.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Link {
     /// Node.
@@ -52,10 +56,33 @@ pub struct Link {
     /// Node.
     pub b: u32,
     /// Exchange area S_AB, m².
-    pub s: f64,
+    pub s: f32,
     /// Estimated bound on |S_AB − exact|, m²; for a link that every visibility ray found
     /// blocked (s = 0), the exchange area those rays may have missed.
-    pub err: f64,
+    pub err: f32,
+}
+
+impl Link {
+    /// The link (a, b) with exchange area `s` and error bound `err` (m²), rounded to storage.
+    pub fn new(a: u32, b: u32, s: f64, err: f64) -> Link {
+        let s32 = s as f32;
+        let bound = err + (s - f64::from(s32)).abs();
+        let mut err32 = bound as f32;
+        if f64::from(err32) < bound {
+            err32 = err32.next_up();
+        }
+        Link { a, b, s: s32, err: err32 }
+    }
+
+    /// Exchange area S_AB, m².
+    pub fn s(&self) -> f64 {
+        f64::from(self.s)
+    }
+
+    /// Error bound of S_AB, m².
+    pub fn err(&self) -> f64 {
+        f64::from(self.err)
+    }
 }
 
 /// What refinement produced.
@@ -63,32 +90,31 @@ pub struct Link {
 pub struct Refined {
     /// Cluster links.
     pub links: Vec<Link>,
-    /// Patch pairs (i < j) for the exact kernel.
-    pub leaves: Vec<(u32, u32)>,
+    /// Patch pairs (i, j, s) with i < j for the exact kernel, s = 0 until it fills them in
+    /// place.
+    pub leaves: Vec<(u32, u32, f64)>,
     /// Visibility rays cast.
     pub rays: u64,
 }
 
 impl Refined {
-    fn append(&mut self, mut o: Refined) {
+    fn append(&mut self, o: &mut Refined) {
         self.links.append(&mut o.links);
         self.leaves.append(&mut o.leaves);
         self.rays += o.rays;
+        o.rays = 0;
     }
+}
 
-    /// The pieces of a parallel refinement in one, each list allocated once at its final
-    /// size (appending would double the largest lists' capacity on the way).
-    fn concat(pieces: Vec<Refined>) -> Refined {
-        let links = pieces.iter().map(|p| p.links.len()).sum();
-        let leaves = pieces.iter().map(|p| p.leaves.len()).sum();
-        let mut out =
-            Refined { links: Vec::with_capacity(links), leaves: Vec::with_capacity(leaves), rays: 0 };
-        for p in pieces {
-            out.links.extend_from_slice(&p.links);
-            out.leaves.extend_from_slice(&p.leaves);
-            out.rays += p.rays;
-        }
-        out
+/// Where the parallel tasks of a refinement put their links and pairs: each task appends its
+/// own short lists once, so the results grow in one list each (never held twice, as
+/// concatenating per-task lists would); sorting afterwards fixes their order.
+#[derive(Default)]
+struct Sink(Mutex<Refined>);
+
+impl Sink {
+    fn put(&self, mut piece: Refined) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).append(&mut piece);
     }
 }
 
@@ -116,53 +142,66 @@ pub struct Context<'a> {
     pub seed: u64,
 }
 
-/// Refines the whole scene.
+/// Refines the whole scene: links sorted by (a, b), patch pairs by (i, j), so the result
+/// does not depend on the order the parallel tasks finished in.
 pub fn refine(ctx: &Context) -> Refined {
-    Refined::concat(self_pair(ctx, 0))
+    let sink = Sink::default();
+    self_pair(ctx, 0, &sink);
+    let mut out = sink.0.into_inner().unwrap_or_else(|e| e.into_inner());
+    out.links.par_sort_unstable_by_key(|l| (l.a, l.b));
+    out.leaves.par_sort_unstable_by_key(|p| (p.0, p.1));
+    out
 }
 
-/// All pairs within node k, as pieces.
-fn self_pair(ctx: &Context, k: u32) -> Vec<Refined> {
+/// All pairs within node k.
+fn self_pair(ctx: &Context, k: u32, sink: &Sink) {
     let node = &ctx.tree.nodes[k as usize];
     if node.is_leaf() {
-        return Vec::new();
+        return;
     }
     let [l, r] = node.kids;
     if node.len() > 64 {
-        let ((mut a, b), c) =
-            rayon::join(|| rayon::join(|| self_pair(ctx, l), || self_pair(ctx, r)), || pair(ctx, l, r));
-        a.extend(b);
-        a.extend(c);
-        a
+        rayon::join(
+            || rayon::join(|| self_pair(ctx, l, sink), || self_pair(ctx, r, sink)),
+            || pair(ctx, l, r, sink),
+        );
     } else {
         let mut out = Refined::default();
-        for piece in self_pair(ctx, l).into_iter().chain(self_pair(ctx, r)) {
-            out.append(piece);
-        }
-        pair_into(ctx, l, r, &mut out);
-        vec![out]
+        self_pair_into(ctx, k, &mut out);
+        sink.put(out);
     }
 }
 
-/// Pairs between nodes a and b, as pieces, in parallel while the work is large.
-fn pair(ctx: &Context, a: u32, b: u32) -> Vec<Refined> {
+/// All pairs within node k, serially.
+fn self_pair_into(ctx: &Context, k: u32, out: &mut Refined) {
+    let node = &ctx.tree.nodes[k as usize];
+    if node.is_leaf() {
+        return;
+    }
+    let [l, r] = node.kids;
+    self_pair_into(ctx, l, out);
+    self_pair_into(ctx, r, out);
+    pair_into(ctx, l, r, out);
+}
+
+/// Pairs between nodes a and b, in parallel while the work is large.
+fn pair(ctx: &Context, a: u32, b: u32, sink: &Sink) {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
     if na.len() * nb.len() < PAR_WORK {
         let mut out = Refined::default();
         pair_into(ctx, a, b, &mut out);
-        return vec![out];
+        sink.put(out);
+        return;
     }
     match assess(ctx, a, b) {
         Decision::Split(x, other) => {
             let [c, d] = ctx.tree.nodes[x as usize].kids;
-            let (mut o1, o2) = rayon::join(|| pair(ctx, c, other), || pair(ctx, d, other));
-            o1.extend(o2);
-            o1
+            rayon::join(|| pair(ctx, c, other, sink), || pair(ctx, d, other, sink));
         }
         decision => {
             let mut out = Refined::default();
             record(decision, a, b, ctx, &mut out);
-            vec![out]
+            sink.put(out);
         }
     }
 }
@@ -184,11 +223,11 @@ fn record(decision: Decision, a: u32, b: u32, ctx: &Context, out: &mut Refined) 
         Decision::Zero => {}
         Decision::Leaves => {
             let (i, j) = (ctx.tree.patches(a)[0], ctx.tree.patches(b)[0]);
-            out.leaves.push((i.min(j), i.max(j)));
+            out.leaves.push((i.min(j), i.max(j), 0.0));
         }
         Decision::Link { s, err, rays } => {
             out.rays += rays;
-            out.links.push(Link { a, b, s, err });
+            out.links.push(Link::new(a, b, s, err));
         }
         Decision::Split(..) => unreachable!("split pairs are recursed"),
     }
