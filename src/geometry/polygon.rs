@@ -1,7 +1,7 @@
 //! Planar simple polygons: construction with validation, Newell normal, area, centroid,
 //! ear-clipping triangulation and Sutherland–Hodgman clipping by a plane.
 use super::tolerance::{CONVEX_TURN_REL, DEGENERACY_TOL, PLANARITY_TOL};
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// Why a vertex list is not a valid polygon.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -117,6 +117,21 @@ impl Polygon {
     /// Area centroid.
     pub fn centroid(&self) -> DVec3 {
         self.centroid
+    }
+    /// Second moment of area about the centroid, ∫ (x − c)(x − c)ᵀ dA (m⁴): the fan triangles'
+    /// A/12 Σ dᵢdᵢᵀ (dᵢ their vertices from their centroid) moved to c (parallel axes).
+    pub fn second_moment(&self) -> DMat3 {
+        let (v, c) = (&self.vertices, self.centroid);
+        let mut m = DMat3::ZERO;
+        for k in 1..v.len() - 1 {
+            let t = [v[0], v[k], v[k + 1]];
+            let a = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).dot(self.normal);
+            let g = (t[0] + t[1] + t[2]) / 3.0;
+            let outer = |d: DVec3| DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+            m += (t.iter().map(|&p| outer(p - g)).fold(DMat3::ZERO, |s, o| s + o)) * (a / 12.0)
+                + outer(g - c) * a;
+        }
+        m
     }
     /// Largest distance from the centroid to a vertex.
     pub fn bounding_radius(&self) -> f64 {

@@ -4,9 +4,9 @@
 //! surfaces facing different ways part early); a node of nearly parallel normals is split in
 //! space at the median of the patch centroids along its longest box axis. Each node keeps what
 //! the link estimates and bounds need: area, area-weighted centroid, bounding radius, box,
-//! vector area Σ A_i n_i, normal cone and, when every normal is the same, its plane offsets.
+//! second moment of area, vector area Σ A_i n_i, normal cone and, when every normal is the same, its plane offsets.
 use crate::scene::Scene;
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// Nodes whose normals all lie within this cosine of their mean axis are split in space, the
 /// others by orientation (about 45°: a planar or gently curved cluster stays spatial).
@@ -35,6 +35,9 @@ pub struct Node {
     pub lo_box: DVec3,
     /// Upper corner of the box.
     pub hi_box: DVec3,
+    /// Second moment of area about `centroid`, ∫ (x − c)(x − c)ᵀ dA, m⁴ (the weights of the
+    /// second-order link estimate).
+    pub second_moment: DMat3,
     /// Vector area Σ A_i n_i (its projection on a direction is the projected area when every
     /// patch faces that direction).
     pub vector_area: DVec3,
@@ -100,6 +103,8 @@ pub struct PatchGeom {
     pub normal: DVec3,
     /// Area, m².
     pub area: f64,
+    /// Second moment of area about the centroid, m⁴.
+    pub second_moment: DMat3,
     /// Bounding radius about the centroid.
     pub radius: f64,
     /// Box of the vertices.
@@ -137,6 +142,7 @@ impl Tree {
                     centroid: poly.centroid(),
                     normal: poly.normal(),
                     area: poly.area(),
+                    second_moment: poly.second_moment(),
                     radius: poly.bounding_radius(),
                     lo,
                     hi,
@@ -264,6 +270,12 @@ fn summarise(ctx: &Build, order: &[u32], base: u32) -> Node {
         min_surface_area = min_surface_area.min(surface_area[p as usize]);
     }
     let centroid = if area > 0.0 { moment / area } else { 0.5 * (lo_box + hi_box) };
+    // Parallel axes: each patch's own moment plus its area at its centroid's offset.
+    let second_moment = order.iter().fold(DMat3::ZERO, |m, &p| {
+        let g = &geom[p as usize];
+        let d = g.centroid - centroid;
+        m + g.second_moment + DMat3::from_cols(d * d.x, d * d.y, d * d.z) * g.area
+    });
     let radius = order
         .iter()
         .map(|&p| geom[p as usize].centroid.distance(centroid) + geom[p as usize].radius)
@@ -283,6 +295,7 @@ fn summarise(ctx: &Build, order: &[u32], base: u32) -> Node {
         kids: [NONE, NONE],
         area,
         centroid,
+        second_moment,
         radius,
         lo_box,
         hi_box,
