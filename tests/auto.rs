@@ -6,8 +6,11 @@ use lambert::geometry::DVec3;
 use lambert::scene::Scene;
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
 use lambert::viewfactor::engine;
-use lambert::viewfactor::shadow::policy::Policy;
-use lambert::viewfactor::shadow::policy::MC_SIGMAS;
+use lambert::viewfactor::shadow::calibrate::measure;
+use lambert::viewfactor::shadow::policy::{
+    Choice, CostModel, Policy, MC_SAMPLE_NS, MC_SIGMAS, MC_TEST_NS, SHADOW_UNIT_NS,
+};
+use lambert::viewfactor::shadow::Shadows;
 use lambert::viewfactor::{self, Level, Method, MethodSet, Params, ViewFactors};
 
 fn run(scene: &Scene, method: Method, tolerance: f64, level: Level) -> ViewFactors {
@@ -116,4 +119,58 @@ fn same_seed_same_numbers_on_any_thread_count() {
     let (a, b) = (once(1), once(2));
     assert_eq!(a.rows, b.rows);
     assert_eq!(a.patch_row_sums, b.patch_row_sums);
+}
+
+/// Two 1 m plates 1 m apart (4 × 4 patches each) with a 320-facet sphere of radius 0.3 between.
+fn plates_around_a_meshed_sphere() -> Scene {
+    let sphere = common::inward_sphere(DVec3::splat(0.5), 0.3, 2);
+    Scene::builder()
+        .surface("bottom", common::rect_grid(DVec3::ZERO, DVec3::X, DVec3::Y, 4), 1.0, None)
+        .surface("top", common::rect_grid(DVec3::Z, DVec3::Y, DVec3::X, 4), 1.0, None)
+        .obstruction("sphere", sphere)
+        .ambient(0.0)
+        .build()
+}
+
+#[test]
+fn pairs_behind_a_meshed_body_are_priced_from_the_scene() {
+    // Both estimators measured on the scene's own pairs behind the sphere: wherever one was
+    // clearly cheaper (3×; a capped integration only bounds its cost from below), the fitted
+    // prices choose it.
+    let scene = plates_around_a_meshed_sphere();
+    let tol = 1e-3;
+    let shadows = Shadows::new(&scene, Policy::Auto { tol, seed: 5 }).expect("the sphere blocks");
+    let measured = measure(&shadows, tol, 5);
+    assert!(measured.iter().any(|m| m.blockers >= 20), "sample pairs behind many facets: {measured:?}");
+    let model = shadows.model();
+    let mut decided = 0;
+    for m in &measured {
+        let shadow = m.shadow_work as f64 * SHADOW_UNIT_NS;
+        let mc = m.samples as f64 * MC_SAMPLE_NS + m.tests as f64 * MC_TEST_NS;
+        let choice = model.choose(m.ratio, 1.0, m.blockers);
+        if shadow > 3.0 * mc {
+            assert!(matches!(choice, Choice::MonteCarlo(_)), "{m:?}: {model:?}");
+            decided += 1;
+        } else if mc > 3.0 * shadow && !m.capped {
+            assert_eq!(choice, Choice::Shadowed, "{m:?}: {model:?}");
+            decided += 1;
+        }
+    }
+    assert!(decided > 0, "{measured:?}");
+}
+
+#[test]
+fn calibration_is_the_same_on_any_thread_count() {
+    let scene = plates_around_a_meshed_sphere();
+    let policy = Policy::Auto { tol: 1e-3, seed: 5 };
+    let once = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let shadows = Shadows::new(&scene, policy).expect("the sphere blocks");
+            (*shadows.model(), measure(&shadows, 1e-3, 5))
+        })
+    };
+    let (a, b) = (once(1), once(2));
+    assert_eq!(a, b);
+    assert_ne!(a.0, CostModel::default(), "the model was fitted");
 }

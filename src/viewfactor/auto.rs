@@ -9,7 +9,9 @@
 //! 3. one blocker holds the whole receiver in its umbra → 0 (exact);
 //! 4. partly obstructed → the cheaper of two estimators of the obstructed value, both anchored
 //!    on the exact unobstructed value u = (A_i F_ij)_unobstructed, chosen per pair by
-//!    [`choose`](super::shadow::policy::choose) (the cost model and its constants live in [`super::shadow::policy`]):
+//!    the [`CostModel`](super::shadow::policy::CostModel) whose prices
+//!    [`super::shadow::calibrate`] measures on a few of the scene's own pairs (the model and
+//!    its constants live in [`super::shadow::policy`]):
 //!    - **analytic-shadowed**: u − ∫_E g dA with the adaptive shadow integration
 //!      ([`super::shadow::adaptive`], rules 2×2 vs 3×3 per cell, the emitter split at least
 //!      once, refined until the rules agree to τ·A_i);

@@ -19,7 +19,7 @@
 //!   research/view3d.md §4 gunter2); the split stops as soon as the smaller cells' penumbrae
 //!   clear the receiver or the shadow is sampled, or at [`AdaptParams::max_depth`].
 use super::classify::clip_front;
-use super::viewpoint::{Scratch, ShadowGeometry};
+use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
 use super::volume::{plane_of, Build, Class, Plane, ShadowVolume};
 use crate::geometry::convex::{ear_indices, is_convex_local};
 use crate::geometry::quadrature::gauss_legendre;
@@ -142,6 +142,9 @@ pub struct AdaptInfo {
     pub error: f64,
     /// Viewpoint evaluations.
     pub evals: u64,
+    /// Counted work: the viewpoints' [`super::viewpoint::Coverage::work`] plus one per
+    /// blocker re-classified for a cell (the unit in which `auto` prices integration).
+    pub work: u64,
     /// Cells accepted.
     pub cells: u32,
     /// Cells accepted only because they reached the maximum depth.
@@ -217,6 +220,18 @@ impl Integrator {
     /// ∫_E g dA over the emitter of `geo` with every kept blocker active, to the absolute
     /// tolerance `tol` (m²).
     pub fn shaded(&self, geo: &ShadowGeometry, tol: f64, s: &mut AdaptScratch) -> AdaptInfo {
+        self.shaded_within(geo, tol, u64::MAX, s)
+    }
+
+    /// As [`Self::shaded`], refining no further once [`AdaptInfo::work`] reaches `max_work`
+    /// (the result is then short of the tolerance: for pricing, never for an entry).
+    pub fn shaded_within(
+        &self,
+        geo: &ShadowGeometry,
+        tol: f64,
+        max_work: u64,
+        s: &mut AdaptScratch,
+    ) -> AdaptInfo {
         let mut info = AdaptInfo::default();
         let roots = split_cells(geo);
         let total_area: f64 = roots.iter().map(Cell::area).sum();
@@ -234,14 +249,16 @@ impl Integrator {
         let push = |item: Item, this: &Self, s: &mut AdaptScratch, info: &mut AdaptInfo| {
             let mut item = item;
             if item.classify && !item.full {
+                info.work += item.len as u64;
                 this.reclassify(geo, &mut item, s);
                 if !item.full && item.len == 0 {
                     info.cells += 1;
                     return (0.0, 0);
                 }
             }
-            let (lo, hi, seen, evals) = this.evaluate(geo, &item, s);
+            let (lo, hi, seen, evals, work) = this.evaluate(geo, &item, s);
             info.evals += evals;
+            info.work += work;
             let all_seen = item.full || item.len >= 64 || seen == (1u64 << item.len) - 1;
             let must_split =
                 (!all_seen || item.depth < this.params.min_depth) && item.depth < this.params.max_depth;
@@ -257,6 +274,9 @@ impl Integrator {
             }
         };
         for cell in roots {
+            if info.work >= max_work {
+                break;
+            }
             let (e, f) = push(
                 Item { cell, depth: 0, start: 0, len: n, full: false, classify: several },
                 self,
@@ -268,7 +288,7 @@ impl Integrator {
         }
         // Refine the worst leaf until the open error meets the tolerance (global adaptivity:
         // effort goes where the error is, not where a per-cell share is tightest).
-        while forced > 0 || open_err > tol {
+        while (forced > 0 || open_err > tol) && info.work < max_work {
             let Some((Key(key), std::cmp::Reverse(k))) = s.heap.pop() else { break };
             let leaf = s.leaves[k];
             if key.is_infinite() {
@@ -326,27 +346,30 @@ impl Integrator {
         item.len = s.pool.len() - start;
     }
 
-    /// Both rules on one cell: (low, high, seen-mask, evaluations).
-    fn evaluate(&self, geo: &ShadowGeometry, item: &Item, s: &mut AdaptScratch) -> (f64, f64, u64, u64) {
+    /// Both rules on one cell: (low, high, seen-mask, evaluations, work).
+    fn evaluate(&self, geo: &ShadowGeometry, item: &Item, s: &mut AdaptScratch) -> (f64, f64, u64, u64, u64) {
         let active = &s.pool[item.start..item.start + item.len];
         let shadow = &mut s.shadow;
         let mut seen = 0u64;
         let mut evals = 0u64;
+        let mut work = 0u64;
         let mut sums = [0.0; 2];
         for (k, rule) in [&self.low, &self.high].into_iter().enumerate() {
             rule.each(&item.cell, |p, w| {
                 evals += 1;
                 let g = if item.full {
+                    work += VIEWPOINT_WORK;
                     geo.unshaded(p)
                 } else {
                     let (g, cov) = geo.shaded(p, active, shadow);
                     seen |= cov.seen;
+                    work += cov.work;
                     g
                 };
                 sums[k] += w * g;
             });
         }
-        (sums[0], sums[1], seen, evals)
+        (sums[0], sums[1], seen, evals, work)
     }
 }
 

@@ -7,16 +7,19 @@
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
 //!   unobstructed value, rules 3×3 vs 4×4 per cell, minimum depth [`EXACT_MIN_DEPTH`];
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
-//!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F
-//!   (see [`super::policy`]).
+//!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
+//!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
+//!   the branch is built (see [`super::policy`]).
 use super::adaptive::{AdaptParams, Integrator};
 use super::blockers::Blockers;
 use super::classify::{classify_row, RowShadows};
-use super::mc_pair::{estimate, Budget, PatchSampler, SegmentBlocker};
-use super::pair::{shadowed, PairScratch};
+use super::mc_pair::{estimate, Budget, McPair, PatchSampler, SegmentBlocker};
+use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
-    choose, Choice, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, MAX_DEPTH, MC_MAX_SAMPLES, MC_SIGMAS,
+    Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, MAX_DEPTH, MC_MAX_SAMPLES, MC_SIGMAS,
 };
+use super::segtree::SegmentTree;
+use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL};
 use crate::scene::Scene;
 use crate::viewfactor::MethodSet;
 use glam::DVec3;
@@ -49,6 +52,7 @@ pub struct ShadowScratch {
 #[derive(Debug, Clone, Default)]
 pub struct PairWork {
     pair: PairScratch,
+    tree: SegmentTree,
 }
 
 /// The scene's blockers, rules and policy.
@@ -61,6 +65,8 @@ pub struct Shadows<'s> {
     samplers: Vec<PatchSampler>,
     /// Every blocker ready for segment tests (Monte Carlo under `auto`).
     segments: Vec<SegmentBlocker>,
+    /// Prices of the two estimators (`auto`).
+    model: CostModel,
 }
 
 impl<'s> Shadows<'s> {
@@ -75,14 +81,30 @@ impl<'s> Shadows<'s> {
             Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
+        // The blockers' box padding, from their snap length (both relative to the scene).
+        let pad = blockers.snap() / BLOCKER_SNAP_REL * BLOCKER_BOX_PAD_REL;
         let (samplers, segments) = match policy {
             Policy::Auto { .. } => (
                 scene.patches.iter().map(|p| PatchSampler::new(&p.polygon)).collect(),
-                (0..blockers.len()).map(|b| SegmentBlocker::new(&blockers.get(b).ring)).collect(),
+                (0..blockers.len()).map(|b| SegmentBlocker::new(&blockers.get(b).ring, pad)).collect(),
             ),
             Policy::Exact { .. } => (Vec::new(), Vec::new()),
         };
-        Some(Self { scene, blockers, integrator, policy, samplers, segments })
+        let mut me =
+            Self { scene, blockers, integrator, policy, samplers, segments, model: CostModel::default() };
+        if let Policy::Auto { tol, seed } = policy {
+            me.model = super::calibrate::fit(&super::calibrate::measure(&me, tol, seed), me.model);
+        }
+        Some(me)
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &'s Scene {
+        self.scene
+    }
+    /// The prices `auto` chooses by.
+    pub fn model(&self) -> &CostModel {
+        &self.model
     }
 
     /// The blockers.
@@ -103,9 +125,8 @@ impl<'s> Shadows<'s> {
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
     /// partial blockers `partial` (from the row classification).
     pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
-        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
         let integrate = |goal: f64, s: &mut PairWork| {
-            let r = shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, &mut s.pair);
+            let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
             Obstructed {
                 s: r.s,
                 var: 0.0,
@@ -117,32 +138,67 @@ impl<'s> Shadows<'s> {
         match self.policy {
             Policy::Exact { rel_tol } => integrate(rel_tol * u, s),
             Policy::Auto { tol, seed } => {
-                let goal = tol * pi.area();
-                match choose(u, goal, partial.len()) {
+                let goal = tol * self.scene.patches[i].polygon.area();
+                match self.model.choose(u, goal, partial.len()) {
                     Choice::Shadowed => integrate(goal, s),
                     Choice::MonteCarlo(n) => {
-                        let m = estimate(
-                            &self.samplers[i],
-                            pi.normal(),
-                            &self.samplers[j],
-                            pj.normal(),
-                            u,
-                            (&self.segments, partial),
-                            Budget { first: n, max: MC_MAX_SAMPLES, sigma: goal / MC_SIGMAS },
-                            seed,
-                            (i, j),
-                        );
+                        let m = self.sample(i, j, u, partial, (n, goal), seed, s);
                         Obstructed {
                             s: m.s,
                             var: m.var,
                             method: MethodSet::MC_AREA,
-                            work: n as u64,
+                            work: m.samples as u64,
                             at_max_depth: 0,
                         }
                     }
                 }
             }
         }
+    }
+
+    /// Shadow integration of pair (i, j) to the absolute goal `goal`, refining no further past
+    /// `max_work` work units.
+    #[allow(clippy::too_many_arguments)]
+    pub fn integrate(
+        &self,
+        i: usize,
+        j: usize,
+        u: f64,
+        partial: &[u32],
+        goal: f64,
+        max_work: u64,
+        s: &mut PairWork,
+    ) -> Shadowed {
+        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
+        shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, max_work, &mut s.pair)
+    }
+
+    /// The Monte Carlo ratio estimate of pair (i, j) from `n` samples first, doubling until its
+    /// standard error meets `goal`/[`MC_SIGMAS`] (`auto` only).
+    #[allow(clippy::too_many_arguments)]
+    pub fn sample(
+        &self,
+        i: usize,
+        j: usize,
+        u: f64,
+        partial: &[u32],
+        (n, goal): (u32, f64),
+        seed: u64,
+        s: &mut PairWork,
+    ) -> McPair {
+        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
+        estimate(
+            &self.samplers[i],
+            pi.normal(),
+            &self.samplers[j],
+            pj.normal(),
+            u,
+            (&self.segments, partial),
+            Budget { first: n, max: MC_MAX_SAMPLES, sigma: goal / MC_SIGMAS },
+            seed,
+            (i, j),
+            &mut s.tree,
+        )
     }
 }
 

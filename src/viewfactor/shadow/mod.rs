@@ -1,5 +1,6 @@
 //! The exact-shadow branch: obstructed patch pairs, from blocker detection to the obstructed
-//! exchange area. Depends on geometry and on `analytic`'s exact kernels (Lambert's edge term);
+//! exchange area. Depends on geometry and on `analytic`'s exact kernels (Lambert's edge term,
+//! and the contour integral for the calibration pairs);
 //! the analytic kernel ([`crate::viewfactor::analytic::kernel`]) calls [`Shadows`]. Never
 //! depends on `auto`, which picks a [`Policy`] and hands it to the analytic kernel.
 //!
@@ -18,20 +19,24 @@
 //! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification;
 //! - [`pair`]: one obstructed pair: emitter choice, shadow integration, A·F;
 //! - [`mc_pair`]: the Monte Carlo ratio estimator for one pair (`auto` only);
+//! - [`segtree`]: a per-pair box tree over its partial blockers for the sampled segments;
 //!
 //! Policy:
-//! - [`policy`]: [`Policy`] (exact or `auto`), and [`policy::choose`], the per-pair
-//!   shadow-integration-vs-Monte-Carlo decision with its cost model;
+//! - [`policy`]: [`Policy`] (exact or `auto`), and [`policy::CostModel`], the per-pair
+//!   shadow-integration-vs-Monte-Carlo decision with its prices;
+//! - [`calibrate`]: the prices fitted on a few of the scene's own pairs (counted work);
 //! - [`branch`]: [`Shadows`], the branch a kernel row calls: classify, then integrate under
 //!   the policy.
 pub mod adaptive;
 pub mod blockers;
 pub mod branch;
+pub mod calibrate;
 pub mod classify;
 pub mod detect;
 pub mod mc_pair;
 pub mod pair;
 pub mod policy;
+pub mod segtree;
 pub mod viewpoint;
 pub mod volume;
 

@@ -40,7 +40,8 @@ pub struct PairScratch {
 }
 
 /// Obstructed A_i F_ij for patches `pi`, `pj` with unobstructed exchange area `s_unobs` and the
-/// partial blockers `partial` (ids into `blockers`), to the absolute tolerance `tol` (m²).
+/// partial blockers `partial` (ids into `blockers`), to the absolute tolerance `tol` (m²),
+/// refining no further past `max_work` ([`Integrator::shaded_within`]; `u64::MAX` for entries).
 #[allow(clippy::too_many_arguments)]
 pub fn shadowed(
     pi: &Polygon,
@@ -50,6 +51,7 @@ pub fn shadowed(
     partial: &[u32],
     integrator: &Integrator,
     tol: f64,
+    max_work: u64,
     s: &mut PairScratch,
 ) -> Shadowed {
     let snap = blockers.snap();
@@ -77,7 +79,7 @@ pub fn shadowed(
     let Some(geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings) else {
         return Shadowed { s: 0.0, swapped, ..Default::default() };
     };
-    let info = integrator.shaded(&geo, tol, &mut s.adapt);
+    let info = integrator.shaded_within(&geo, tol, max_work, &mut s.adapt);
     let value = (s_unobs - info.shaded).max(0.0);
     debug_assert!(value <= s_unobs, "obstructed {value} above unobstructed {s_unobs}");
     Shadowed { s: value, error: info.error, info, swapped }

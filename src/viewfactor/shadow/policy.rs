@@ -1,11 +1,21 @@
 //! The policy for partly obstructed pairs: exact shadow integration (`analytic`) or, under
-//! `auto`, the cheaper of shadow integration and Monte Carlo per pair ([`choose`]).
+//! `auto`, the cheaper of shadow integration and Monte Carlo per pair, priced by a
+//! [`CostModel`].
 //!
-//! The cost model of [`choose`]: shadow integration costs [`SHADOW_EVAL_NS`] ×
-//! (1 + b·[`SHADOW_BLOCKER_FACTOR`]) per viewpoint, [`SHADOW_EVALS`] viewpoints at the minimum
-//! depth, times about √(u/goal) for the refinement; Monte Carlo needs n = ¼(Z·u/goal)²
-//! samples (Z = [`MC_SIGMAS`]) at [`MC_SAMPLE_NS`] × (1 + b·[`MC_BLOCKER_FACTOR`]) each, b the
-//! number of partial blockers.
+//! **Prices.** Both estimators are priced in counted work, converted to nanoseconds by fixed
+//! ratios ([`SHADOW_UNIT_NS`], [`MC_SAMPLE_NS`], [`MC_TEST_NS`]):
+//! - shadow integration: W(b)·√max(1, u/goal) work units
+//!   ([`super::adaptive::AdaptInfo::work`]), the √ for the cells the 2×2-vs-3×3 refinement
+//!   adds as the goal tightens;
+//! - Monte Carlo: n = ¼(Z·u/goal)² samples (Z = [`MC_SIGMAS`]), each [`MC_SAMPLE_NS`] plus
+//!   T(b) box and blocker tests ([`super::segtree`]);
+//!
+//! b being the pair's number of partial blockers. W(b) = c·(1 + b)^γ and T(b) likewise are
+//! power laws **fitted on the scene itself** ([`super::calibrate`]): a pair behind a 1,280-facet
+//! sphere needs hundreds of times more viewpoints than a pair behind one plate (every facet's
+//! shadow must be sampled before a cell is trusted), which no fixed constant prices. Without
+//! sample pairs the prior ([`CostModel::default`]) is used. Counts, not clocks, decide: the
+//! choice is the same on every run and thread count.
 
 /// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
 /// target (5e-8, `kernel::GAUSS_REL_TOL`), so shadows never dominate the method's error.
@@ -35,6 +45,8 @@ pub enum Policy {
     },
 }
 
+use super::viewpoint::VIEWPOINT_WORK;
+
 /// Monte Carlo must meet the goal at this many standard errors (about 95 %).
 pub const MC_SIGMAS: f64 = 2.0;
 /// Fewest Monte Carlo samples per pair: the half-count prior keeps the reported error honest,
@@ -42,19 +54,91 @@ pub const MC_SIGMAS: f64 = 2.0;
 pub const MC_MIN_SAMPLES: u32 = 8;
 /// Most Monte Carlo samples per pair; above this the shadow integration is always cheaper.
 pub const MC_MAX_SAMPLES: u32 = 1 << 16;
-/// Measured cost of one Monte Carlo sample without blockers, ns (examples/obstructed_room.rs).
-pub const MC_SAMPLE_NS: f64 = 25.0;
-/// Extra cost of one blocker per Monte Carlo sample, relative.
-pub const MC_BLOCKER_FACTOR: f64 = 0.3;
-/// Measured cost of one shadow viewpoint without blockers (Lambert on the receiver), ns.
-pub const SHADOW_EVAL_NS: f64 = 150.0;
-/// Extra cost of one blocker per viewpoint (projection, clipping, union), relative.
-pub const SHADOW_BLOCKER_FACTOR: f64 = 1.0;
-/// Viewpoints at the minimum depth: four cells of 4 + 9 points (rules 2×2 vs 3×3). Lower
-/// orders lose twice: one cell of 1 + 4 points can agree on a wrong value when a shadow sweeps
-/// over the receiver's edge between the points, and at fine goals the 1 vs 2×2 pair needs
-/// ~100× more cells than 2×2 vs 3×3 (both measured in tests/auto.rs).
+/// Cost of one Monte Carlo sample besides its segment tests (two Sobol points, the kernel, the
+/// tree walk's set-up), ns: `examples/price_units.rs`, one thread on 2 shared cores, least
+/// squares over the calibration pairs (63 ns on sphere_room's parallelograms, 99 ns on
+/// box_500_block's triangles).
+pub const MC_SAMPLE_NS: f64 = 80.0;
+/// Cost of one box or blocker test of a Monte Carlo sample, ns (same measurement: 19 and 12).
+pub const MC_TEST_NS: f64 = 15.0;
+/// Cost of one unit of shadow-integration work ([`super::adaptive::AdaptInfo::work`]: a
+/// viewpoint counts [`VIEWPOINT_WORK`], a blocker projected, a shadow piece subtracted or a
+/// blocker re-classified one), ns (same measurement: 55 and 63).
+pub const SHADOW_UNIT_NS: f64 = 60.0;
+/// Work units a shadow-integrated pair costs before its first viewpoint (the blockers clipped,
+/// the pair's frame and kink splits built): 6–24 µs measured on pairs that end there.
+pub const SHADOW_SETUP_UNITS: u64 = 128;
+/// Prior viewpoints per pair at u ≤ goal: four cells of 4 + 9 points (rules 2×2 vs 3×3).
+/// Lower orders lose twice: one cell of 1 + 4 points can agree on a wrong value when a shadow
+/// sweeps over the receiver's edge between the points, and at fine goals the 1 vs 2×2 pair
+/// needs ~100× more cells than 2×2 vs 3×3 (both measured in tests/auto.rs).
 pub const SHADOW_EVALS: f64 = 52.0;
+
+/// y = c·(1 + b)^exp, b the number of partial blockers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PowerLaw {
+    /// Value at b = 0.
+    pub c: f64,
+    /// Exponent.
+    pub exp: f64,
+}
+
+impl PowerLaw {
+    /// The value at `b` blockers.
+    pub fn at(&self, b: usize) -> f64 {
+        self.c * (1.0 + b as f64).powf(self.exp)
+    }
+}
+
+/// The prices of one scene's partly obstructed pairs (see the module notes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CostModel {
+    /// Shadow work units per pair at u ≤ goal, set-up included.
+    pub shadow: PowerLaw,
+    /// Box and blocker tests per Monte Carlo sample.
+    pub mc: PowerLaw,
+}
+
+impl Default for CostModel {
+    /// The prior: [`SHADOW_EVALS`] viewpoints of [`VIEWPOINT_WORK`]·(1 + b) units each (a
+    /// bound on [`VIEWPOINT_WORK`] + b), 1 + b tests per sample (a scan). Used where the scene
+    /// has no sample pairs to measure.
+    fn default() -> Self {
+        let c = SHADOW_EVALS * VIEWPOINT_WORK as f64;
+        Self { shadow: PowerLaw { c, exp: 1.0 }, mc: PowerLaw { c: 1.0, exp: 1.0 } }
+    }
+}
+
+impl CostModel {
+    /// Monte Carlo samples that meet the goal whatever the penumbra: ¼(Z·u/goal)², at least
+    /// [`MC_MIN_SAMPLES`]; infinite for a zero goal.
+    pub fn samples(u: f64, goal: f64) -> f64 {
+        let n = (0.25 * (MC_SIGMAS * u / goal).powi(2)).ceil();
+        if n.is_finite() {
+            n.max(MC_MIN_SAMPLES as f64)
+        } else {
+            f64::INFINITY
+        }
+    }
+    /// Price of shadow integration, ns.
+    pub fn shadow_ns(&self, u: f64, goal: f64, blockers: usize) -> f64 {
+        (u / goal).max(1.0).sqrt() * self.shadow.at(blockers) * SHADOW_UNIT_NS
+    }
+    /// Price of Monte Carlo with `n` samples, ns.
+    pub fn mc_ns(&self, n: f64, blockers: usize) -> f64 {
+        n * (MC_SAMPLE_NS + MC_TEST_NS * self.mc.at(blockers))
+    }
+    /// The decision for one partly obstructed pair with unobstructed exchange area `u`,
+    /// absolute goal `goal` on the exchange area and `blockers` partial blockers.
+    pub fn choose(&self, u: f64, goal: f64, blockers: usize) -> Choice {
+        let n = Self::samples(u, goal);
+        if n <= MC_MAX_SAMPLES as f64 && self.mc_ns(n, blockers) < self.shadow_ns(u, goal, blockers) {
+            Choice::MonteCarlo(n as u32)
+        } else {
+            Choice::Shadowed
+        }
+    }
+}
 
 /// How a partly obstructed pair is computed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,34 +149,34 @@ pub enum Choice {
     MonteCarlo(u32),
 }
 
-/// The decision for one partly obstructed pair with unobstructed exchange area `u`, absolute
-/// goal `goal` on the exchange area and `blockers` partial blockers.
-pub fn choose(u: f64, goal: f64, blockers: usize) -> Choice {
-    let b = blockers as f64;
-    let ratio = u / goal;
-    let n = (0.25 * (MC_SIGMAS * ratio).powi(2)).ceil();
-    let n = if n.is_finite() { n.max(MC_MIN_SAMPLES as f64) } else { f64::INFINITY };
-    let mc = n * MC_SAMPLE_NS * (1.0 + b * MC_BLOCKER_FACTOR);
-    let cells = ratio.max(1.0).sqrt();
-    let shadow = cells * SHADOW_EVALS * SHADOW_EVAL_NS * (1.0 + b * SHADOW_BLOCKER_FACTOR);
-    if n <= MC_MAX_SAMPLES as f64 && mc < shadow {
-        Choice::MonteCarlo(n as u32)
-    } else {
-        Choice::Shadowed
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn small_pairs_sample_large_pairs_integrate() {
+        let prior = CostModel::default();
         // A patch pair three metres apart in a room (u ≈ 2e-6 m²) at τ = 1e-4 on 0.0078 m².
-        assert!(matches!(choose(2.2e-6, 1e-4 * 0.0078, 1), Choice::MonteCarlo(n) if n <= 16));
+        assert!(matches!(prior.choose(2.2e-6, 1e-4 * 0.0078, 1), Choice::MonteCarlo(n) if n <= 16));
         // Two unit squares with a blocker (u ≈ 0.2 m²) at τ = 1e-4: shadow integration.
-        assert_eq!(choose(0.2, 1e-4, 1), Choice::Shadowed);
+        assert_eq!(prior.choose(0.2, 1e-4, 1), Choice::Shadowed);
         // Tighter goals move the balance towards integration.
-        assert_eq!(choose(2.2e-6, 1e-9, 1), Choice::Shadowed);
+        assert_eq!(prior.choose(2.2e-6, 1e-9, 1), Choice::Shadowed);
+    }
+
+    #[test]
+    fn a_steep_shadow_price_sends_many_blocker_pairs_to_sampling() {
+        // u/goal = 150 (22,500 samples) behind 80 facets: the prior integrates; a scene whose
+        // pairs were measured at c = 50, γ = 1.8 (viewpoints multiply with the facets) samples.
+        let (u, goal, b) = (1.5e-2, 1e-4, 80);
+        let prior = CostModel::default();
+        assert_eq!(prior.choose(u, goal, b), Choice::Shadowed);
+        let steep = CostModel { shadow: PowerLaw { c: 50.0, exp: 1.8 }, ..prior };
+        assert!(matches!(steep.choose(u, goal, b), Choice::MonteCarlo(n) if n >= 22_500));
+        // One blocker: the same measured law still integrates a large pair.
+        assert_eq!(steep.choose(0.2, 1e-4, 1), Choice::Shadowed);
+        // Cheaper sample tests (a box tree: T ∝ log b rather than b) also tip it.
+        let tree = CostModel { mc: PowerLaw { c: 4.0, exp: 0.3 }, ..prior };
+        assert!(matches!(tree.choose(u, goal, b), Choice::MonteCarlo(_)));
     }
 }

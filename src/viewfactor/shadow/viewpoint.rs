@@ -65,7 +65,15 @@ pub struct Coverage {
     pub area: f64,
     /// Bit k set when active blocker k cast a non-empty shadow on the receiver hull.
     pub seen: u64,
+    /// Counted work: [`VIEWPOINT_WORK`] for the viewpoint, 1 per active blocker projected, 1
+    /// per shadow piece subtracted from one covered piece.
+    pub work: u64,
 }
+
+/// Work units of one viewpoint besides its blockers (the rule point, Lambert's sum over the
+/// shaded pieces): its time over that of one blocker projection, about eight on the
+/// calibration pairs of box_500_block and sphere_room (`examples/price_units.rs`).
+pub const VIEWPOINT_WORK: u64 = 8;
 
 /// An obstructed pair in the receiver's frame.
 #[derive(Debug, Clone)]
@@ -232,7 +240,7 @@ impl ShadowGeometry {
     /// g(p) = F(dA_p → shaded part of the receiver) with the blockers `active` (indices into
     /// [`Self::blockers`]); p in the frame with p.z > 0.
     pub fn shaded(&self, p: DVec3, active: &[u32], s: &mut Scratch) -> (f64, Coverage) {
-        let mut cov = Coverage::default();
+        let mut cov = Coverage { work: VIEWPOINT_WORK + active.len() as u64, ..Coverage::default() };
         s.covered.clear();
         let h = p.z;
         if !(h > self.snap) {
@@ -267,6 +275,7 @@ impl ShadowGeometry {
                 let cover = s.covered.piece(c);
                 edges_into(cover, &mut s.edges);
                 s.frags2.clear();
+                cov.work += s.frags.len() as u64;
                 for f in 0..s.frags.len() {
                     subtract_convex(s.frags.piece(f), &s.edges, snap, snap * snap, &mut s.frags2, &mut s.ops);
                 }
