@@ -16,6 +16,7 @@
 //! shadow must be sampled before a cell is trusted), which no fixed constant prices. Without
 //! sample pairs the prior ([`CostModel::default`]) is used. Counts, not clocks, decide: the
 //! choice is the same on every run and thread count.
+use super::viewpoint::VIEWPOINT_WORK;
 
 /// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
 /// target (5e-8, `kernel::GAUSS_REL_TOL`), so shadows never dominate the method's error.
@@ -44,8 +45,6 @@ pub enum Policy {
         seed: u64,
     },
 }
-
-use super::viewpoint::VIEWPOINT_WORK;
 
 /// Monte Carlo must meet the goal at this many standard errors (about 95 %).
 pub const MC_SIGMAS: f64 = 2.0;
