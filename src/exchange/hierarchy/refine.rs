@@ -566,11 +566,20 @@ mod tests {
             let floor_p = rect([a, a + 1.0], [0.0, 1.0], |x, y| DVec3::new(x, y, 0.0));
             let wall = rect([0.2, 1.2], [b, b + 1.0], |y, z| DVec3::new(0.0, y, z));
             let exact = perpendicular_rectangles_exchange([a, a + 1.0], [b, b + 1.0], [0.0, 1.0], [0.2, 1.2]);
-            let (e2, _, ratio) = errors(&floor_p, &wall, exact);
-            assert!(
-                e2.abs() <= SECOND_ORDER_FLOOR * ratio.powi(4),
-                "perpendicular d={d}: {e2:e} at ρ/r={ratio}"
-            );
+            let (e2, _, floor) = errors(&floor_p, &wall, exact);
+            assert!(e2.abs() <= floor, "perpendicular d={d}: {e2:e} above {floor:e}");
+            // Grazing: the wall square stands on the floor's plane, d away from the floor square.
+            let standing = rect([0.2, 1.2], [0.0, 1.0], |y, z| DVec3::new(0.0, y, z));
+            let exact = perpendicular_rectangles_exchange([d, d + 1.0], [0.0, 1.0], [0.0, 1.0], [0.2, 1.2]);
+            let floor_g = rect([d, d + 1.0], [0.0, 1.0], |x, y| DVec3::new(x, y, 0.0));
+            let (e2, _, floor) = errors(&floor_g, &standing, exact);
+            assert!(e2.abs() <= floor, "grazing d={d}: {e2:e} above {floor:e}");
+            assert!(in_front(&node(&floor_g), &node(&standing), 1e-12));
+            assert!(in_front(&node(&standing), &node(&floor_g), 1e-12));
         }
+        // A square below the other's plane is not in front of it.
+        let below = rect([0.0, 1.0], [0.0, 1.0], |x, y| DVec3::new(x, y, -0.5));
+        let wall = rect([0.2, 1.2], [-1.0, 0.0], |y, z| DVec3::new(-2.0, y, z));
+        assert!(!in_front(&node(&below), &node(&wall), 1e-12));
     }
 }
