@@ -57,23 +57,31 @@ pub fn leaks(t: &Triangle) -> Vec<(usize, f64, f64)> {
 }
 
 /// Residuals of the raw rows (before) or of the triangle with its ambient (after).
-fn diagnostics(d: &DenseExchange, sums: &[f64], reciprocity: f64, open: bool) -> Diagnostics {
-    let negatives = d.t.s.par_iter().filter(|&&x| x < 0.0).count()
-        + d.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
+fn diagnostics(
+    d: &DenseExchange,
+    sums: &[f64],
+    reciprocity: f64,
+    open: bool,
+    negatives: usize,
+) -> Diagnostics {
+    let negatives = negatives + d.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
     Diagnostics::from_rows(sums, &d.t.areas, &d.names, open, reciprocity, negatives)
 }
 
-fn max_abs(t: &Triangle) -> f64 {
-    t.s.par_iter().map(|x| x.abs()).reduce(|| 0.0, f64::max)
+/// max |s̄_ij| and the count of negative entries, in one pass over the store.
+fn max_abs_and_negatives(t: &Triangle) -> (f64, usize) {
+    t.s.par_iter()
+        .fold(|| (0.0, 0), |(m, k), &x| (f64::max(m, x.abs()), k + usize::from(x < 0.0)))
+        .reduce(|| (0.0, 0), |a, b| (a.0.max(b.0), a.1 + b.1))
 }
 
 /// Applies `p.mode` in place and sets the ambient of open scenes. Only the default closure
 /// method (symmetric scaling) is served here; the others need the sparse store.
 pub fn enforce(d: &mut DenseExchange, p: &EnforceParams) -> Result<EnforceReport> {
-    let smax = max_abs(&d.t);
+    let (smax, negatives) = max_abs_and_negatives(&d.t);
     let rec = if smax > 0.0 { d.t.raw_asymmetry / smax } else { 0.0 };
     let raw = d.t.raw_row_sums.clone();
-    let before = diagnostics(d, &raw, rec, p.open);
+    let before = diagnostics(d, &raw, rec, p.open, negatives);
     let (method, iterations) = match (p.mode, p.open) {
         (Enforce::None, _) => ("none (reciprocity average of the packed store)", 0),
         (Enforce::Reciprocity, false) => ("reciprocity average", 0),
@@ -95,7 +103,8 @@ pub fn enforce(d: &mut DenseExchange, p: &EnforceParams) -> Result<EnforceReport
         });
         d.ambient = Some(amb.collect());
     }
-    let after = diagnostics(d, &sums, 0.0, p.open);
+    // Both scalings multiply by g_i g_j > 0: signs, so the negative count, are kept.
+    let after = diagnostics(d, &sums, 0.0, p.open, negatives);
     Ok(EnforceReport { before, after, method, iterations })
 }
 

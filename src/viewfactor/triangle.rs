@@ -266,6 +266,9 @@ fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress)
         .into_par_iter()
         .enumerate()
         .map(|(i, slot)| {
+            // The store is fresh from the kernel: writing first maps each page once, where
+            // `+=` would map the shared zero page and fault again (a TLB flush on every core).
+            slot.fill(0.0);
             let mut row = Row::default();
             kernel.row(i, &mut row)?;
             let (mut sum, mut var, mut methods) = (0.0, 0.0, MethodSet::default());
@@ -313,6 +316,9 @@ fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress)
     Ok(())
 }
 
+/// Cells per task when the store's pages are mapped up front (2 MB).
+const PREFAULT_CHUNK: usize = 1 << 18;
+
 /// Entries buffered per wave of a non-symmetric kernel (as the row engine).
 const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 
@@ -323,6 +329,9 @@ fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) ->
     // Per row r: exceptions collected unsorted, merged at the end.
     let mut pending: Vec<Vec<Exception>> = vec![Vec::new(); n];
     let mut seen = vec![false; n];
+    // The serial fold reads cells before writing them: map every page of the fresh store by
+    // a parallel write first (a read would map the zero page and fault again on the write).
+    t.s.par_chunks_mut(PREFAULT_CHUNK).for_each(|c| c.fill(0.0));
     let mut lo = 0;
     while lo < n {
         let hi = (lo + wave).min(n);
