@@ -352,3 +352,21 @@ fn conductances_as_sinda_and_esatan_decks_match_the_csv() {
     let o = run(&["solve", &scene, "--viewfactors", &vf, "--format", "sinda"]);
     assert_exit(&o, 2, &["--format applies to --conductances"]);
 }
+
+#[test]
+fn conductances_over_too_many_patches_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    // 2 × 51 × 51 = 5,202 patches: above the dense RADK limit.
+    let body = PLATES
+        .replace("emissivity = 0.8", "subdivide = [51, 51]\nemissivity = 0.8")
+        .replace("emissivity = 0.5", "subdivide = [51, 51]\nemissivity = 0.5");
+    let scene = write(dir.path(), "fine.toml", &body);
+    let (csv, radk) = (dir.path().join("out.csv"), dir.path().join("radk.csv"));
+    let o = run(&["solve", &scene, "-o", csv.to_str().unwrap(), "--conductances", radk.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("5202 patches") && err.contains("subdivide"), "{err}");
+    // Refused up front: no view factors were computed, nothing was written.
+    assert!(!err.contains("pairs"), "{err}");
+    assert!(!csv.exists() && !radk.exists());
+}

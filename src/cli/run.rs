@@ -362,6 +362,10 @@ fn solve(a: SolveArgs) -> Result<()> {
         cfg.params.tolerance = t;
     }
     scene.check_boundary_conditions()?;
+    if a.conductances.is_some() {
+        // RADK comes from one dense solve over the patches: refuse before any work is done.
+        solve::conductance::check_nodes(scene.patches.len())?;
+    }
     let mode = match cfg.enforce.as_deref() {
         Some(e) => e.parse()?,
         None => Enforce::solve_default(!scene.is_closed()),

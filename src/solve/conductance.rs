@@ -44,15 +44,22 @@ impl Conductances {
     }
 }
 
+/// Refuses RADK over more than [`MAX_NODES`] nodes (patches): one dense solve per node.
+pub fn check_nodes(n: usize) -> Result<()> {
+    if n > MAX_NODES {
+        return Err(Error::Unsupported(format!(
+            "--conductances for {n} patches: RADK needs a dense solve over the patches, limited to \
+             {MAX_NODES}; use a coarser `subdivide` (surface conductances are summed from the patches)"
+        )));
+    }
+    Ok(())
+}
+
 /// Computes RADK for the nodes of `ex` (plus the ambient for open scenes).
 pub fn radk(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Conductances> {
     let nodes = system::nodes(scene, ex)?;
     let n = nodes.len();
-    if n > MAX_NODES {
-        return Err(Error::Unsupported(format!(
-            "conductances for {n} nodes (the dense matrix is limited to {MAX_NODES}); report per surface instead of --patches"
-        )));
-    }
+    check_nodes(n)?;
     let open = ex.ambient.is_some();
     let eps: Vec<f64> = nodes.iter().map(|n| n.emissivity).collect();
     let rows = vec![RowKind::Temperature(0.0); n];

@@ -63,6 +63,7 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
     let compute = |lo: usize, hi: usize| -> Vec<Result<Row>> {
         (lo..hi)
             .into_par_iter()
+            .with_max_len(1)
             .map(|i| {
                 let mut row = Row::default();
                 let out = kernel.row(i, &mut row).map(|_| row);

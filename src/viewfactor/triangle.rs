@@ -264,6 +264,7 @@ fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress)
     let rows = t.rows_mut();
     let outs: Vec<Result<RowOut>> = rows
         .into_par_iter()
+        .with_max_len(1)
         .enumerate()
         .map(|(i, slot)| {
             // The store is fresh from the kernel: writing first maps each page once, where
@@ -337,6 +338,7 @@ fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) ->
         let hi = (lo + wave).min(n);
         let rows: Vec<Result<Row>> = (lo..hi)
             .into_par_iter()
+            .with_max_len(1)
             .map(|i| {
                 let mut row = Row::default();
                 let out = kernel.row(i, &mut row).map(|_| row);

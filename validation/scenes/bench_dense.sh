@@ -18,7 +18,6 @@ run() {
   printf '%-28s wall %8s  user+sys %7.1f s  peak RSS %7.0f MB\n' "$name" "$wall" "$(echo "$user + $sys" | bc)" "$(echo "$rss / 1024" | bc)"
 }
 run room_solve solve validation/scenes/room_8472.toml --quiet
-run room_solve_sparse solve validation/scenes/room_8472.toml --quiet --conductances "$OUT/room_radk.csv"
 run room_vf_patches_closure viewfactors validation/scenes/room_8472.toml --tolerance 1e-4 --patches --enforce closure --quiet -o "$OUT/room_vf.csv"
 run cube50_solve solve validation/scenes/cube_furnace_50.toml --quiet
 run cube50_vf_patches viewfactors validation/scenes/cube_furnace_50.toml --patches --quiet -o /dev/null

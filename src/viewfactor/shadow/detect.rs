@@ -220,6 +220,7 @@ impl Occlusion {
         let n = scene.patches.len();
         (0..n)
             .into_par_iter()
+            .with_max_len(1)
             .flat_map_iter(|i| {
                 (i + 1..n).filter_map(move |j| self.first_blocker(scene, i, j).map(|k| (i, j, k)))
             })
