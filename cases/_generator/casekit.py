@@ -128,6 +128,7 @@ class Case:
         self.defaults = None
         self.keep_scene = False
         self.quick = True
+        self.auto_goal = None
         self.known = {}
 
     def surface(self, name):
@@ -235,6 +236,8 @@ class Case:
             r.insert(1, "".join(f"# {line}\n" for line in self.note.strip().splitlines()))
         if not self.quick:
             r.append("quick = false\n")
+        if self.auto_goal is not None:
+            r.append(f"auto_goal = {fmt(float(self.auto_goal))}\n")
         if self.known:
             r.append("\n[known_issue]\n" + "".join(f"{fmt(k)} = {fmt(v)}\n" for k, v in self.known.items()))
         if self.skips:

@@ -6,6 +6,7 @@ from casekit import Case, converged
 from geom import rectangle
 from shadow import plate, box
 from cases_view import CF, AMB, X, Y, Z
+from cases_curved import SLOW_SHADOW
 
 SHADOW = "1LI Gauss of Lambert's formula minus the blocker's exact central-projection shadow (cases/_generator/shadow.py), cells split at the shadow's kinks"
 
@@ -126,8 +127,70 @@ def o6():
     return c
 
 
+def o7():
+    import gltf
+    import irregular
+    c = Case("o7_irregular_box_block", "Closed 1 × 1.3 × 0.7 m box, faces triangulated at random (572 triangles, glTF), an obstruction-only cuboid inside",
+             "CAD benchmark box_500_block (validation/cad.md); exact shadows of the convex block",
+             note="Whole-face factors do not depend on the triangulation: the references integrate the faces\nas rectangles (float32 corners, as lambert reads them) past the float32 block.")
+    c.quick = False
+    lo, hi = irregular.BLOCK
+    faces = irregular.box_faces(500, 7)
+    c.model("box.gltf", [(name, tris, {}) for name, tris in faces] + [("block", gltf.box(lo, hi, 1), {"role": "obstruction"})])
+    f = lambda x: gltf.f32((x, 0.0, 0.0))[0]
+    X, Y, Z = f(1.0), f(1.3), f(0.7)
+    blk = box(gltf.f32(lo), gltf.f32(hi))
+    floor = rectangle((0, 0, 0), (X, 0, 0), (0, Y, 0))
+    for name, r in (("ceiling", rectangle((0, 0, Z), (0, Y, 0), (X, 0, 0))),
+                    ("wall_x0", rectangle((0, 0, 0), (0, Y, 0), (0, 0, Z))),
+                    ("wall_y1", rectangle((0, Y, 0), (X, 0, 0), (0, 0, Z)))):
+        s, err = converged([floor], [r], blk, 0.05, 6)
+        c.vf("floor", name, s / (X * Y), f"{SHADOW}; converged to {err / (X * Y):.0e}",
+             uncertainty=2 * err / (X * Y) + 1e-14, blocker=blk, receiver=[r])
+    return c
+
+
+def o8():
+    import gltf
+    from shadow import ConvexBlocker
+    n = 8
+    c = Case("o8_sphere_in_room", f"1,280-facet sphere (r = 0.6, glTF, facing out) centred in a 4 m cube room ({n}×{n} patches per wall)",
+             "CAD benchmark sphere_room (validation/cad.md): symmetry, reciprocity and exact shadows of the convex facetted sphere",
+             note="The icosphere keeps the coordinate mirrors and the cyclic axis permutation (float32 rounding\nkeeps them too), which map the walls onto each other: F(sphere -> each wall) = 1/6 exactly.")
+    c.quick = False
+    c.skips["analytic"] = SLOW_SHADOW.replace("auto and Monte Carlo cover", "auto (at 1e-4) and Monte Carlo cover")
+    # At the suite's 1e-6 goal auto integrates the wall pairs behind the sphere (> 240 s).
+    c.auto_goal = 1e-4
+    sphere = gltf.icosphere((0, 0, 0), 0.6, 3)
+    c.model("sphere.gltf", [("sphere", sphere, {})])
+    L, o = 4.0, -2.0
+    # (origin, u, v) with u × v facing into the room.
+    walls = {"floor": ((o, o, o), (L, 0, 0), (0, L, 0)), "ceiling": ((o, o, -o), (0, L, 0), (L, 0, 0)),
+             "wall_x0": ((o, o, o), (0, L, 0), (0, 0, L)), "wall_x1": ((-o, o, o), (0, 0, L), (0, L, 0)),
+             "wall_y0": ((o, o, o), (0, 0, L), (L, 0, 0)), "wall_y1": ((o, -o, o), (L, 0, 0), (0, 0, L))}
+    for name, (org, u, v) in walls.items():
+        c.rect(name, org, u, v, subdivide=(n, n))
+    tris = c.surface("sphere").patches
+    a_s = gltf.mesh_area(tris)
+    for name in ("floor", "wall_x1", "wall_y0"):
+        c.vf("sphere", name, 1 / 6, "symmetry of the icosphere and the room (exact); row sum 1 for a convex body", bias=0.0)
+    # The facetted sphere as one convex blocker: its float32 vertices and the facets' edges.
+    verts = sorted({v for t in tris for v in t})
+    index = {v: k for k, v in enumerate(verts)}
+    edges = sorted({tuple(sorted((index[t[k]], index[t[(k + 1) % 3]]))) for t in tris for k in range(3)})
+    ball = ConvexBlocker(verts, edges)
+    floor = rectangle(*walls["floor"])
+    ceiling = rectangle(*walls["ceiling"])
+    s, err = converged([floor], [ceiling], ball, 0.5, 6)
+    c.vf("floor", "ceiling", s / (L * L), f"{SHADOW}; converged to {err / (L * L):.0e}",
+         uncertainty=2 * err / (L * L) + 1e-14, blocker=ball, receiver=[ceiling])
+    c.vf("floor", "sphere", a_s / (6 * L * L), f"reciprocity with F(sphere -> floor) = 1/6 and the mesh area {a_s!r} m² (exact)",
+         receiver=tris)
+    return c
+
+
 CASES = [
     ("o1_squares_centred_blocker", o1), ("o2_squares_plate_between", o2),
     ("o3_obstructed_room", o3), ("o4_squares_side_blocker", o4), ("o5_squares_corner_blocker", o5),
-    ("o6_concentric_cubes", o6),
+    ("o6_concentric_cubes", o6), ("o7_irregular_box_block", o7), ("o8_sphere_in_room", o8),
 ]

@@ -51,7 +51,7 @@ pub fn run_case(case: &Case, budget: &Budget) -> Vec<Check> {
 
 /// View-factor checks (and heat checks, when the case has them) of one method.
 fn run_method(case: &Case, scene: &Scene, method: Method, budget: &Budget) -> Vec<Check> {
-    let params = budget.params(method, scene.patches.len());
+    let params = method_params(case, method, budget, scene.patches.len());
     let start = Instant::now();
     let result = viewfactor::compute(scene, &params, Level::Surface);
     let time = start.elapsed();
@@ -77,6 +77,15 @@ fn run_method(case: &Case, scene: &Scene, method: Method, budget: &Budget) -> Ve
         }
         None => checks,
     }
+}
+
+/// The suite's parameters for `method`, with the case's looser `auto_goal` (never a tighter one).
+fn method_params(case: &Case, method: Method, budget: &Budget, patches: usize) -> viewfactor::Params {
+    let mut params = budget.params(method, patches);
+    if let (Method::Auto, Some(goal)) = (method, case.reference.auto_goal) {
+        params.tolerance = params.tolerance.max(goal);
+    }
+    params
 }
 
 fn view_factor_checks(
@@ -107,4 +116,33 @@ fn view_factor_checks(
         checks.push(Check::compared(&case.name, quantity, method.name(), value, r.value, tol, time));
     }
     checks
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn case(extra: &str) -> (tempfile::TempDir, Case) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("scene.toml"), "").unwrap();
+        let text = format!(
+            "title = \"t\"\ncitation = \"c\"\n{extra}\n[[viewfactor]]\nfrom = \"a\"\nto = \"b\"\nvalue = 0.2\nsource = \"C-11\"\n"
+        );
+        std::fs::write(dir.path().join(super::super::case::REFERENCE_FILE), text).unwrap();
+        let c = Case::load(dir.path()).unwrap();
+        (dir, c)
+    }
+
+    #[test]
+    fn a_case_auto_goal_loosens_auto_only() {
+        let (_d, plain) = case("");
+        let (_e, loose) = case("auto_goal = 1e-4");
+        let full = Budget::full();
+        assert_eq!(method_params(&plain, Method::Auto, &full, 10).tolerance, 1e-6);
+        assert_eq!(method_params(&loose, Method::Auto, &full, 10).tolerance, 1e-4);
+        assert_eq!(method_params(&loose, Method::Hemicube, &full, 10), full.params(Method::Hemicube, 10));
+        // Never tighter than the suite's own goal.
+        let (_f, tight) = case("auto_goal = 1e-9");
+        assert_eq!(method_params(&tight, Method::Auto, &Budget::quick(), 10).tolerance, 1e-4);
+    }
 }
