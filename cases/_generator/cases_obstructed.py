@@ -137,17 +137,29 @@ def o7():
     lo, hi = irregular.BLOCK
     faces = irregular.box_faces(500, 7)
     c.model("box.gltf", [(name, tris, {}) for name, tris in faces] + [("block", gltf.box(lo, hi, 1), {"role": "obstruction"})])
+    for name, f, err, blk, r in irregular_box_references():
+        c.vf("floor", name, f, f"{SHADOW}; converged to {err:.0e}", uncertainty=2 * err + 1e-14, blocker=blk, receiver=[r])
+    return c
+
+
+def irregular_box_references():
+    """(receiver, F(floor -> receiver), convergence, blocker, receiver ring) of the irregular box
+    past its block: whole faces (float32 corners, as lambert reads them), so the values hold for
+    every triangulation (also validation/scenes/gen_cad.py --reference)."""
+    import gltf
+    import irregular
+    lo, hi = irregular.BLOCK
     f = lambda x: gltf.f32((x, 0.0, 0.0))[0]
     X, Y, Z = f(1.0), f(1.3), f(0.7)
     blk = box(gltf.f32(lo), gltf.f32(hi))
     floor = rectangle((0, 0, 0), (X, 0, 0), (0, Y, 0))
+    out = []
     for name, r in (("ceiling", rectangle((0, 0, Z), (0, Y, 0), (X, 0, 0))),
                     ("wall_x0", rectangle((0, 0, 0), (0, Y, 0), (0, 0, Z))),
                     ("wall_y1", rectangle((0, Y, 0), (X, 0, 0), (0, 0, Z)))):
         s, err = converged([floor], [r], blk, 0.05, 6)
-        c.vf("floor", name, s / (X * Y), f"{SHADOW}; converged to {err / (X * Y):.0e}",
-             uncertainty=2 * err / (X * Y) + 1e-14, blocker=blk, receiver=[r])
-    return c
+        out.append((name, s / (X * Y), err / (X * Y), blk, r))
+    return out
 
 
 def o8():

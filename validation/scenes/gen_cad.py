@@ -62,20 +62,10 @@ def boxes():
 
 
 def reference():
-    from casekit import converged
-    from geom import rectangle
-    from shadow import box
+    from cases_obstructed import irregular_box_references
 
-    f = lambda x: gltf.f32((x, 0.0, 0.0))[0]  # the float32 geometry lambert reads
-    X, Y, Z = f(1.0), f(1.3), f(0.7)
-    lo, hi = irregular.BLOCK
-    blk = box(gltf.f32(lo), gltf.f32(hi))
-    floor = rectangle((0, 0, 0), (X, 0, 0), (0, Y, 0))
-    for name, r in (("ceiling", rectangle((0, 0, Z), (0, Y, 0), (X, 0, 0))),
-                    ("wall_x0", rectangle((0, 0, 0), (0, Y, 0), (0, 0, Z))),
-                    ("wall_y1", rectangle((0, Y, 0), (X, 0, 0), (0, 0, Z)))):
-        s, err = converged([floor], [r], blk, 0.05, 6)
-        print(f"F(floor -> {name}) = {s / (X * Y)!r} +- {2 * err / (X * Y):.1e}")
+    for name, f, err, _, _ in irregular_box_references():
+        print(f"F(floor -> {name}) = {f!r} +- {2 * err:.1e}")
 
 
 if __name__ == "__main__":
