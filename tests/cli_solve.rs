@@ -370,3 +370,18 @@ fn conductances_over_too_many_patches_are_refused_before_any_work() {
     assert!(!err.contains("pairs"), "{err}");
     assert!(!csv.exists() && !radk.exists());
 }
+
+/// `-o /dev/null` writes into the device: the temporary-and-rename that protects earlier
+/// results must never replace a device with a file.
+#[cfg(unix)]
+#[test]
+fn output_to_a_device_is_written_in_place() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "plates.toml", PLATES);
+    let o = run(&["solve", &scene, "-o", "/dev/null"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let kind = std::fs::metadata("/dev/null").unwrap().file_type();
+    assert!(kind.is_char_device(), "/dev/null is no longer a device: {kind:?}");
+    assert!(!Path::new("/dev/null.partial").exists());
+}

@@ -35,16 +35,10 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
             let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
             tmp_name.push(".partial");
             let tmp = path.with_file_name(tmp_name);
-            let mut file = std::io::BufWriter::new(std::fs::File::create(&tmp).map_err(io)?);
-            let result = f(&mut file, path).and_then(|_| file.flush().map_err(io));
-            drop(file);
-            match result {
-                Ok(()) => std::fs::rename(&tmp, path).map_err(io),
-                Err(e) => {
-                    let _ = std::fs::remove_file(&tmp);
-                    Err(e)
-                }
-            }
+            report::replace_on_success(path, &tmp, |target| {
+                let mut file = std::io::BufWriter::new(std::fs::File::create(target).map_err(io)?);
+                f(&mut file, path).and_then(|_| file.flush().map_err(io))
+            })
         }
     }
 }

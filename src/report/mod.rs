@@ -19,12 +19,17 @@ pub mod solve_csv;
 pub mod vtk;
 
 /// Runs `write` on the temporary `tmp` beside `path`, then renames it over `path`; on failure
-/// the temporary is removed and an earlier `path` is left as it was.
+/// the temporary is removed and an earlier `path` is left as it was. A `path` that exists and
+/// is not a regular file (`/dev/null`, a FIFO, a terminal) is written directly: renaming over
+/// it would replace the device with a file.
 pub fn replace_on_success(
     path: &std::path::Path,
     tmp: &std::path::Path,
     write: impl FnOnce(&std::path::Path) -> crate::Result<()>,
 ) -> crate::Result<()> {
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        return write(path);
+    }
     match write(tmp) {
         Ok(()) => {
             std::fs::rename(tmp, path).map_err(|e| crate::Error::Io { path: path.to_path_buf(), source: e })
@@ -55,7 +60,12 @@ pub fn fmt_f64(x: f64) -> String {
 /// form is rebuilt from the exponent form's digits (both forms print the same shortest digits).
 pub fn push_f64(out: &mut String, x: f64) {
     use std::fmt::Write;
-    if x == 0.0 || !x.is_finite() {
+    if x == 0.0 {
+        // The standard error of every deterministic entry: no formatting machinery.
+        out.push_str(if x.is_sign_negative() { "-0" } else { "0" });
+        return;
+    }
+    if !x.is_finite() {
         out.push_str(&fmt_f64(x));
         return;
     }

@@ -9,6 +9,21 @@ pub fn line_of(text: &str, offset: usize) -> usize {
     text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
+/// The newline offsets of a text, for many [`line_of`] lookups (one per `[[surface]]`) in
+/// O(log n) each instead of a scan from the start.
+pub struct Lines(Vec<usize>);
+
+impl Lines {
+    /// Indexes `text`.
+    pub fn new(text: &str) -> Self {
+        Self(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(k, _)| k).collect())
+    }
+    /// 1-based line of byte `offset` (as [`line_of`]).
+    pub fn line(&self, offset: usize) -> usize {
+        self.0.partition_point(|&k| k < offset) + 1
+    }
+}
+
 /// Which section holds byte `offset`.
 pub enum SurfaceAt {
     /// A named surface.
@@ -89,6 +104,15 @@ pub fn from_toml(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn indexed_lines_match_the_scan() {
+        let text = "a\n\nbc\nd";
+        let lines = Lines::new(text);
+        for offset in 0..=text.len() + 2 {
+            assert_eq!(lines.line(offset), line_of(text, offset), "offset {offset}");
+        }
+    }
 
     #[test]
     fn locates_surface_sections() {

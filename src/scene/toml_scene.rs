@@ -4,7 +4,7 @@ use super::assemble::{self, ModelEntry, ShapeSpec, TomlSurface};
 use super::gltf_scene;
 use super::props::{Layer, Role};
 use super::schema::{Num, RawDisk, RawRectangle, RawScene, RawSurface};
-use super::toml_errors::{from_toml, line_of};
+use super::toml_errors::{from_toml, Lines};
 use super::validate::{self as v, DEFAULT_SEGMENTS, MAX_SEGMENTS, MAX_SUBDIVISION};
 use super::{Disk, Scene};
 use crate::error::InputError;
@@ -35,7 +35,8 @@ pub fn load(path: &Path) -> Result<Scene> {
 pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
     let text = text.to_string();
     let raw: RawScene = toml::from_str(&text).map_err(|e| from_toml(path, &text, &e))?;
-    let at = |offset: usize| line_of(&text, offset);
+    let lines = Lines::new(&text);
+    let at = |offset: usize| lines.line(offset);
     let err = |surface: Option<&str>, offset: usize, problem: String| {
         let mut e = InputError::file(path, problem).at_line(at(offset));
         e.surface = surface.map(str::to_string);
@@ -102,7 +103,7 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
 
     let mut surfaces = Vec::with_capacity(raw.surface.len());
     for (k, s) in raw.surface.iter().enumerate() {
-        surfaces.push(surface(path, &text, k, s)?);
+        surfaces.push(surface(path, &lines, k, s)?);
     }
     let title = raw.title.map(|t| t.into_inner());
     let mut scene = assemble::assemble(path, title, ambient, &defaults, surfaces, models)?;
@@ -145,8 +146,8 @@ fn check_name(name: &str) -> Result<(), String> {
 }
 
 /// Validates one `[[surface]]` entry (number k from 0).
-fn surface(path: &Path, text: &str, k: usize, s: &Spanned<RawSurface>) -> Result<TomlSurface, InputError> {
-    let line = line_of(text, s.span().start);
+fn surface(path: &Path, lines: &Lines, k: usize, s: &Spanned<RawSurface>) -> Result<TomlSurface, InputError> {
+    let line = lines.line(s.span().start);
     let raw = s.get_ref();
     let Some(name_s) = &raw.name else {
         return Err(
@@ -154,7 +155,7 @@ fn surface(path: &Path, text: &str, k: usize, s: &Spanned<RawSurface>) -> Result
         );
     };
     let name = name_s.get_ref().clone();
-    let err = |offset: usize, p: String| InputError::surface(path, &name, p).at_line(line_of(text, offset));
+    let err = |offset: usize, p: String| InputError::surface(path, &name, p).at_line(lines.line(offset));
     check_name(&name).map_err(|p| {
         let mut e = err(name_s.span().start, p);
         if name.trim().is_empty() {
