@@ -127,7 +127,6 @@ impl Polygon {
             let t = [v[0], v[k], v[k + 1]];
             let a = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).dot(self.normal);
             let g = (t[0] + t[1] + t[2]) / 3.0;
-            let outer = |d: DVec3| DMat3::from_cols(d * d.x, d * d.y, d * d.z);
             m += (t.iter().map(|&p| outer(p - g)).fold(DMat3::ZERO, |s, o| s + o)) * (a / 12.0)
                 + outer(g - c) * a;
         }
@@ -330,6 +329,11 @@ fn ear_clip(v: &[DVec3], normal: DVec3) -> Vec<[DVec3; 3]> {
         tris.push([v[idx[0]], v[idx[1]], v[idx[2]]]);
     }
     tris
+}
+
+/// The outer product d dᵀ (second moments of area: a point mass's, and the parallel-axis shift).
+pub fn outer(d: DVec3) -> DMat3 {
+    DMat3::from_cols(d * d.x, d * d.y, d * d.z)
 }
 
 #[cfg(test)]

@@ -494,7 +494,7 @@ fn sample(ctx: &Context, n: &Node, rng: &mut Pcg64Mcg) -> (usize, DVec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::polygon::Polygon;
+    use crate::geometry::polygon::{outer, Polygon};
     use crate::viewfactor::closed_form::{parallel_rectangles_exchange, perpendicular_rectangles_exchange};
     use glam::DMat3;
 
@@ -504,7 +504,7 @@ mod tests {
         let centroid = polys.iter().map(|p| p.area() * p.centroid()).sum::<DVec3>() / area;
         let second_moment = polys.iter().fold(DMat3::ZERO, |m, p| {
             let d = p.centroid() - centroid;
-            m + p.second_moment() + DMat3::from_cols(d * d.x, d * d.y, d * d.z) * p.area()
+            m + p.second_moment() + outer(d) * p.area()
         });
         let radius =
             polys.iter().flat_map(|p| p.vertices().iter().map(|v| v.distance(centroid))).fold(0.0, f64::max);

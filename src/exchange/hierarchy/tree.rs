@@ -5,6 +5,7 @@
 //! space at the median of the patch centroids along its longest box axis. Each node keeps what
 //! the link estimates and bounds need: area, area-weighted centroid, bounding radius, box,
 //! second moment of area, vector area Σ A_i n_i, normal cone and, when every normal is the same, its plane offsets.
+use crate::geometry::polygon::outer;
 use crate::scene::Scene;
 use glam::{DMat3, DVec3};
 
@@ -274,7 +275,7 @@ fn summarise(ctx: &Build, order: &[u32], base: u32) -> Node {
     let second_moment = order.iter().fold(DMat3::ZERO, |m, &p| {
         let g = &geom[p as usize];
         let d = g.centroid - centroid;
-        m + g.second_moment + DMat3::from_cols(d * d.x, d * d.y, d * d.z) * g.area
+        m + g.second_moment + outer(d) * g.area
     });
     let radius = order
         .iter()

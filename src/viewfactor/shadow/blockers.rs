@@ -53,6 +53,7 @@ pub struct Blockers {
     blocker_tree: BoxTree,
     patch_tree: BoxTree,
     snap: f64,
+    pad: f64,
 }
 
 impl Blockers {
@@ -73,7 +74,7 @@ impl Blockers {
         let patch_tree = BoxTree::new(scene.patches.iter().map(|p| bounds(p.polygon.vertices())), pad);
         let mut all = Vec::new();
         collect(scene, &mut all);
-        let mut me = Self { blockers: Vec::new(), blocker_tree: BoxTree::default(), patch_tree, snap };
+        let mut me = Self { blockers: Vec::new(), blocker_tree: BoxTree::default(), patch_tree, snap, pad };
         // Keep blockers with patch material strictly on both sides of their plane.
         let kept: Vec<Blocker> = all
             .into_iter()
@@ -102,6 +103,10 @@ impl Blockers {
     /// Length below which points count as coincident or on a plane.
     pub fn snap(&self) -> f64 {
         self.snap
+    }
+    /// Padding of every box in the hierarchies, beyond the round-off of a cut point.
+    pub fn pad(&self) -> f64 {
+        self.pad
     }
 
     /// Blockers whose padded box passes `keep(lo, hi)` at every level, appended to `out`.
@@ -184,7 +189,8 @@ fn tiled_outline<'a>(polys: impl Iterator<Item = &'a Polygon> + Clone, area: f64
 }
 
 /// Axis-aligned bounds of a vertex list.
-fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
+/// The box (lo, hi) of points `v`.
+pub(super) fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
     v.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(l, h), p| {
         (l.min(*p), h.max(*p))
     })

@@ -19,7 +19,6 @@ use super::policy::{
     Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, MAX_DEPTH, MC_MAX_SAMPLES, MC_SIGMAS,
 };
 use super::segtree::SegmentTree;
-use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL};
 use crate::scene::Scene;
 use crate::viewfactor::MethodSet;
 use glam::DVec3;
@@ -81,8 +80,7 @@ impl<'s> Shadows<'s> {
             Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
-        // The blockers' box padding, from their snap length (both relative to the scene).
-        let pad = blockers.snap() / BLOCKER_SNAP_REL * BLOCKER_BOX_PAD_REL;
+        let pad = blockers.pad();
         let (samplers, segments) = match policy {
             Policy::Auto { .. } => (
                 scene.patches.iter().map(|p| PatchSampler::new(&p.polygon)).collect(),

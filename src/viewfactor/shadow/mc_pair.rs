@@ -17,6 +17,7 @@
 //!   n_eff = (ΣK)²/ΣK², so that a sample in which every point agreed never claims zero error.
 //! - **Budget.** The sample doubles until the standard error meets the goal.
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
+use super::blockers::bounds;
 use super::segtree::{SegmentTree, LEAF};
 use crate::geometry::sampling::PolygonSampler;
 use crate::geometry::tolerance::PARALLELOGRAM_REL;
@@ -89,9 +90,8 @@ impl SegmentBlocker {
         }
         let n = n.normalize_or_zero();
         let edges = (0..m).map(|k| (ring[k], n.cross(ring[(k + 1) % m] - ring[k]))).collect();
-        let lo = ring.iter().fold(DVec3::splat(f64::INFINITY), |a, &v| a.min(v)) - pad;
-        let hi = ring.iter().fold(DVec3::splat(f64::NEG_INFINITY), |a, &v| a.max(v)) + pad;
-        Self { n, off: n.dot(ring[0]), edges, lo, hi }
+        let (lo, hi) = bounds(ring);
+        Self { n, off: n.dot(ring[0]), edges, lo: lo - pad, hi: hi + pad }
     }
     /// The padded bounding box (lo, hi).
     #[inline]
@@ -234,21 +234,13 @@ mod tests {
         let blockers = (&blockers[..], &[0u32][..]);
         let (se, sr) = (PatchSampler::new(&e), PatchSampler::new(&r));
         let unobs = 0.199_824_895_698;
+        let run = |blockers, budget, seed| {
+            let tree = &mut SegmentTree::default();
+            estimate(&se, e.normal(), &sr, r.normal(), unobs, blockers, budget, seed, (0, 1), tree)
+        };
         let mut z2 = 0.0;
         for seed in 0..20 {
-            let budget = Budget { first: 4096, max: 4096, sigma: 0.0 };
-            let m = estimate(
-                &se,
-                e.normal(),
-                &sr,
-                r.normal(),
-                unobs,
-                blockers,
-                budget,
-                seed,
-                (0, 1),
-                &mut SegmentTree::default(),
-            );
+            let m = run(blockers, Budget { first: 4096, max: 4096, sigma: 0.0 }, seed);
             let z = (m.s - 0.099_506_294_6) / m.var.sqrt();
             assert!(z.abs() < 4.0, "seed {seed}: {} ± {}", m.s, m.var.sqrt());
             z2 += z * z;
@@ -256,34 +248,10 @@ mod tests {
         // The reported error is an upper bound for scrambled Sobol: rms z well below 1.
         assert!((z2 / 20.0f64).sqrt() < 1.0, "rms z {}", (z2 / 20.0f64).sqrt());
         // The sample grows until the error meets the budget.
-        let budget = Budget { first: 8, max: 1 << 16, sigma: 1e-3 };
-        let m = estimate(
-            &se,
-            e.normal(),
-            &sr,
-            r.normal(),
-            unobs,
-            blockers,
-            budget,
-            3,
-            (0, 1),
-            &mut SegmentTree::default(),
-        );
+        let m = run(blockers, Budget { first: 8, max: 1 << 16, sigma: 1e-3 }, 3);
         assert!(m.var.sqrt() <= 1e-3 && m.samples > 8, "{m:?}");
         // No blocker: exact whatever the sample count.
-        let budget = Budget { first: 4, max: 4, sigma: 0.0 };
-        let m = estimate(
-            &se,
-            e.normal(),
-            &sr,
-            r.normal(),
-            unobs,
-            (&[], &[]),
-            budget,
-            1,
-            (0, 1),
-            &mut SegmentTree::default(),
-        );
+        let m = run((&[], &[]), Budget { first: 4, max: 4, sigma: 0.0 }, 1);
         assert_eq!(m.s, unobs);
     }
 }
