@@ -84,3 +84,8 @@ pub const PARALLELOGRAM_REL: f64 = 1e-12;
 /// Relative tolerance for "this quad is a parallelogram" in the Gauss ladder's rules
 /// (f32 CAD round-off is ~1e-7).
 pub const PARALLELOGRAM_CAD_REL: f64 = 1e-9;
+
+/// Distance, relative to a closed body's box diagonal, within which a vertex counts as behind a
+/// face when the body is tested for convexity: round-off only (coplanar faces of a box), so a
+/// body taken as convex has its shadow's hull within the exact method's error.
+pub const CONVEX_BODY_REL: f64 = 1e-9;

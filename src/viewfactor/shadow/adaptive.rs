@@ -3,7 +3,8 @@
 //!
 //! g is continuous but has kinks wherever a shadow edge crosses a receiver edge, so raising a
 //! fixed order converges slowly; the emitter is split instead (View3D's `ViewRP`/`ViewTP`):
-//! - the emitter is first cut along the planes where g has kinks ([`split_cells`]);
+//! - the emitter is first cut along the planes where g has kinks, first and second order
+//!   ([`split_cells`]), so each root cell holds a smooth g;
 //! - each cell (parallelogram, or triangle) is integrated with two Gauss rules, orders
 //!   [`AdaptParams::low`] and [`AdaptParams::high`] per direction, |high − low| being its error
 //!   estimate; globally adaptive: the cell with the largest estimate splits into four until
@@ -149,6 +150,8 @@ pub struct AdaptInfo {
     pub cells: u32,
     /// Cells accepted only because they reached the maximum depth.
     pub at_max_depth: u32,
+    /// Root cells after the split along kink planes.
+    pub roots: u32,
 }
 
 /// Reusable state of the integrator.
@@ -235,6 +238,7 @@ impl Integrator {
         let mut info = AdaptInfo::default();
         let roots = split_cells(geo);
         let total_area: f64 = roots.iter().map(Cell::area).sum();
+        info.roots = roots.len() as u32;
         if !(total_area > 0.0) || geo.blockers().is_empty() {
             return info;
         }
@@ -244,6 +248,7 @@ impl Integrator {
         s.leaves.clear();
         let n = s.pool.len();
         let several = roots.len() > 1;
+        let groups = fold_groups(geo);
         // Open leaves: error (∞ while a split is forced), ordered largest first.
         let (mut open_err, mut forced) = (0.0, 0usize);
         let push = |item: Item, this: &Self, s: &mut AdaptScratch, info: &mut AdaptInfo| {
@@ -259,7 +264,17 @@ impl Integrator {
             let (lo, hi, seen, evals, work) = this.evaluate(geo, &item, s);
             info.evals += evals;
             info.work += work;
-            let all_seen = item.full || item.len >= 64 || seen == (1u64 << item.len) - 1;
+            let all_seen = item.full || item.len >= 64 || {
+                // Every active blocker, or a blocker folded onto it, cast a shadow here.
+                let active = &s.pool[item.start..item.start + item.len];
+                let mut hit = 0u64;
+                for (bit, &b) in active.iter().enumerate() {
+                    if seen >> bit & 1 == 1 {
+                        hit |= 1 << (groups[b as usize] % 64);
+                    }
+                }
+                active.iter().all(|&b| hit >> (groups[b as usize] % 64) & 1 == 1)
+            };
             let must_split =
                 (!all_seen || item.depth < this.params.min_depth) && item.depth < this.params.max_depth;
             let err = (hi - lo).abs();
@@ -373,23 +388,33 @@ impl Integrator {
     }
 }
 
-/// Most emitter pieces after splitting along kink planes.
-const MAX_PIECES: usize = 64;
+/// Most emitter pieces after splitting along kink planes (a meshed curved body has more
+/// events than are worth cutting; the adaptivity takes the rest).
+const MAX_PIECES: usize = 256;
 
 /// Root cells of the emitter, split first along the planes where g has kinks:
 /// - a blocker's plane: the blocker turns from front to back as the viewpoint crosses it, which
 ///   changes which shadow edges exist;
 /// - the plane through a receiver edge and a parallel blocker edge: there the shadow edge
-///   slides onto the receiver edge, and the shaded area's slope jumps (non-parallel edges only
-///   meet at a vertex, where the area stays smooth to first order).
+///   slides onto the receiver edge, and the shaded area's slope jumps;
+/// - the second-order events ([`event_planes`]): a blocker vertex's shadow crossing a receiver
+///   edge, a blocker edge's shadow crossing a receiver vertex, where g is C¹ but its second
+///   derivatives jump. Left to the adaptivity these cost thousands of viewpoints per pair
+///   (a cell cut by such a line converges as h⁴) and can stall at the depth limit.
 ///
-/// Within each piece g is smooth up to second-order events, which the adaptivity handles.
+/// Only edges that can bound the blockers' joint shadow count ([`silhouette_edges`]): an edge
+/// two faces of one mesh share is skipped when, from the whole emitter, they fold away on the
+/// same side. Within each piece g is then smooth (up to [`MAX_PIECES`] pieces).
 pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
     let snap = geo.snap();
     let mut planes: Vec<Plane> = geo.blockers().iter().filter_map(|b| plane_of(b)).collect();
     let recv = geo.receiver_edges();
-    for b in geo.blockers() {
+    let silhouette = silhouette_edges(geo);
+    for (b, sil) in geo.blockers().iter().zip(&silhouette) {
         for k in 0..b.len() {
+            if !sil[k] {
+                continue;
+            }
             let (a, c) = (b[k], b[(k + 1) % b.len()]);
             let db = (c - a).normalize_or_zero();
             for &(q0, q1) in &recv {
@@ -402,6 +427,7 @@ pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
             }
         }
     }
+    event_planes(geo, &silhouette, &mut planes);
     let mut pieces: Vec<Vec<DVec3>> = vec![geo.emitter().to_vec()];
     let mut half = Vec::new();
     for p in planes {
@@ -428,6 +454,168 @@ pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
         pieces = next;
     }
     pieces.iter().flat_map(|piece| emitter_cells(piece, geo.emitter_normal())).collect()
+}
+
+/// Appends the planes of the second-order events that happen over the emitter: a blocker
+/// vertex whose shadow crosses a receiver edge, and a receiver vertex that a blocker edge's
+/// shadow crosses. Across them g is C¹ with a jump in its second derivatives.
+fn event_planes(geo: &ShadowGeometry, silhouette: &[Vec<bool>], planes: &mut Vec<Plane>) {
+    let snap = geo.snap();
+    let e = geo.emitter();
+    let n_e = geo.emitter_normal();
+    let d_e = n_e.dot(e[0]);
+    let height = |x: DVec3| n_e.dot(x) - d_e;
+    let (e1, _) = n_e.any_orthonormal_pair();
+    let e2 = n_e.cross(e1);
+    let flat = |x: DVec3| glam::DVec2::new(x.dot(e1), x.dot(e2));
+    let ring: Vec<glam::DVec2> = e.iter().map(|&x| flat(x)).collect();
+    let recv = geo.receiver_edges();
+    // Central projection from `c` (through it, onto the emitter plane) of segment [a, b],
+    // restricted to the points farther from the plane than c; the event's trace, in 2-D.
+    let trace = |c: DVec3, a: DVec3, b: DVec3, through: bool| -> Option<(glam::DVec2, glam::DVec2)> {
+        let (hc, ha, hb) = (height(c), height(a), height(b));
+        let delta = 1e-9 * (a - b).length().max(snap);
+        // For `through` (c = blocker vertex, segment on the receiver) the segment must be
+        // above c; otherwise (c = receiver vertex, segment on the blocker) below it.
+        let (fa, fb) = if through { (ha - hc, hb - hc) } else { (hc - ha, hc - hb) };
+        if fa <= delta && fb <= delta {
+            return None;
+        }
+        let cut = |x: DVec3, y: DVec3, fx: f64, fy: f64| {
+            if fx > delta {
+                x
+            } else {
+                x + (y - x) * ((delta - fx) / (fy - fx))
+            }
+        };
+        let (a2, b2) = (cut(a, b, fa, fb), cut(b, a, fb, fa));
+        let proj = |x: DVec3| {
+            let (apex, other) = if through { (x, c) } else { (c, x) };
+            let (ha, ho) = (height(apex), height(other));
+            flat(apex + (other - apex) * (ha / (ha - ho)))
+        };
+        Some((proj(a2), proj(b2)))
+    };
+    let mut push = |a: DVec3, b: DVec3, c: DVec3, seg: Option<(glam::DVec2, glam::DVec2)>| {
+        if let Some((p, q)) = seg {
+            if segment_meets_ring(p, q, &ring) {
+                if let Some(pl) = Plane::through(a, b, c, snap * (b - a).length()) {
+                    planes.push(pl);
+                }
+            }
+        }
+    };
+    for (b, sil) in geo.blockers().iter().zip(silhouette) {
+        let m = b.len();
+        for k in 0..m {
+            let (v, w) = (b[k], b[(k + 1) % m]);
+            if sil[k] || sil[(k + m - 1) % m] {
+                for &(q0, q1) in &recv {
+                    push(q0, q1, v, trace(v, q0, q1, true));
+                }
+            }
+            if sil[k] {
+                for &(q0, _) in &recv {
+                    push(v, w, q0, trace(q0, v, w, false));
+                }
+            }
+        }
+    }
+}
+
+/// Per kept blocker, the smallest index of the blockers folded onto it through shared edges
+/// (one mesh body or sheet): the unit that must be seen from a cell's quadrature points.
+fn fold_groups(geo: &ShadowGeometry) -> Vec<u32> {
+    let n = geo.blockers().len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(p: &mut [u32], mut k: u32) -> u32 {
+        while p[k as usize] != k {
+            p[k as usize] = p[p[k as usize] as usize];
+            k = p[k as usize];
+        }
+        k
+    }
+    for k in 0..n {
+        for e in 0..geo.blockers()[k].len() {
+            if let Some(m) = geo.neighbour(k, e) {
+                let (a, b) = (root(&mut parent, k as u32), root(&mut parent, m));
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    (0..n as u32).map(|k| root(&mut parent, k)).collect()
+}
+
+/// Per kept blocker and edge: false when the edge is shared with another kept blocker and,
+/// from every point of the emitter, the two fold away on the same side of it (so the edge
+/// never bounds their joint shadow and casts no kink).
+fn silhouette_edges(geo: &ShadowGeometry) -> Vec<Vec<bool>> {
+    let snap = geo.snap();
+    let e = geo.emitter();
+    let blockers = geo.blockers();
+    let centre = |r: &[DVec3]| r.iter().copied().sum::<DVec3>() / r.len() as f64;
+    let mut buf = Vec::new();
+    blockers
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            let m = b.len();
+            (0..m)
+                .map(|j| {
+                    let Some(other) = geo.neighbour(k, j) else { return true };
+                    let (v, w) = (b[j], b[(j + 1) % m]);
+                    let n1 = (w - v).cross(centre(b) - v).normalize_or_zero();
+                    let n2 = (w - v).cross(centre(&blockers[other as usize]) - v).normalize_or_zero();
+                    if n1 == DVec3::ZERO || n2 == DVec3::ZERO {
+                        return true;
+                    }
+                    // Seen from x, the two faces lie on the same side of the edge when
+                    // (n1·(x − v))(n2·(x − v)) > 0: the edge is on their silhouette.
+                    [1.0, -1.0].into_iter().any(|sign: f64| {
+                        let mut both = e.to_vec();
+                        for n in [n1, n2] {
+                            crate::geometry::clip::clip_ring(
+                                &both,
+                                |x| sign * n.dot(x - v) - snap,
+                                0.0,
+                                &mut buf,
+                            );
+                            std::mem::swap(&mut both, &mut buf);
+                            if both.is_empty() {
+                                return false;
+                            }
+                        }
+                        true
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// True when segment [p, q] meets the polygon `ring` (2-D).
+fn segment_meets_ring(p: glam::DVec2, q: glam::DVec2, ring: &[glam::DVec2]) -> bool {
+    let m = ring.len();
+    let inside = |x: glam::DVec2| {
+        let mut w = false;
+        for k in 0..m {
+            let (a, b) = (ring[k], ring[(k + 1) % m]);
+            if (a.y > x.y) != (b.y > x.y) && x.x < a.x + (x.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+                w = !w;
+            }
+        }
+        w
+    };
+    if inside(p) || inside(q) {
+        return true;
+    }
+    let cross = |o: glam::DVec2, a: glam::DVec2, b: glam::DVec2| (a - o).perp_dot(b - o);
+    (0..m).any(|k| {
+        let (a, b) = (ring[k], ring[(k + 1) % m]);
+        let (d1, d2) = (cross(p, q, a), cross(p, q, b));
+        let (d3, d4) = (cross(a, b, p), cross(a, b, q));
+        d1 * d2 <= 0.0 && d3 * d4 <= 0.0
+    })
 }
 
 /// Splits a planar emitter ring into root cells: one parallelogram when it is one, else

@@ -13,7 +13,10 @@
 //! - Both hierarchies are walked with a box predicate; boxes are padded, so a conservative
 //!   predicate gives a conservative query.
 use crate::geometry::convex::{convex_hull, twice_area};
-use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, TILE_AREA_REL};
+use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, CONVEX_BODY_REL, TILE_AREA_REL};
+
+/// Face × vertex tests above which a body's convexity rests on its edges alone.
+const CONVEX_BODY_FULL_CHECK: usize = 20_000_000;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
 use crate::visibility::boxes::BoxTree;
@@ -44,6 +47,18 @@ pub struct Blocker {
     pub normal: DVec3,
     /// What it belongs to.
     pub source: BlockerSource,
+    /// Per edge k (ring[k] → ring[k + 1]): the one other blocker sharing it, when exactly one
+    /// does. Across such an edge the two blockers fold, and the edge casts a shadow edge only
+    /// from viewpoints where it is on their silhouette.
+    pub across: Vec<Option<u32>>,
+    /// +1 (or −1) when the blocker is a face of a closed, consistently oriented mesh whose
+    /// faces' normals point out of (or into) it; 0 otherwise. Every sight line that crosses
+    /// a closed body enters it through a face turned towards the viewpoint, so the other
+    /// faces can be skipped.
+    pub closed: i8,
+    /// For a face of a closed *convex* body: the body's id (its first face). The shadow of a
+    /// convex body is the convex hull of its faces' shadows.
+    pub body: Option<u32>,
 }
 
 /// The scene's blockers with their box hierarchies.
@@ -83,6 +98,8 @@ impl Blockers {
                 me.any_patch_vertex(scene, b.normal, -off) && me.any_patch_vertex(scene, -b.normal, off)
             })
             .collect();
+        let mut kept = kept;
+        link_shared_edges(&mut kept);
         me.blocker_tree = BoxTree::new(kept.iter().map(|b| bounds(&b.ring)), pad);
         me.blockers = kept;
         me
@@ -145,7 +162,14 @@ fn collect(scene: &Scene, out: &mut Vec<Blocker>) {
         if patches.len() > 1 && surface.planar {
             if let Some(ring) = tiled_outline(patches.iter().map(|p| &p.polygon), surface.area) {
                 let normal = patches[0].polygon.normal();
-                out.push(Blocker { ring, normal, source: BlockerSource::Surface(s) });
+                out.push(Blocker {
+                    ring,
+                    normal,
+                    source: BlockerSource::Surface(s),
+                    across: Vec::new(),
+                    closed: 0,
+                    body: None,
+                });
                 continue;
             }
         }
@@ -160,13 +184,136 @@ fn collect(scene: &Scene, out: &mut Vec<Blocker>) {
     }
 }
 
+/// Fills every blocker's [`Blocker::across`]: edges with bit-identical end points (either
+/// direction) shared by exactly two blockers are linked.
+fn link_shared_edges(blockers: &mut [Blocker]) {
+    let key = |v: DVec3| v.to_array().map(f64::to_bits);
+    let mut edges: std::collections::HashMap<_, Vec<(u32, u32)>> = std::collections::HashMap::new();
+    for (b, bl) in blockers.iter().enumerate() {
+        let m = bl.ring.len();
+        for k in 0..m {
+            let (a, c) = (key(bl.ring[k]), key(bl.ring[(k + 1) % m]));
+            edges.entry(if a <= c { (a, c) } else { (c, a) }).or_default().push((b as u32, k as u32));
+        }
+    }
+    for bl in blockers.iter_mut() {
+        bl.across = vec![None; bl.ring.len()];
+    }
+    let mut consistent = vec![true; blockers.len()];
+    for sharing in edges.values() {
+        if let [(b0, k0), (b1, k1)] = sharing[..] {
+            if b0 != b1 {
+                blockers[b0 as usize].across[k0 as usize] = Some(b1);
+                blockers[b1 as usize].across[k1 as usize] = Some(b0);
+                // Consistent orientation walks a shared edge in opposite directions.
+                let start = |b: u32, k: u32| key(blockers[b as usize].ring[k as usize]);
+                if start(b0, k0) == start(b1, k1) {
+                    consistent[b0 as usize] = false;
+                    consistent[b1 as usize] = false;
+                }
+            }
+        }
+    }
+    mark_closed(blockers, &consistent);
+}
+
+/// Sets [`Blocker::closed`] on every component (blockers linked through shared edges) in
+/// which every edge is shared and consistently oriented; the sign is that of the enclosed
+/// volume Σ v₀·(v_k × v_{k+1})/6, positive when the normals point out.
+fn mark_closed(blockers: &mut [Blocker], consistent: &[bool]) {
+    let n = blockers.len();
+    let mut component = vec![u32::MAX; n];
+    let mut stack = Vec::new();
+    for start in 0..n {
+        if component[start] != u32::MAX {
+            continue;
+        }
+        let mut members = vec![start];
+        component[start] = start as u32;
+        stack.push(start);
+        let mut closed = true;
+        while let Some(b) = stack.pop() {
+            closed &= consistent[b];
+            for c in &blockers[b].across {
+                match *c {
+                    None => closed = false,
+                    Some(c) if component[c as usize] == u32::MAX => {
+                        component[c as usize] = start as u32;
+                        members.push(c as usize);
+                        stack.push(c as usize);
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
+        if !closed || members.len() < 4 {
+            continue;
+        }
+        let volume: f64 = members
+            .iter()
+            .map(|&b| {
+                let r = &blockers[b].ring;
+                (1..r.len() - 1).map(|k| r[0].dot(r[k].cross(r[k + 1]))).sum::<f64>()
+            })
+            .sum();
+        let sign = if volume > 0.0 {
+            1
+        } else if volume < 0.0 {
+            -1
+        } else {
+            0
+        };
+        let convex = sign != 0 && is_convex_body(blockers, &members, f64::from(sign));
+        for &b in &members {
+            blockers[b].closed = sign;
+            blockers[b].body = convex.then_some(start as u32);
+        }
+    }
+}
+
+/// True when the closed body of faces `members` (normals out when `sign` > 0) is convex: at
+/// every shared edge the neighbour lies behind the face (a closed, locally convex surface
+/// bounds a convex body), and, for bodies of moderate size, every vertex behind every face.
+fn is_convex_body(blockers: &[Blocker], members: &[usize], sign: f64) -> bool {
+    let (lo, hi) =
+        members.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(l, h), &b| {
+            let (bl, bh) = bounds(&blockers[b].ring);
+            (l.min(bl), h.max(bh))
+        });
+    let tol = CONVEX_BODY_REL * (hi - lo).length();
+    let behind = |b: usize, x: DVec3| sign * blockers[b].normal.dot(x - blockers[b].ring[0]) <= tol;
+    let local = members.iter().all(|&b| {
+        blockers[b].across.iter().flatten().all(|&c| blockers[c as usize].ring.iter().all(|&x| behind(b, x)))
+    });
+    let vertices: usize = members.iter().map(|&b| blockers[b].ring.len()).sum();
+    local
+        && (members.len() * vertices > CONVEX_BODY_FULL_CHECK
+            || members
+                .iter()
+                .all(|&b| members.iter().all(|&c| blockers[c].ring.iter().all(|&x| behind(b, x)))))
+}
+
 /// The polygon itself when convex, else its triangles.
 fn push_convex(p: &Polygon, source: BlockerSource, out: &mut Vec<Blocker>) {
     if p.is_convex() {
-        out.push(Blocker { ring: p.vertices().to_vec(), normal: p.normal(), source });
+        out.push(Blocker {
+            ring: p.vertices().to_vec(),
+            normal: p.normal(),
+            source,
+            across: Vec::new(),
+            closed: 0,
+            body: None,
+        });
     } else {
         for t in p.triangulate() {
-            out.push(Blocker { ring: t.to_vec(), normal: p.normal(), source });
+            out.push(Blocker {
+                ring: t.to_vec(),
+                normal: p.normal(),
+                source,
+                across: Vec::new(),
+                closed: 0,
+                body: None,
+            });
         }
     }
 }
@@ -253,6 +400,52 @@ mod tests {
         blockers.patches_where(|_, hi| hi.x >= 2.9, &mut near);
         near.retain(|&p| scene.patches[p as usize].polygon.vertices().iter().any(|v| v.x >= 2.9));
         assert_eq!(near.len(), 36 + 4 * 6);
+    }
+
+    /// Faces of the box [lo, lo + 1]³ facing out, as triangles; the top face as a fan about
+    /// its centre, lowered by `dent` (a dent makes the closed body non-convex).
+    fn dented_block(lo: DVec3, dent: f64) -> Vec<Polygon> {
+        let c = |i: usize| lo + DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64);
+        let quads = [[0, 2, 3, 1], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let mut out: Vec<Polygon> = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .map(|t| Polygon::new(t.iter().map(|&i| c(i)).collect()).unwrap())
+            .collect();
+        let m = lo + DVec3::new(0.5, 0.5, 1.0 - dent);
+        for (a, b) in [(4, 5), (5, 7), (7, 6), (6, 4)] {
+            out.push(Polygon::new(vec![c(a), c(b), m]).unwrap());
+        }
+        out
+    }
+
+    fn room_with(block: Vec<Polygon>) -> Scene {
+        let mut b = Scene::builder();
+        for (k, f) in cube_faces(DVec3::ZERO, 3.0, 2, true).into_iter().enumerate() {
+            b = b.surface(&format!("wall{k}"), f, 0.9, None);
+        }
+        b.obstruction("block", block).build()
+    }
+
+    #[test]
+    fn closed_and_convex_bodies_are_recognised_from_shared_edges() {
+        // A closed convex block: every edge linked, normals out, one convex body.
+        let blockers = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        assert_eq!(blockers.len(), 14);
+        for b in 0..blockers.len() {
+            let bl = blockers.get(b);
+            assert!(bl.across.iter().all(Option::is_some), "{bl:?}");
+            assert_eq!((bl.closed, bl.body), (1, Some(0)), "{bl:?}");
+        }
+        // The top face dented: still closed, no longer convex.
+        let blockers = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.2)));
+        assert!((0..blockers.len()).all(|b| blockers.get(b).closed == 1 && blockers.get(b).body.is_none()));
+        // Without the top: an open box, nothing closed.
+        let mut open = dented_block(DVec3::ONE, 0.0);
+        open.truncate(10);
+        let blockers = Blockers::new(&room_with(open));
+        assert!((0..blockers.len()).all(|b| blockers.get(b).closed == 0 && blockers.get(b).body.is_none()));
+        assert!((0..blockers.len()).any(|b| blockers.get(b).across.iter().any(Option::is_none)));
     }
 
     fn newell(v: &[DVec3]) -> DVec3 {

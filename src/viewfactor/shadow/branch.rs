@@ -5,7 +5,7 @@
 //! receivers ([`super::classify::classify_row`]) and per partly obstructed pair it returns
 //! the obstructed exchange area under a [`Policy`]:
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
-//!   unobstructed value, rules 3×3 vs 4×4 per cell, minimum depth [`EXACT_MIN_DEPTH`];
+//!   unobstructed value, rules [`EXACT_RULES`] per cell, minimum depth [`EXACT_MIN_DEPTH`];
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
@@ -16,7 +16,8 @@ use super::classify::{classify_row, RowShadows};
 use super::mc_pair::{estimate, Budget, McPair, PatchSampler, SegmentBlocker};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
-    Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, MAX_DEPTH, MC_MAX_SAMPLES, MC_SIGMAS,
+    Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH, MC_MAX_SAMPLES,
+    MC_SIGMAS,
 };
 use super::segtree::SegmentTree;
 use crate::scene::Scene;
@@ -76,7 +77,7 @@ impl<'s> Shadows<'s> {
             return None;
         }
         let (low, high, min_depth) = match policy {
-            Policy::Exact { .. } => (3, 4, EXACT_MIN_DEPTH),
+            Policy::Exact { .. } => (EXACT_RULES.0, EXACT_RULES.1, EXACT_MIN_DEPTH),
             Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
@@ -222,6 +223,92 @@ mod tests {
         let r = shadows.pair(0, 1, u, partial, &mut s.work);
         assert!(r.s <= u);
         (r.s, r.method)
+    }
+
+    /// The box [lo, hi] as 12 triangles, normals out (or in), two per face.
+    fn block(lo: DVec3, hi: DVec3, inward: bool) -> Vec<Polygon> {
+        let c = |i: usize| DVec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][i >> 1 & 1], [lo.z, hi.z][i >> 2]);
+        // Faces as corner indices, counter-clockwise seen from outside.
+        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .map(|t| {
+                let mut v: Vec<DVec3> = t.iter().map(|&i| c(i)).collect();
+                if inward {
+                    v.reverse();
+                }
+                Polygon::new(v).unwrap()
+            })
+            .collect()
+    }
+
+    /// A floor triangle and a wall triangle of the 572-triangle irregular box (o7), past its
+    /// float32 block: F from the generator's independent exact-shadow integration
+    /// (`cases/_generator`, `converged` at h = 0.005, order 8; 3e-21 between refinements).
+    const BOX_PAIR_REFERENCE: f64 = 1.664_604_037_651_87e-6;
+
+    fn box_pair_scene(block_faces: Vec<Polygon>) -> Scene {
+        let f = |v: [f64; 3]| DVec3::from_array(v);
+        let tri = |v: [[f64; 3]; 3]| Polygon::new(v.iter().map(|&x| f(x)).collect()).unwrap();
+        let e = tri([
+            [0.860933780670166, 0.892845630645752, 0.0],
+            [1.0, 0.8608298897743225, 0.0],
+            [0.8680282235145569, 1.012006163597107, 0.0],
+        ]);
+        let r = tri([
+            [0.0, 0.5754350423812866, 0.2608218491077423],
+            [0.0, 0.5746476650238037, 0.4067416191101074],
+            [0.0, 0.413876473903656, 0.3967311382293701],
+        ]);
+        // A ceiling above the block, so every block face has patches on both sides.
+        let ceiling = Polygon::new(vec![
+            DVec3::new(0.0, 0.0, 0.7),
+            DVec3::new(0.0, 1.3, 0.7),
+            DVec3::new(1.0, 1.3, 0.7),
+            DVec3::new(1.0, 0.0, 0.7),
+        ])
+        .unwrap();
+        Scene::builder()
+            .surface("floor", vec![e], 0.9, None)
+            .surface("wall", vec![r], 0.9, None)
+            .surface("ceiling", vec![ceiling], 0.9, None)
+            .obstruction("block", block_faces)
+            .build()
+    }
+
+    fn f32_block() -> (DVec3, DVec3) {
+        let f = |x: f32| f64::from(x);
+        (DVec3::new(f(0.35), f(0.45), f(0.2)), DVec3::new(f(0.65), f(0.85), f(0.5)))
+    }
+
+    #[test]
+    fn a_closed_block_of_triangles_matches_the_independent_reference() {
+        let (lo, hi) = f32_block();
+        // Out- and inward-facing closed meshes (faces turned away skipped, convex hull of the
+        // faces' shadows), and the same triangles with one flipped (no closed body: every
+        // face's shadow subtracted).
+        let mut flipped = block(lo, hi, false);
+        flipped[3] = Polygon::new(flipped[3].vertices().iter().rev().copied().collect()).unwrap();
+        for (what, faces, closed) in [
+            ("outward", block(lo, hi, false), 1),
+            ("inward", block(lo, hi, true), -1),
+            ("one face flipped", flipped, 0),
+        ] {
+            let scene = box_pair_scene(faces);
+            let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
+            assert_eq!(shadows.blockers().len(), 12, "{what}");
+            assert!((0..12).all(|b| shadows.blockers().get(b).closed == closed), "{what}");
+            assert_eq!(shadows.blockers().get(0).body.is_some(), closed != 0, "{what}");
+            let mut s = ShadowScratch::default();
+            shadows.classify_row(0, &mut s.row);
+            let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
+            let Status::Partial(partial) = s.row.status(1) else { panic!("{what}: the block cuts the view") };
+            let r = shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work);
+            let err = (r.s - BOX_PAIR_REFERENCE).abs() / u;
+            assert!(err < EXACT_REL_TOL, "{what}: {} vs {BOX_PAIR_REFERENCE}: {err:.2e} of u", r.s);
+            assert!(r.info.at_max_depth == 0 && r.info.evals < 2_000, "{what}: {:?}", r.info);
+        }
     }
 
     #[test]

@@ -37,6 +37,8 @@ pub struct PairScratch {
     /// Integrator buffers.
     pub adapt: AdaptScratch,
     rings: Vec<Vec<DVec3>>,
+    /// (blocker, ring index, ring unclipped) of the pair's kept blockers.
+    kept: Vec<(u32, u32, bool)>,
 }
 
 /// Obstructed A_i F_ij for patches `pi`, `pj` with unobstructed exchange area `s_unobs` and the
@@ -59,6 +61,7 @@ pub fn shadowed(
     s.rings.resize_with(partial.len(), Vec::new);
     let mut tmp = Vec::new();
     let mut n = 0;
+    s.kept.clear();
     for &b in partial {
         let ring = &blockers.get(b as usize).ring;
         clip_front(ring, pi.normal(), pi.normal().dot(pi.centroid()), snap, &mut tmp);
@@ -67,18 +70,46 @@ pub fn shadowed(
         }
         clip_front(&tmp, pj.normal(), pj.normal().dot(pj.centroid()), snap, &mut s.rings[n]);
         if s.rings[n].len() >= 3 {
+            s.kept.push((b, n as u32, s.rings[n] == *ring));
             n += 1;
         }
     }
     if n == 0 {
         return Shadowed { s: s_unobs, ..Default::default() };
     }
+    // Shared edges between kept, unclipped blockers, as ring indices.
+    s.kept.sort_unstable_by_key(|k| k.0);
+    let neighbours: Vec<Vec<Option<u32>>> = {
+        let mut out = vec![Vec::new(); n];
+        for &(b, k, whole) in &s.kept {
+            if whole {
+                out[k as usize] = blockers
+                    .get(b as usize)
+                    .across
+                    .iter()
+                    .map(|c| {
+                        let c = (*c)?;
+                        let at = s.kept.binary_search_by_key(&c, |k| k.0).ok()?;
+                        s.kept[at].2.then_some(s.kept[at].1)
+                    })
+                    .collect();
+            }
+        }
+        out
+    };
     let rings: Vec<&[DVec3]> = s.rings[..n].iter().map(|r| r.as_slice()).collect();
     let swapped = !emits_first(pi, pj, &rings);
     let (e, r) = if swapped { (pj, pi) } else { (pi, pj) };
-    let Some(geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings) else {
+    let Some(mut geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings)
+    else {
         return Shadowed { s: 0.0, swapped, ..Default::default() };
     };
+    let closed: Vec<(i8, Option<u32>)> = s.kept.iter().fold(vec![(0, None); n], |mut c, &(b, k, _)| {
+        let bl = blockers.get(b as usize);
+        c[k as usize] = (bl.closed, bl.body);
+        c
+    });
+    geo.set_neighbours(&neighbours, &closed);
     let info = integrator.shaded_within(&geo, tol, max_work, &mut s.adapt);
     let value = (s_unobs - info.shaded).max(0.0);
     debug_assert!(value <= s_unobs, "obstructed {value} above unobstructed {s_unobs}");

@@ -63,7 +63,8 @@ impl Frame {
 pub struct Coverage {
     /// Shaded area, m².
     pub area: f64,
-    /// Bit k set when active blocker k cast a non-empty shadow on the receiver hull.
+    /// Bit k set when active blocker k cast a non-empty shadow on the receiver hull, or was
+    /// skipped as a closed body's face turned away.
     pub seen: u64,
     /// Counted work: [`VIEWPOINT_WORK`] for the viewpoint, 1 per active blocker projected, 1
     /// per shadow piece subtracted from one covered piece.
@@ -74,6 +75,10 @@ pub struct Coverage {
 /// shaded pieces): its time over that of one blocker projection, about eight on the
 /// calibration pairs of box_500_block and sphere_room (`examples/price_units.rs`).
 pub const VIEWPOINT_WORK: u64 = 8;
+
+/// Active blockers above which the faces of a convex body are merged by one convex hull
+/// instead of one subtraction each (below it the subtractions are cheaper).
+const HULL_MIN_ACTIVE: usize = 8;
 
 /// An obstructed pair in the receiver's frame.
 #[derive(Debug, Clone)]
@@ -97,6 +102,15 @@ pub struct ShadowGeometry {
     blockers: Vec<Vec<DVec3>>,
     /// Original index of each kept blocker.
     blocker_ids: Vec<u32>,
+    /// Kept blockers whose ring is the one given (not cut by the slab).
+    whole: Vec<bool>,
+    /// Per kept blocker and edge, the kept blocker folding across it ([`Self::set_neighbours`]).
+    neighbours: Vec<Vec<Option<u32>>>,
+    /// Per kept blocker: for a face of a closed body, its plane oriented out of the body
+    /// (the face is skipped from viewpoints behind it); else `None`.
+    facing: Vec<Option<(DVec3, f64)>>,
+    /// Per kept blocker: the convex body it is a face of, if any.
+    body: Vec<Option<u32>>,
     snap: f64,
 }
 
@@ -113,6 +127,8 @@ pub struct Scratch {
     frags2: PieceSet,
     edges: Vec<HalfPlane>,
     ops: OpsScratch,
+    body_pts: Vec<(u32, DVec2)>,
+    hull_pts: Vec<DVec2>,
 }
 
 impl ShadowGeometry {
@@ -165,11 +181,13 @@ impl ShadowGeometry {
         // Blockers: in front of the receiver (z ≥ 0) and of the emitter's plane.
         let mut kept = Vec::new();
         let mut ids = Vec::new();
+        let mut whole = Vec::new();
         for (k, b) in blockers.iter().enumerate() {
             let loc: Vec<DVec3> = b.iter().map(|&x| frame.point(x)).collect();
             let a = clip3(&loc, DVec3::Z, 0.0, snap);
             let a = clip3(&a, n_el, -n_el.dot(e_point), snap);
             if a.len() >= 3 {
+                whole.push(a == loc);
                 kept.push(a);
                 ids.push(k as u32);
             }
@@ -187,8 +205,52 @@ impl ShadowGeometry {
             receiver_area,
             blockers: kept,
             blocker_ids: ids,
+            whole,
+            neighbours: Vec::new(),
+            facing: Vec::new(),
+            body: Vec::new(),
             snap,
         })
+    }
+
+    /// Records, per blocker given to [`Self::new`] and per edge, the blocker (same indexing)
+    /// sharing that edge; links survive only between blockers the slab left whole.
+    /// `closed` holds, per given blocker, [`super::blockers::Blocker::closed`] and
+    /// [`super::blockers::Blocker::body`].
+    pub fn set_neighbours(&mut self, given: &[Vec<Option<u32>>], closed: &[(i8, Option<u32>)]) {
+        self.body = (0..self.blockers.len())
+            .map(|k| closed.get(self.blocker_ids[k] as usize).and_then(|c| c.1))
+            .collect();
+        self.facing = (0..self.blockers.len())
+            .map(|k| {
+                let sign = f64::from(closed.get(self.blocker_ids[k] as usize)?.0);
+                let plane = super::volume::plane_of(&self.blockers[k])?;
+                (sign != 0.0).then_some((sign * plane.n, sign * plane.d))
+            })
+            .collect();
+        let mut kept_of = vec![None; given.len()];
+        for (k, &id) in self.blocker_ids.iter().enumerate() {
+            if self.whole[k] {
+                kept_of[id as usize] = Some(k as u32);
+            }
+        }
+        self.neighbours = (0..self.blockers.len())
+            .map(|k| {
+                let id = self.blocker_ids[k] as usize;
+                match given.get(id) {
+                    Some(edges) if self.whole[k] && edges.len() == self.blockers[k].len() => edges
+                        .iter()
+                        .map(|c| c.and_then(|c| kept_of.get(c as usize).copied().flatten()))
+                        .collect(),
+                    _ => Vec::new(),
+                }
+            })
+            .collect();
+    }
+
+    /// The kept blocker folding across edge `e` of kept blocker `k`, if any.
+    pub fn neighbour(&self, k: usize, e: usize) -> Option<u32> {
+        self.neighbours.get(k).and_then(|v| v.get(e).copied().flatten())
     }
 
     /// The frame.
@@ -242,18 +304,62 @@ impl ShadowGeometry {
     pub fn shaded(&self, p: DVec3, active: &[u32], s: &mut Scratch) -> (f64, Coverage) {
         let mut cov = Coverage { work: VIEWPOINT_WORK + active.len() as u64, ..Coverage::default() };
         s.covered.clear();
+        s.body_pts.clear();
         let h = p.z;
         if !(h > self.snap) {
             return (0.0, cov);
         }
-        let snap = self.snap;
+        let hull_bodies = active.len() > HULL_MIN_ACTIVE;
         for (bit, &k) in active.iter().enumerate() {
+            if let Some(Some((n, d))) = self.facing.get(k as usize) {
+                // Turned away: no sight line enters the body through it (and nothing of it is
+                // left unseen).
+                if n.dot(p) + d <= 0.0 {
+                    if bit < 64 {
+                        cov.seen |= 1 << bit;
+                    }
+                    continue;
+                }
+            }
             if !self.project(&self.blockers[k as usize], p, s) {
                 continue;
             }
             if bit < 64 {
                 cov.seen |= 1 << bit;
             }
+            if let (true, Some(Some(body))) = (hull_bodies, self.body.get(k as usize)) {
+                s.body_pts.extend(s.shadow.iter().map(|&q| (*body, q)));
+                continue;
+            }
+            self.merge(s, &mut cov);
+        }
+        // A convex body's shadow is the hull of its faces' shadows (each already cut to the
+        // receiver hull, whose intersection with the body's shadow is convex).
+        if !s.body_pts.is_empty() {
+            s.body_pts.sort_unstable_by_key(|b| b.0);
+            let mut start = 0;
+            while start < s.body_pts.len() {
+                let body = s.body_pts[start].0;
+                let end = start + s.body_pts[start..].iter().take_while(|b| b.0 == body).count();
+                s.hull_pts.clear();
+                s.hull_pts.extend(s.body_pts[start..end].iter().map(|b| b.1));
+                crate::geometry::convex::convex_hull(&mut s.hull_pts, &mut s.shadow);
+                if s.shadow.len() >= 3 && twice_area(&s.shadow) > self.snap * self.snap {
+                    self.merge(s, &mut cov);
+                }
+                start = end;
+            }
+        }
+        cov.area = s.covered.area();
+        let g = s.covered.iter().map(|ring| lambert(p, self.n_e, ring)).sum::<f64>();
+        (g.max(0.0), cov)
+    }
+
+    /// Adds the shadow in `s.shadow` (counter-clockwise, inside the receiver hull) to the
+    /// covered pieces `s.covered`, minus what they already cover.
+    fn merge(&self, s: &mut Scratch, cov: &mut Coverage) {
+        let snap = self.snap;
+        {
             // Shadow ∩ receiver pieces (already inside the hull when the receiver is convex).
             s.frags.clear();
             if self.convex {
@@ -285,9 +391,6 @@ impl ShadowGeometry {
                 s.covered.push(s.frags.piece(f));
             }
         }
-        cov.area = s.covered.area();
-        let g = s.covered.iter().map(|ring| lambert(p, self.n_e, ring)).sum::<f64>();
-        (g.max(0.0), cov)
     }
 
     /// Projects blocker `b` from p onto z = 0 inside the receiver hull, into `s.shadow`

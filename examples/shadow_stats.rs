@@ -1,0 +1,83 @@
+//! What the exact shadow branch (`analytic`) does on a scene's partly obstructed pairs: every
+//! `stride`-th row is classified, and each of its partly obstructed pairs integrated to the
+//! relative target (default `EXACT_REL_TOL`), one thread, timed.
+//!
+//! ```text
+//! cargo run --release --example shadow_stats -- SCENE [row stride] [relative target]
+//! ```
+//! Prints partly obstructed pairs, viewpoints (evaluations) and cells per pair, root cells after
+//! the split along the kinks of g, cells stopped at the depth limit, and µs per pair. With
+//! `DUMP=file` it appends `i j A_iF_ij u error` per pair (compare two targets to measure the
+//! error of the looser one); with `PAIR=i,j` it prints those patches' vertices and stops.
+use lambert::viewfactor::analytic::contour::polygon_polygon;
+use lambert::viewfactor::shadow::classify::Status;
+use lambert::viewfactor::shadow::policy::EXACT_REL_TOL;
+use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
+use std::io::Write;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let scene = lambert::scene::load(std::path::Path::new(&args[1])).expect("scene loads");
+    let stride: usize = args.get(2).map_or(10, |s| s.parse().expect("row stride"));
+    let rel: f64 = args.get(3).map_or(EXACT_REL_TOL, |s| s.parse().expect("relative target"));
+    if let Ok(pair) = std::env::var("PAIR") {
+        for k in pair.split(',') {
+            let k: usize = k.parse().expect("patch index");
+            let v: Vec<[f64; 3]> = scene.patches[k].polygon.vertices().iter().map(|v| v.to_array()).collect();
+            println!("{v:?}");
+        }
+        return;
+    }
+    let mut dump = std::env::var("DUMP").ok().map(|path| {
+        std::fs::OpenOptions::new().create(true).append(true).open(path).expect("dump file opens")
+    });
+    let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: rel }).expect("the scene has blockers");
+    let mut s = ShadowScratch::default();
+    let n = scene.patches.len();
+    let (mut pairs, mut partial_pairs, mut blockers) = (0u64, 0u64, 0u64);
+    let (mut evals, mut cells, mut roots, mut at_max) = (0u64, 0u64, 0u64, 0u64);
+    let mut decades = [0u64; 8];
+    let mut seconds = 0.0;
+    for i in (0..n).step_by(stride) {
+        shadows.classify_row(i, &mut s.row);
+        for j in i + 1..n {
+            pairs += 1;
+            let Status::Partial(partial) = s.row.status(j) else { continue };
+            let partial = partial.to_vec();
+            partial_pairs += 1;
+            blockers += partial.len() as u64;
+            let u = polygon_polygon(&scene.patches[i].polygon, &scene.patches[j].polygon);
+            let t = Instant::now();
+            let r = shadows.integrate(i, j, u, &partial, rel * u, u64::MAX, &mut s.work);
+            seconds += t.elapsed().as_secs_f64();
+            evals += r.info.evals;
+            cells += u64::from(r.info.cells);
+            roots += u64::from(r.info.roots);
+            at_max += u64::from(r.info.at_max_depth);
+            decades[((r.info.evals.max(1) as f64).log10() as usize).min(7)] += 1;
+            if let Some(f) = dump.as_mut() {
+                writeln!(f, "{i} {j} {:.17e} {:.17e} {:.3e}", r.s, u, r.error).expect("dump writes");
+            }
+        }
+    }
+    let per = |x: u64| x as f64 / partial_pairs.max(1) as f64;
+    println!(
+        "rows {} pairs {pairs} partly obstructed {partial_pairs} ({:.1} %), blockers per pair {:.2}",
+        n.div_ceil(stride),
+        100.0 * partial_pairs as f64 / pairs.max(1) as f64,
+        per(blockers)
+    );
+    println!(
+        "per pair: viewpoints {:.0}, cells {:.1}, root cells {:.1}; cells at the depth limit {at_max}",
+        per(evals),
+        per(cells),
+        per(roots)
+    );
+    println!(
+        "integration {seconds:.2} s: {:.1} us per pair, {:.0} ns per viewpoint",
+        1e6 * seconds / partial_pairs.max(1) as f64,
+        1e9 * seconds / evals.max(1) as f64
+    );
+    println!("pairs by viewpoints 1, 10, 100, ... : {decades:?}");
+}
