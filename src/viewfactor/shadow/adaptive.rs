@@ -41,6 +41,8 @@ pub enum Cell {
     },
     /// A triangle.
     Tri([DVec3; 3]),
+    /// A convex planar quadrilateral (counter-clockwise), mapped bilinearly from [0, 1]².
+    Quad([DVec3; 4]),
 }
 
 impl Cell {
@@ -49,6 +51,7 @@ impl Cell {
         match *self {
             Cell::Para { u, v, .. } => u.cross(v).length(),
             Cell::Tri([a, b, c]) => 0.5 * (b - a).cross(c - a).length(),
+            Cell::Quad([a, b, c, d]) => 0.5 * (c - a).cross(d - b).length(),
         }
     }
     /// The four congruent children.
@@ -72,6 +75,16 @@ impl Cell {
                     Cell::Tri([ab, bc, ca]),
                 ]
             }
+            Cell::Quad([a, b, c, d]) => {
+                let (ab, bc, cd, da) = (0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + d), 0.5 * (d + a));
+                let m = 0.25 * (a + b + c + d);
+                [
+                    Cell::Quad([a, ab, m, da]),
+                    Cell::Quad([ab, b, bc, m]),
+                    Cell::Quad([m, bc, c, cd]),
+                    Cell::Quad([da, m, cd, d]),
+                ]
+            }
         }
     }
     /// Vertices (3 or 4) into `out`.
@@ -80,6 +93,7 @@ impl Cell {
         match *self {
             Cell::Para { o, u, v } => out.extend([o, o + u, o + u + v, o + v]),
             Cell::Tri(t) => out.extend(t),
+            Cell::Quad(q) => out.extend(q),
         }
     }
 }
@@ -114,6 +128,17 @@ impl Rule {
                     for (xj, wj) in self.x.iter().zip(&self.w) {
                         let t = xj * (1.0 - xi);
                         f(a + *xi * (b - a) + t * (c - a), 2.0 * area * wi * wj * (1.0 - xi));
+                    }
+                }
+            }
+            Cell::Quad([a, b, c, d]) => {
+                // x(s, t) = (1−s)(1−t)a + s(1−t)b + s·t·c + (1−s)t·d, weight |x_s × x_t|.
+                for (&xs, ws) in self.x.iter().zip(&self.w) {
+                    for (&xt, wt) in self.x.iter().zip(&self.w) {
+                        let p = (1.0 - xs) * ((1.0 - xt) * a + xt * d) + xs * ((1.0 - xt) * b + xt * c);
+                        let ds = (1.0 - xt) * (b - a) + xt * (c - d);
+                        let dt = (1.0 - xs) * (d - a) + xs * (c - b);
+                        f(p, ds.cross(dt).length() * ws * wt);
                     }
                 }
             }
@@ -619,7 +644,8 @@ fn segment_meets_ring(p: glam::DVec2, q: glam::DVec2, ring: &[glam::DVec2]) -> b
 }
 
 /// Splits a planar emitter ring into root cells: one parallelogram when it is one, else
-/// triangles (a fan when convex, ear clipping otherwise).
+/// quadrilaterals and a triangle fanned from one vertex when convex, triangles by ear clipping
+/// otherwise.
 pub fn emitter_cells(ring: &[DVec3], normal: DVec3) -> Vec<Cell> {
     let m = ring.len();
     if m == 4 {
@@ -633,7 +659,15 @@ pub fn emitter_cells(ring: &[DVec3], normal: DVec3) -> Vec<Cell> {
     let e2 = normal.cross(e1);
     let flat: Vec<glam::DVec2> = ring.iter().map(|v| glam::DVec2::new(v.dot(e1), v.dot(e2))).collect();
     if is_convex_local(&flat) {
-        return (1..m - 1).map(|k| Cell::Tri([ring[0], ring[k], ring[k + 1]])).collect();
+        // Quadrilaterals fanned from vertex 0, a triangle last when m is odd: half the cells of
+        // a triangle fan.
+        return (1..m - 1)
+            .step_by(2)
+            .map(|k| match ring.get(k + 2) {
+                Some(&d) => Cell::Quad([ring[0], ring[k], ring[k + 1], d]),
+                None => Cell::Tri([ring[0], ring[k], ring[k + 1]]),
+            })
+            .collect();
     }
     ear_indices(&flat).into_iter().map(|[i, j, k]| Cell::Tri([ring[i], ring[j], ring[k]])).collect()
 }
