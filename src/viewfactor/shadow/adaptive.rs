@@ -690,6 +690,84 @@ mod tests {
     }
 
     #[test]
+    fn quadrilateral_cells_integrate_polynomials_and_split_into_their_area() {
+        let q = Cell::Quad([
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.2, 1.0),
+            DVec3::new(1.7, 1.5, 1.0),
+            DVec3::new(-0.3, 1.0, 1.0),
+        ]);
+        let tri_fan = [
+            Cell::Tri([DVec3::new(0.0, 0.0, 1.0), DVec3::new(2.0, 0.2, 1.0), DVec3::new(1.7, 1.5, 1.0)]),
+            Cell::Tri([DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.7, 1.5, 1.0), DVec3::new(-0.3, 1.0, 1.0)]),
+        ];
+        // x²y + y³ over the quadrilateral, by its own rule and by the two triangles'.
+        let f = |p: DVec3| p.x * p.x * p.y + p.y.powi(3);
+        let rule = Rule::new(5);
+        let integrate = |c: &Cell| {
+            let mut s = 0.0;
+            rule.each(c, |p, w| s += w * f(p));
+            s
+        };
+        let by_tris: f64 = tri_fan.iter().map(integrate).sum();
+        assert!((integrate(&q) - by_tris).abs() < 1e-13, "{} vs {by_tris}", integrate(&q));
+        let area: f64 = tri_fan.iter().map(Cell::area).sum();
+        assert!((q.area() - area).abs() < 1e-14);
+        assert!((q.children().iter().map(Cell::area).sum::<f64>() - area).abs() < 1e-14);
+        let children: f64 = q.children().iter().map(integrate).sum();
+        assert!((children - by_tris).abs() < 1e-13);
+        // A convex pentagon: two cells, a quadrilateral and a triangle.
+        let ring: Vec<DVec3> = (0..5)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 5.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let cells = emitter_cells(&ring, DVec3::Z);
+        assert!(matches!(cells[..], [Cell::Quad(_), Cell::Tri(_)]), "{cells:?}");
+    }
+
+    #[test]
+    fn a_fold_edge_counts_only_where_it_can_be_a_silhouette() {
+        // Two faces of one mesh: a square in z = 1 split along its diagonal (coplanar: the
+        // diagonal never bounds their shadow), and a fold about the edge y = 0 of a roof.
+        let e = sq(0.0, 0.0, 0.0, 1.0, true);
+        let r = sq(2.0, 0.0, 0.0, 1.0, false);
+        let (a, b, c, d) = (
+            DVec3::new(0.2, 0.2, 1.0),
+            DVec3::new(0.8, 0.2, 1.0),
+            DVec3::new(0.8, 0.8, 1.0),
+            DVec3::new(0.2, 0.8, 1.0),
+        );
+        let t1 = vec![a, b, c];
+        let t2 = vec![a, c, d];
+        let mut geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&t1, &t2]).unwrap();
+        // Edge 2 of t1 (c → a) is edge 0 of t2 (a → c).
+        geo.set_neighbours(&[vec![None, None, Some(1)], vec![Some(0), None, None]], &[(0, None), (0, None)]);
+        let sil = silhouette_edges(&geo);
+        assert_eq!(sil, vec![vec![true, true, false], vec![false, true, true]]);
+        // A roof: ridge along x at y = 0.5, z = 1.2, faces down to eaves at z = 1. The emitter
+        // (z = 0) lies below both faces' planes: from every point of it the faces fall on
+        // either side of the ridge, which never outlines their shadow.
+        let (p0, p1) = (DVec3::new(0.2, 0.5, 1.2), DVec3::new(0.8, 0.5, 1.2));
+        let roof = |eave: f64, dy: f64| {
+            let f1 = vec![DVec3::new(0.2, 0.5 - dy, eave), DVec3::new(0.8, 0.5 - dy, eave), p1, p0];
+            let f2 = vec![p0, p1, DVec3::new(0.8, 0.5 + dy, eave), DVec3::new(0.2, 0.5 + dy, eave)];
+            let mut geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&f1, &f2]).unwrap();
+            geo.set_neighbours(
+                &[vec![None, None, Some(1), None], vec![Some(0), None, None, None]],
+                &[(0, None), (0, None)],
+            );
+            silhouette_edges(&geo)
+        };
+        assert_eq!(roof(1.0, 0.2), vec![vec![true, true, false, true], vec![false, true, true, true]]);
+        // A steep, narrow roof (eaves at z = 0.5, 0.01 from the ridge): emitter points beside
+        // it are outside one face's plane and inside the other's, where the ridge is the
+        // outline.
+        assert_eq!(roof(0.5, 0.01), vec![vec![true; 4]; 2]);
+    }
+
+    #[test]
     fn unobstructed_integrand_integrates_to_c11() {
         let e = sq(0.0, 0.0, 0.0, 1.0, true);
         let r = sq(1.0, 0.0, 0.0, 1.0, false);
