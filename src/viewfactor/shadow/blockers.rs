@@ -52,9 +52,9 @@ pub struct Blocker {
     /// from viewpoints where it is on their silhouette.
     pub across: Vec<Option<u32>>,
     /// +1 (or −1) when the blocker is a face of a closed, consistently oriented mesh whose
-    /// faces' normals point out of (or into) it; 0 otherwise. Every sight line that crosses
-    /// a closed body enters it through a face turned towards the viewpoint, so the other
-    /// faces can be skipped.
+    /// faces' normals point out of (or into) it; 0 otherwise. Every sight line from outside
+    /// that crosses a closed body enters it through a face turned towards the viewpoint, so
+    /// for a solid part (+1) the other faces can be skipped.
     pub closed: i8,
     /// For a face of a closed *convex* body: the body's id (its first face). The shadow of a
     /// convex body is the convex hull of its faces' shadows.

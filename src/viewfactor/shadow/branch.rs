@@ -312,6 +312,44 @@ mod tests {
     }
 
     #[test]
+    fn an_enclosure_meshed_with_inward_normals_hides_what_is_outside() {
+        // A closed unit box of 12 triangles facing in, a small plate inside it facing up, a
+        // plate outside beside it in the plane y = 0.5 (which cuts the box, so the inside
+        // plate is the emitter: viewpoints inside the body), and a floor below so every face
+        // of the box has patches on both sides. No sight line gets out.
+        let sq = |z: f64, x0: f64, s: f64, up: bool| {
+            Polygon::new(crate::geometry::fixtures::square(z, x0, x0, s, up)).unwrap()
+        };
+        let beside = Polygon::new(vec![
+            DVec3::new(2.0, 0.5, 0.6),
+            DVec3::new(3.0, 0.5, 0.6),
+            DVec3::new(3.0, 0.5, 1.6),
+            DVec3::new(2.0, 0.5, 1.6),
+        ])
+        .unwrap();
+        let scene = Scene::builder()
+            .surface("inside", vec![sq(0.5, 0.4, 0.2, true)], 0.9, None)
+            .surface("beside", vec![beside], 0.9, None)
+            .surface("floor", vec![sq(-1.0, -1.0, 3.0, true)], 0.9, None)
+            .obstruction("enclosure", block(DVec3::ZERO, DVec3::ONE, true))
+            .build();
+        let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
+        let faces: Vec<_> = (0..shadows.blockers().len())
+            .map(|b| shadows.blockers().get(b))
+            .filter(|b| matches!(b.source, super::super::blockers::BlockerSource::Obstruction { .. }))
+            .collect();
+        assert!(faces.len() == 12 && faces.iter().all(|b| b.closed == -1 && b.body.is_some()));
+        let mut s = ShadowScratch::default();
+        shadows.classify_row(0, &mut s.row);
+        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
+        assert!(u > 1e-6, "the plates face each other: {u}");
+        let Status::Partial(partial) = s.row.status(1) else { panic!("no single face hides the view") };
+        let r = shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work);
+        assert!(!r.swapped, "the inside plate emits");
+        assert!(r.s <= 1e-12 * u, "A·F = {} of {u} escapes the enclosure", r.s);
+    }
+
+    #[test]
     fn plates_with_centred_and_corner_blockers() {
         for (blocker, exact) in [
             (sq(0.5, 0.25, 0.25, 0.5, true), 0.099_506_294_6),

@@ -106,8 +106,8 @@ pub struct ShadowGeometry {
     whole: Vec<bool>,
     /// Per kept blocker and edge, the kept blocker folding across it ([`Self::set_neighbours`]).
     neighbours: Vec<Vec<Option<u32>>>,
-    /// Per kept blocker: for a face of a closed body, its plane oriented out of the body
-    /// (the face is skipped from viewpoints behind it); else `None`.
+    /// Per kept blocker: for a face of a closed body with outward normals, its plane (the face
+    /// is skipped from viewpoints behind it); else `None`.
     facing: Vec<Option<(DVec3, f64)>>,
     /// Per kept blocker: the convex body it is a face of, if any.
     body: Vec<Option<u32>>,
@@ -223,9 +223,12 @@ impl ShadowGeometry {
             .collect();
         self.facing = (0..self.blockers.len())
             .map(|k| {
+                // Only bodies whose normals point out (solid parts): a viewpoint inside a body
+                // (an enclosure meshed with inward normals) sees out only through faces turned
+                // away from it, so there every face is kept.
                 let sign = f64::from(closed.get(self.blocker_ids[k] as usize)?.0);
                 let plane = super::volume::plane_of(&self.blockers[k])?;
-                (sign != 0.0).then_some((sign * plane.n, sign * plane.d))
+                (sign > 0.0).then_some((plane.n, plane.d))
             })
             .collect();
         let mut kept_of = vec![None; given.len()];
