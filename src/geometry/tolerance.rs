@@ -89,3 +89,8 @@ pub const PARALLELOGRAM_CAD_REL: f64 = 1e-9;
 /// face when the body is tested for convexity: round-off only (coplanar faces of a box), so a
 /// body taken as convex has its shadow's hull within the exact method's error.
 pub const CONVEX_BODY_REL: f64 = 1e-9;
+
+/// Height difference over the emitter's plane, relative to a segment's length, below which a
+/// shadow event's sight line counts as parallel to that plane: its trace there would run to
+/// infinity, so the segment is cut short of it.
+pub const EVENT_LEVEL_REL: f64 = 1e-9;

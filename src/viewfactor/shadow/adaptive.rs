@@ -24,7 +24,7 @@ use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
 use super::volume::{plane_of, Build, Class, Plane, ShadowVolume};
 use crate::geometry::convex::{ear_indices, is_convex_local};
 use crate::geometry::quadrature::gauss_legendre;
-use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, PARALLELOGRAM_REL};
+use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, EVENT_LEVEL_REL, PARALLELOGRAM_REL};
 use glam::DVec3;
 
 /// One emitter cell in the receiver frame.
@@ -495,11 +495,14 @@ fn event_planes(geo: &ShadowGeometry, silhouette: &[Vec<bool>], planes: &mut Vec
     let flat = |x: DVec3| glam::DVec2::new(x.dot(e1), x.dot(e2));
     let ring: Vec<glam::DVec2> = e.iter().map(|&x| flat(x)).collect();
     let recv = geo.receiver_edges();
-    // Central projection from `c` (through it, onto the emitter plane) of segment [a, b],
-    // restricted to the points farther from the plane than c; the event's trace, in 2-D.
+    // The event's trace on the emitter plane, in 2-D: the sight lines through point c and
+    // segment [a, b], extended to the plane. `through`: c is a blocker vertex between the
+    // plane and a receiver edge [a, b] (only the part of [a, b] farther from the plane than c
+    // casts a trace); otherwise c is a receiver vertex and [a, b] a blocker edge, of which the
+    // part nearer the plane than c counts.
     let trace = |c: DVec3, a: DVec3, b: DVec3, through: bool| -> Option<(glam::DVec2, glam::DVec2)> {
         let (hc, ha, hb) = (height(c), height(a), height(b));
-        let delta = 1e-9 * (a - b).length().max(snap);
+        let delta = EVENT_LEVEL_REL * (a - b).length().max(snap);
         // For `through` (c = blocker vertex, segment on the receiver) the segment must be
         // above c; otherwise (c = receiver vertex, segment on the blocker) below it.
         let (fa, fb) = if through { (ha - hc, hb - hc) } else { (hc - ha, hc - hb) };
