@@ -582,17 +582,18 @@ fn silhouette_edges(geo: &ShadowGeometry) -> Vec<Vec<bool>> {
     let e = geo.emitter();
     let blockers = geo.blockers();
     let centre = |r: &[DVec3]| r.iter().copied().sum::<DVec3>() / r.len() as f64;
-    let mut buf = Vec::new();
+    let (mut one, mut both) = (Vec::new(), Vec::new());
     blockers
         .iter()
         .enumerate()
         .map(|(k, b)| {
             let m = b.len();
+            let c = centre(b);
             (0..m)
                 .map(|j| {
                     let Some(other) = geo.neighbour(k, j) else { return true };
                     let (v, w) = (b[j], b[(j + 1) % m]);
-                    let n1 = (w - v).cross(centre(b) - v).normalize_or_zero();
+                    let n1 = (w - v).cross(c - v).normalize_or_zero();
                     let n2 = (w - v).cross(centre(&blockers[other as usize]) - v).normalize_or_zero();
                     if n1 == DVec3::ZERO || n2 == DVec3::ZERO {
                         return true;
@@ -600,20 +601,10 @@ fn silhouette_edges(geo: &ShadowGeometry) -> Vec<Vec<bool>> {
                     // Seen from x, the two faces lie on the same side of the edge when
                     // (n1·(x − v))(n2·(x − v)) > 0: the edge is on their silhouette.
                     [1.0, -1.0].into_iter().any(|sign: f64| {
-                        let mut both = e.to_vec();
-                        for n in [n1, n2] {
-                            crate::geometry::clip::clip_ring(
-                                &both,
-                                |x| sign * n.dot(x - v) - snap,
-                                0.0,
-                                &mut buf,
-                            );
-                            std::mem::swap(&mut both, &mut buf);
-                            if both.is_empty() {
-                                return false;
-                            }
-                        }
-                        true
+                        let beyond = |n: DVec3| move |x: DVec3| sign * n.dot(x - v) - snap;
+                        crate::geometry::clip::clip_ring(e, beyond(n1), 0.0, &mut one);
+                        crate::geometry::clip::clip_ring(&one, beyond(n2), 0.0, &mut both);
+                        !both.is_empty()
                     })
                 })
                 .collect()

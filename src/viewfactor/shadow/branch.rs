@@ -225,6 +225,16 @@ mod tests {
         (r.s, r.method)
     }
 
+    /// Pair 0–1 classified as a row does and integrated to `EXACT_REL_TOL`: (result, u).
+    fn integrate_01(shadows: &Shadows) -> (Shadowed, f64) {
+        let scene = shadows.scene();
+        let mut s = ShadowScratch::default();
+        shadows.classify_row(0, &mut s.row);
+        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
+        let Status::Partial(partial) = s.row.status(1) else { panic!("pair 0-1 is partly obstructed") };
+        (shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work), u)
+    }
+
     /// The box [lo, hi] as 12 triangles, normals out (or in), two per face.
     fn block(lo: DVec3, hi: DVec3, inward: bool) -> Vec<Polygon> {
         let c = |i: usize| DVec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][i >> 1 & 1], [lo.z, hi.z][i >> 2]);
@@ -300,11 +310,7 @@ mod tests {
             assert_eq!(shadows.blockers().len(), 12, "{what}");
             assert!((0..12).all(|b| shadows.blockers().get(b).closed == closed), "{what}");
             assert_eq!(shadows.blockers().get(0).body.is_some(), closed != 0, "{what}");
-            let mut s = ShadowScratch::default();
-            shadows.classify_row(0, &mut s.row);
-            let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
-            let Status::Partial(partial) = s.row.status(1) else { panic!("{what}: the block cuts the view") };
-            let r = shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work);
+            let (r, u) = integrate_01(&shadows);
             let err = (r.s - BOX_PAIR_REFERENCE).abs() / u;
             assert!(err < EXACT_REL_TOL, "{what}: {} vs {BOX_PAIR_REFERENCE}: {err:.2e} of u", r.s);
             assert!(r.info.at_max_depth == 0 && r.info.evals < 2_000, "{what}: {:?}", r.info);
@@ -339,12 +345,8 @@ mod tests {
             .filter(|b| matches!(b.source, super::super::blockers::BlockerSource::Obstruction { .. }))
             .collect();
         assert!(faces.len() == 12 && faces.iter().all(|b| b.closed == -1 && b.body.is_some()));
-        let mut s = ShadowScratch::default();
-        shadows.classify_row(0, &mut s.row);
-        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
+        let (r, u) = integrate_01(&shadows);
         assert!(u > 1e-6, "the plates face each other: {u}");
-        let Status::Partial(partial) = s.row.status(1) else { panic!("no single face hides the view") };
-        let r = shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work);
         assert!(!r.swapped, "the inside plate emits");
         assert!(r.s <= 1e-12 * u, "A·F = {} of {u} escapes the enclosure", r.s);
     }
