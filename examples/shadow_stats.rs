@@ -7,8 +7,9 @@
 //! ```
 //! Prints partly obstructed pairs, viewpoints (evaluations) and cells per pair, root cells after
 //! the split along the kinks of g, cells stopped at the depth limit, and µs per pair. With
-//! `DUMP=file` it appends `i j A_iF_ij u error` per pair (compare two targets to measure the
-//! error of the looser one); with `PAIR=i,j` it prints those patches' vertices and stops.
+//! `DUMP=file` it appends `i j A_iF_ij u error blockers viewpoints roots cells` per pair
+//! (compare two targets to measure the error of the looser one); with `ONLY=j` it integrates
+//! only the pairs with receiver j; with `PAIR=i,j` it prints those patches' vertices and stops.
 use lambert::viewfactor::analytic::contour::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::EXACT_REL_TOL;
@@ -44,6 +45,11 @@ fn main() {
         for j in i + 1..n {
             pairs += 1;
             let Status::Partial(partial) = s.row.status(j) else { continue };
+            if let Ok(only) = std::env::var("ONLY") {
+                if only.parse::<usize>().ok() != Some(j) {
+                    continue;
+                }
+            }
             let partial = partial.to_vec();
             partial_pairs += 1;
             blockers += partial.len() as u64;
@@ -57,7 +63,18 @@ fn main() {
             at_max += u64::from(r.info.at_max_depth);
             decades[((r.info.evals.max(1) as f64).log10() as usize).min(7)] += 1;
             if let Some(f) = dump.as_mut() {
-                writeln!(f, "{i} {j} {:.17e} {:.17e} {:.3e}", r.s, u, r.error).expect("dump writes");
+                writeln!(
+                    f,
+                    "{i} {j} {:.17e} {:.17e} {:.3e} {} {} {} {}",
+                    r.s,
+                    u,
+                    r.error,
+                    partial.len(),
+                    r.info.evals,
+                    r.info.roots,
+                    r.info.cells
+                )
+                .expect("dump writes");
             }
         }
     }

@@ -233,12 +233,28 @@ pub struct Integrator {
     params: AdaptParams,
     low: Rule,
     high: Rule,
+    solid_min: Option<usize>,
 }
 
 impl Integrator {
     /// Builds the rules.
     pub fn new(params: AdaptParams) -> Self {
-        Self { params, low: Rule::new(params.low.max(1)), high: Rule::new(params.high.max(1)) }
+        Self {
+            params,
+            low: Rule::new(params.low.max(1)),
+            high: Rule::new(params.high.max(1)),
+            solid_min: None,
+        }
+    }
+    /// Pairs whose partial blockers are all faces of one convex solid, at least `min_faces` of
+    /// them, take the facet sum ([`super::solid`]) instead of the shadow integration.
+    pub fn with_solids(mut self, min_faces: usize) -> Self {
+        self.solid_min = Some(min_faces);
+        self
+    }
+    /// The fewest faces of one convex solid that take the facet sum, if it is used.
+    pub fn solid_min(&self) -> Option<usize> {
+        self.solid_min
     }
     /// The controls.
     pub fn params(&self) -> &AdaptParams {
@@ -413,6 +429,101 @@ impl Integrator {
     }
 }
 
+/// What [`Integrator::integrate_smooth`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Smooth {
+    /// The integral.
+    pub value: f64,
+    /// Σ over accepted cells of |high − low|.
+    pub error: f64,
+    /// Integrand evaluations.
+    pub evals: u64,
+    /// Cells accepted.
+    pub cells: u32,
+    /// Cells accepted only because they reached the maximum depth.
+    pub at_max_depth: u32,
+}
+
+impl Integrator {
+    /// ∫ f over the cells `roots` (on each of which f is smooth), globally adaptive with the
+    /// rule pair until the error estimates sum to `tol`; no blockers, no forced splits.
+    pub fn integrate_smooth(&self, roots: &[Cell], tol: f64, mut f: impl FnMut(DVec3) -> f64) -> Smooth {
+        let mut out = Smooth::default();
+        let mut heap: std::collections::BinaryHeap<(Key, std::cmp::Reverse<usize>)> = Default::default();
+        let mut leaves: Vec<(Cell, u32, f64, f64)> = Vec::new();
+        let mut open = 0.0;
+        let mut eval = |cell: &Cell, depth: u32, out: &mut Smooth| {
+            let mut sums = [0.0; 2];
+            for (k, rule) in [&self.low, &self.high].into_iter().enumerate() {
+                rule.each(cell, |p, w| sums[k] += w * f(p));
+                out.evals += rule.x.len().pow(2) as u64;
+            }
+            (*cell, depth, sums[1], (sums[1] - sums[0]).abs())
+        };
+        for cell in roots {
+            let leaf = eval(cell, 0, &mut out);
+            open += leaf.3;
+            heap.push((Key(leaf.3), std::cmp::Reverse(leaves.len())));
+            leaves.push(leaf);
+        }
+        while open > tol {
+            let Some((_, std::cmp::Reverse(k))) = heap.pop() else { break };
+            let (cell, depth, hi, err) = leaves[k];
+            open -= err;
+            if depth >= self.params.max_depth {
+                out.value += hi;
+                out.error += err;
+                out.cells += 1;
+                out.at_max_depth += 1;
+                continue;
+            }
+            for child in cell.children() {
+                let leaf = eval(&child, depth + 1, &mut out);
+                open += leaf.3;
+                heap.push((Key(leaf.3), std::cmp::Reverse(leaves.len())));
+                leaves.push(leaf);
+            }
+        }
+        for (_, std::cmp::Reverse(k)) in heap.drain() {
+            out.value += leaves[k].2;
+            out.error += leaves[k].3;
+            out.cells += 1;
+        }
+        out
+    }
+}
+
+/// Splits the planar convex `ring` along every plane that crosses its interior (by more than
+/// `snap`), into at most `max` pieces (planes past the cap are left to the adaptivity).
+pub fn cut_along(ring: &[DVec3], planes: &[Plane], snap: f64, max: usize) -> Vec<Vec<DVec3>> {
+    let mut pieces: Vec<Vec<DVec3>> = vec![ring.to_vec()];
+    let mut half = Vec::new();
+    for p in planes {
+        if pieces.len() >= max {
+            break;
+        }
+        let mut next = Vec::with_capacity(pieces.len() + 1);
+        for piece in pieces {
+            let (lo, hi) = piece.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                let d = p.eval(v);
+                (l.min(d), h.max(d))
+            });
+            if lo < -snap && hi > snap {
+                for side in [*p, p.flipped()] {
+                    clip_front(&piece, side.n, -side.d, snap, &mut half);
+                    if half.len() >= 3 {
+                        next.push(half.clone());
+                    }
+                }
+            } else {
+                next.push(piece);
+            }
+        }
+        pieces = next;
+    }
+    pieces
+}
+
 /// Most emitter pieces after splitting along kink planes (a meshed curved body has more
 /// events than are worth cutting; the adaptivity takes the rest).
 const MAX_PIECES: usize = 256;
@@ -453,31 +564,7 @@ pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
         }
     }
     event_planes(geo, &silhouette, &mut planes);
-    let mut pieces: Vec<Vec<DVec3>> = vec![geo.emitter().to_vec()];
-    let mut half = Vec::new();
-    for p in planes {
-        if pieces.len() >= MAX_PIECES {
-            break;
-        }
-        let mut next = Vec::with_capacity(pieces.len() + 1);
-        for piece in pieces {
-            let (lo, hi) = piece.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-                let d = p.eval(v);
-                (l.min(d), h.max(d))
-            });
-            if lo < -snap && hi > snap {
-                for side in [p, p.flipped()] {
-                    clip_front(&piece, side.n, -side.d, snap, &mut half);
-                    if half.len() >= 3 {
-                        next.push(half.clone());
-                    }
-                }
-            } else {
-                next.push(piece);
-            }
-        }
-        pieces = next;
-    }
+    let pieces = cut_along(geo.emitter(), &planes, snap, MAX_PIECES);
     pieces.iter().flat_map(|piece| emitter_cells(piece, geo.emitter_normal())).collect()
 }
 
@@ -613,7 +700,7 @@ fn silhouette_edges(geo: &ShadowGeometry) -> Vec<Vec<bool>> {
 }
 
 /// True when segment [p, q] meets the polygon `ring` (2-D).
-fn segment_meets_ring(p: glam::DVec2, q: glam::DVec2, ring: &[glam::DVec2]) -> bool {
+pub(super) fn segment_meets_ring(p: glam::DVec2, q: glam::DVec2, ring: &[glam::DVec2]) -> bool {
     let m = ring.len();
     let inside = |x: glam::DVec2| {
         let mut w = false;

@@ -6,6 +6,8 @@
 //! the obstructed exchange area under a [`Policy`]:
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
 //!   unobstructed value, rules [`EXACT_RULES`] per cell, minimum depth [`EXACT_MIN_DEPTH`];
+//!   a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid takes the facet sum
+//!   ([`super::solid`]);
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
@@ -17,7 +19,7 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler, SegmentBlocker};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
     Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH, MC_MAX_SAMPLES,
-    MC_SIGMAS,
+    MC_SIGMAS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentTree;
 use crate::scene::Scene;
@@ -81,6 +83,10 @@ impl<'s> Shadows<'s> {
             Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
+        let integrator = match policy {
+            Policy::Exact { .. } => integrator.with_solids(SOLID_MIN_FACES),
+            Policy::Auto { .. } => integrator,
+        };
         let pad = blockers.pad();
         let (samplers, segments) = match policy {
             Policy::Auto { .. } => (
@@ -315,6 +321,124 @@ mod tests {
             assert!(err < EXACT_REL_TOL, "{what}: {} vs {BOX_PAIR_REFERENCE}: {err:.2e} of u", r.s);
             assert!(r.info.at_max_depth == 0 && r.info.evals < 2_000, "{what}: {:?}", r.info);
         }
+    }
+
+    /// The generator's geodesic sphere (`cases/_generator/gltf.py` `icosphere`, the same
+    /// operations in the same order) with its vertices rounded to float32 as glTF stores them.
+    fn f32_icosphere(radius: f64, subdivisions: u32) -> Vec<Polygon> {
+        let unit = |a: [f64; 3]| {
+            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            [a[0] / n, a[1] / n, a[2] / n]
+        };
+        let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+        let t = (1.0 + 5f64.sqrt()) / 2.0;
+        let v = [
+            [-1.0, t, 0.0],
+            [1.0, t, 0.0],
+            [-1.0, -t, 0.0],
+            [1.0, -t, 0.0],
+            [0.0, -1.0, t],
+            [0.0, 1.0, t],
+            [0.0, -1.0, -t],
+            [0.0, 1.0, -t],
+            [t, 0.0, -1.0],
+            [t, 0.0, 1.0],
+            [-t, 0.0, -1.0],
+            [-t, 0.0, 1.0],
+        ]
+        .map(unit);
+        let f = [
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        let mut tris: Vec<[[f64; 3]; 3]> = f.iter().map(|t| t.map(|k| v[k])).collect();
+        for _ in 0..subdivisions {
+            tris = tris
+                .iter()
+                .flat_map(|&[a, b, c]| {
+                    let (ab, bc, ca) = (unit(add(a, b)), unit(add(b, c)), unit(add(c, a)));
+                    [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+                })
+                .collect();
+        }
+        let f32v = |p: [f64; 3]| DVec3::from_array(p.map(|x| f64::from((x * radius) as f32)));
+        tris.iter().map(|t| Polygon::new(t.iter().map(|&p| f32v(p)).collect()).unwrap()).collect()
+    }
+
+    /// sphere_room's floor patch 0 and ceiling patch 103 past the 1,280-facet sphere: A·F from
+    /// the generator's exact-shadow integration (`converged` at h = 1/32, order 8), and the
+    /// difference from its coarser level (h = 1/16, order 6).
+    const SPHERE_PAIR_REFERENCE: (f64, f64) = (2.604_355_888_979e-4, 4.06e-11);
+
+    #[test]
+    fn a_facetted_sphere_pair_matches_the_independent_reference() {
+        let sphere = f32_icosphere(0.6, 3);
+        assert_eq!(sphere.len(), 1280);
+        let square =
+            |v: [[f64; 3]; 4]| Polygon::new(v.iter().map(|&x| DVec3::from_array(x)).collect()).unwrap();
+        // The four side walls facing in, so every face of the sphere has patches on both sides.
+        let (m, p) = (-2.0, 2.0);
+        let walls = vec![
+            square([[m, m, m], [m, p, m], [m, p, p], [m, m, p]]),
+            square([[p, m, p], [p, p, p], [p, p, m], [p, m, m]]),
+            square([[m, m, m], [m, m, p], [p, m, p], [p, m, m]]),
+            square([[p, p, m], [p, p, p], [m, p, p], [m, p, m]]),
+        ];
+        let scene = Scene::builder()
+            .surface(
+                "floor",
+                vec![square([
+                    [-2.0, -2.0, -2.0],
+                    [-1.5, -2.0, -2.0],
+                    [-1.5, -1.5, -2.0],
+                    [-2.0, -1.5, -2.0],
+                ])],
+                0.9,
+                None,
+            )
+            .surface(
+                "ceiling",
+                vec![square([[0.0, 1.5, 2.0], [0.0, 2.0, 2.0], [0.5, 2.0, 2.0], [0.5, 1.5, 2.0]])],
+                0.9,
+                None,
+            )
+            .surface("walls", walls, 0.9, None)
+            .obstruction("sphere", sphere)
+            .build();
+        let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
+        let faces: Vec<_> = (0..shadows.blockers().len())
+            .map(|b| shadows.blockers().get(b))
+            .filter(|b| matches!(b.source, super::super::blockers::BlockerSource::Obstruction { .. }))
+            .collect();
+        assert!(faces.len() == 1280 && faces.iter().all(|b| b.closed == 1 && b.body.is_some()));
+        let (r, u) = integrate_01(&shadows);
+        let (reference, convergence) = SPHERE_PAIR_REFERENCE;
+        // The facet sum: every root cell a smooth piece of one face, accepted as it is.
+        assert!(r.info.cells == r.info.roots && r.info.evals < 10_000, "{:?}", r.info);
+        assert!(
+            (r.s - reference).abs() <= 2.0 * convergence,
+            "{} vs {reference}: {:.2e} of u",
+            r.s,
+            (r.s - reference).abs() / u
+        );
     }
 
     #[test]

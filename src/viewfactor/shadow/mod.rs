@@ -17,6 +17,8 @@
 //! Integration:
 //! - [`viewpoint`]: shadow clipping from one viewpoint (the shaded integrand g);
 //! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification;
+//! - [`solid`]: pairs behind one convex solid: the blocked exchange summed over its faces
+//!   (exact contour integrals, or small integrals over the faces);
 //! - [`pair`]: one obstructed pair: emitter choice, shadow integration, A·F;
 //! - [`mc_pair`]: the Monte Carlo ratio estimator for one pair (`auto` only);
 //! - [`segtree`]: a per-pair box tree over its partial blockers for the sampled segments;
@@ -37,6 +39,7 @@ pub mod mc_pair;
 pub mod pair;
 pub mod policy;
 pub mod segtree;
+pub mod solid;
 pub mod viewpoint;
 pub mod volume;
 

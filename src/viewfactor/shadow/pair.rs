@@ -14,9 +14,14 @@
 use super::adaptive::{AdaptInfo, AdaptScratch, Integrator};
 use super::blockers::Blockers;
 use super::classify::clip_front;
-use super::viewpoint::ShadowGeometry;
+use super::solid::SolidScratch;
+use super::viewpoint::{ShadowGeometry, VIEWPOINT_WORK};
 use crate::geometry::Polygon;
 use glam::DVec3;
+
+/// Work units of one face of the facet sum besides its viewpoints (clips, a contour integral
+/// or the event cuts), in viewpoint-projection units.
+const SOLID_FACE_WORK: u64 = 16;
 
 /// Result of one obstructed pair.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -37,6 +42,8 @@ pub struct PairScratch {
     /// Integrator buffers.
     pub adapt: AdaptScratch,
     rings: Vec<Vec<DVec3>>,
+    /// Buffers of the facet sum.
+    pub solid: SolidScratch,
     /// (blocker, ring index, ring unclipped) of the pair's kept blockers.
     kept: Vec<(u32, u32, bool)>,
 }
@@ -100,15 +107,42 @@ pub fn shadowed(
     let rings: Vec<&[DVec3]> = s.rings[..n].iter().map(|r| r.as_slice()).collect();
     let swapped = !emits_first(pi, pj, &rings);
     let (e, r) = if swapped { (pj, pi) } else { (pi, pj) };
-    let Some(mut geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings)
-    else {
-        return Shadowed { s: 0.0, swapped, ..Default::default() };
-    };
     let closed: Vec<(i8, Option<u32>)> = s.kept.iter().fold(vec![(0, None); n], |mut c, &(b, k, _)| {
         let bl = blockers.get(b as usize);
         c[k as usize] = (bl.closed, bl.body);
         c
     });
+    if let Some(min) = integrator.solid_min() {
+        // One convex solid with outward normals: the facet sum.
+        let body = closed[0].1;
+        if n >= min && body.is_some() && closed.iter().all(|&c| c == (1, body)) {
+            if let Some(q) = super::solid::blocked(
+                (e.vertices(), e.normal()),
+                (r.vertices(), r.normal()),
+                &rings,
+                snap,
+                tol,
+                integrator,
+                &mut s.solid,
+            ) {
+                let info = AdaptInfo {
+                    shaded: q.blocked,
+                    error: q.error,
+                    evals: q.evals,
+                    work: q.evals * VIEWPOINT_WORK + u64::from(q.exact + q.integrated) * SOLID_FACE_WORK,
+                    cells: q.cells,
+                    at_max_depth: q.at_max_depth,
+                    roots: q.roots,
+                };
+                let value = (s_unobs - q.blocked).max(0.0);
+                return Shadowed { s: value, error: q.error, info, swapped };
+            }
+        }
+    }
+    let Some(mut geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings)
+    else {
+        return Shadowed { s: 0.0, swapped, ..Default::default() };
+    };
     geo.set_neighbours(&neighbours, &closed);
     let info = integrator.shaded_within(&geo, tol, max_work, &mut s.adapt);
     let value = (s_unobs - info.shaded).max(0.0);

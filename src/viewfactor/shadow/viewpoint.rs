@@ -51,6 +51,11 @@ impl Frame {
         let d = x - self.origin;
         DVec3::new(d.dot(self.e1), d.dot(self.e2), d.dot(self.e3))
     }
+    /// Local coordinates → world point.
+    #[inline]
+    pub fn to_world(&self, l: DVec3) -> DVec3 {
+        self.origin + l.x * self.e1 + l.y * self.e2 + l.z * self.e3
+    }
     /// World direction → local coordinates.
     #[inline]
     pub fn vector(&self, v: DVec3) -> DVec3 {
@@ -441,7 +446,7 @@ impl HalfPlane {
 
 /// Lambert (literature V12) for the ring `q` in z = 0 seen from p with unit normal n:
 /// (1/2π) Σ_k β_k n·(R_{k+1} × R_k)/‖R_{k+1} × R_k‖, R_k = (q_k, 0) − p.
-fn lambert(p: DVec3, n: DVec3, ring: &[DVec2]) -> f64 {
+pub(super) fn lambert(p: DVec3, n: DVec3, ring: &[DVec2]) -> f64 {
     let m = ring.len();
     let mut sum = 0.0;
     let mut a = ring[m - 1].extend(0.0) - p;
