@@ -2,8 +2,8 @@
 //! for the relative heat-rate tolerance, enforced (closure or capped scaling with the
 //! ambient), solved by the same Jacobi-preconditioned CG as the dense path, and each patch's
 //! heat rate given an error estimate: the links' direct errors carried through the
-//! inter-reflections ([`super::dense::propagate_errors`]), plus the closure's signed move
-//! ([`super::dense::propagate_shift`]).
+//! inter-reflections ([`super::dense::propagate_errors`]), plus the signed move of the closure
+//! and of the links' sharing by area ([`super::dense::propagate_shift`]).
 //!
 //! Tight tolerances take two passes (Hanrahan–Salzman–Aupperle's refinement on B·F): a loose
 //! first pass bounds every patch's radiosity (its solution ± its own error estimate), and the
@@ -71,7 +71,11 @@ pub fn solve_scene(
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
     let direct = h.heat_rate_errors(&j, e_amb(scene));
     let mut error = super::dense::propagate_errors(scene, &h, &direct)?;
-    let shift = super::dense::propagate_shift(scene, &h, &h.enforcement_shift(&j))?;
+    // The closure's move and the links' sharing by area, with their signs: the closure undoes
+    // part of what sharing moves between patches, and sharing cancels in part over a surface.
+    let sharing = h.sharing_shift(&j, e_amb(scene));
+    let moved: Vec<f64> = h.enforcement_shift(&j).iter().zip(&sharing).map(|(c, s)| c + s).collect();
+    let shift = super::dense::propagate_shift(scene, &h, &moved)?;
     for (e, c) in error.iter_mut().zip(&shift) {
         *e += c.abs();
     }

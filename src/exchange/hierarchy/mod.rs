@@ -8,7 +8,8 @@
 //!   kernel, shadows included), the symmetric operator S = Σ_links s_AB a_A b_Bᵀ (+ its
 //!   transpose) applied by pull (area-weighted means up the tree), one pass over the links and
 //!   push (area shares down the tree), closure or capped scaling g (S → G S G), the ambient of
-//!   open scenes, and the heat-rate error estimate of a solution.
+//!   open scenes, and the heat-rate error estimate of a solution: each link's bound on its
+//!   total, and the first-order error of its sharing by area, signed ([`Hierarchy::sharing_shift`]).
 //!
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
@@ -23,6 +24,7 @@ use crate::viewfactor::engine::RawEntry;
 use crate::viewfactor::{auto, Method, MethodSet};
 use crate::visibility::Visibility;
 use crate::{Error, Result, SIGMA};
+use glam::DVec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
@@ -421,7 +423,8 @@ impl Hierarchy {
     /// cluster link's error bound times the radiosity range over its two clusters, shared by
     /// area, and the sampled pairs' standard errors; in an open scene (ambient emissive power
     /// `e_amb`) also the row's error times |J_i − E_amb|, as the ambient takes what the links
-    /// miss. The enforcement's own move is [`Hierarchy::enforcement_shift`].
+    /// miss. The enforcement's own move is [`Hierarchy::enforcement_shift`], the links' sharing
+    /// by area [`Hierarchy::sharing_shift`]: both signed, as they cancel in part.
     pub fn heat_rate_errors(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
         let nodes = &self.tree.nodes;
         let range = self.tree.ranges(|p| (j[p], j[p]));
@@ -467,6 +470,74 @@ impl Hierarchy {
         let (sj, s1) = (self.matvec_scaled(None, j), self.matvec_scaled(None, &ones));
         let (rj, r1) = (self.apply(None, None, j), self.apply(None, None, &ones));
         (0..n).map(|i| (sj[i] - rj[i]) - j[i] * (s1[i] - r1[i])).collect()
+    }
+
+    /// The first-order error of the links' sharing by area, as each patch's change of net
+    /// exchange Σ_j δs_ij (J_j − J_i) at radiosities `j` (W, signed; δs the shared value less
+    /// the exact one, the ambient taking the row's change in an open scene of emissive power
+    /// `e_amb`). A link's total is within its bound, but its share of a patch is off to first
+    /// order in ρ/r, by −A_i A_j ∇K·(x_j − c_b − x_i + c_a) per pair between planar
+    /// clusters ([`refine::kernel_gradient`]); over a surface that cancels only where J and the
+    /// heat rates' sensitivity are uniform over the clusters, so it is carried through the
+    /// inter-reflections with its sign, as the enforcement's move. Links of curved clusters
+    /// are left out.
+    pub fn sharing_shift(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
+        let nodes = &self.tree.nodes;
+        let mean = self.pull(j);
+        // First moment Σ A_i (x_i − c) J_i of each node about its centroid.
+        let mut moment = vec![DVec3::ZERO; nodes.len()];
+        for k in (0..nodes.len()).rev() {
+            let n = &nodes[k];
+            if !n.is_leaf() {
+                moment[k] = n.kids.iter().fold(DVec3::ZERO, |m, &c| {
+                    let c = c as usize;
+                    m + moment[c] + (nodes[c].centroid - n.centroid) * (nodes[c].area * mean[c])
+                });
+            }
+        }
+        // Per node, over its links (o the other end, G the gradient seen from this end):
+        // patch i gets A_i (α + β·(x_i − c) − J_i γ·(x_i − c)), α = −G·m_o, β = G A_o J̄_o,
+        // γ = G A_o.
+        let mut alpha = vec![0.0; nodes.len()];
+        let mut beta = vec![DVec3::ZERO; nodes.len()];
+        let mut gamma = vec![DVec3::ZERO; nodes.len()];
+        for l in self.links.iter().filter(|l| l.s > 0.0) {
+            let (a, b) = (l.a as usize, l.b as usize);
+            let (na, nb) = (&nodes[a], &nodes[b]);
+            if na.planes.is_none() || nb.planes.is_none() {
+                continue;
+            }
+            // A partly visible link's rays scaled its value, and so its variation.
+            let one = if self.stats.rays > 0 { refine::second_order(na, nb) } else { 0.0 };
+            let v = if one > 0.0 { (l.s() / one).min(1.0) } else { 1.0 };
+            let g = refine::kernel_gradient(na, nb) * v;
+            for (x, o, g) in [(a, b, g), (b, a, -g)] {
+                alpha[x] -= g.dot(moment[o]);
+                beta[x] += g * (nodes[o].area * mean[o]);
+                gamma[x] += g * nodes[o].area;
+            }
+        }
+        // Down the tree, each sum of affine terms re-centred on the node: s + v·(x − c) and
+        // t + u·(x − c); a leaf's centroid is its patch's.
+        let mut acc = vec![(0.0, DVec3::ZERO, 0.0, DVec3::ZERO); nodes.len()];
+        acc[0] = (alpha[0], beta[0], 0.0, gamma[0]);
+        let mut out = vec![0.0; self.areas.len()];
+        for k in 0..nodes.len() {
+            let n = &nodes[k];
+            let (s, v, t, u) = acc[k];
+            if n.is_leaf() {
+                let p = self.tree.order[n.lo as usize] as usize;
+                // Open: the ambient takes the row change A_i t, so J_i gives way to E_amb.
+                out[p] = self.areas[p] * (s - e_amb.unwrap_or(j[p]) * t);
+            } else {
+                for c in n.kids {
+                    let c = c as usize;
+                    let d = nodes[c].centroid - n.centroid;
+                    acc[c] = (s + v.dot(d) + alpha[c], v + beta[c], t + u.dot(d), u + gamma[c]);
+                }
+            }
+        }
+        out
     }
 
     /// y = W G S G W x with enforcement scales `g` (None: the raw links).
@@ -632,3 +703,76 @@ const PAIR_WAVE: usize = 1 << 14;
 /// Fixed ranges of the link and pair lists that [`Hierarchy::gather`] spreads in parallel
 /// (fixed, so that sums do not depend on the thread count).
 const GATHER_CHUNKS: usize = 16;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Radiosities of a long box (1 × 1 × 3 m, 4 × 4 patches a face): a ramp along its length
+    /// and a ripple across, so that clusters see J vary.
+    fn long_box() -> (Scene, Vec<f64>) {
+        let face = |name: &str, o: [f64; 3], u: [f64; 3], v: [f64; 3]| {
+            format!(
+                "[[surface]]\nname = \"{name}\"\nrectangle = {{ origin = {o:?}, u = {u:?}, v = {v:?} }}\n\
+                 subdivide = [4, 4]\nemissivity = 0.5\ntemperature = 300.0\n\n"
+            )
+        };
+        let text = [
+            face("floor", [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            face("ceiling", [0.0, 0.0, 3.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]),
+            face("x0", [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]),
+            face("x1", [1.0, 0.0, 0.0], [0.0, 0.0, 3.0], [0.0, 1.0, 0.0]),
+            face("y0", [0.0, 0.0, 0.0], [0.0, 0.0, 3.0], [1.0, 0.0, 0.0]),
+            face("y1", [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 3.0]),
+        ]
+        .concat();
+        let scene = crate::scene::toml_scene::from_str(std::path::Path::new("box.toml"), &text).unwrap();
+        let j = scene
+            .patches
+            .iter()
+            .map(|p| {
+                let c = p.polygon.centroid();
+                400.0 + 100.0 * c.z + 30.0 * (7.0 * c.x + 3.0 * c.y).sin()
+            })
+            .collect();
+        (scene, j)
+    }
+
+    #[test]
+    fn sharing_shift_sums_the_first_order_error_of_every_patch_pair() {
+        let (scene, j) = long_box();
+        let vf = crate::viewfactor::Params { method: Method::Analytic, ..Default::default() };
+        let h = Hierarchy::build(&scene, &vf, 3e-2).unwrap();
+        assert!(h.links.len() > 50, "{} links", h.links.len());
+        let e_amb = 350.0;
+        // Pair by pair: δs = −A_i A_j ∇K·(x_j − c_b − x_i + c_a), net exchange δs (J_j − J_i),
+        // or δs (J_j − E_amb) when the ambient takes the row's change.
+        let (nodes, geom) = (&h.tree.nodes, &h.tree.geom);
+        let (mut closed, mut open) = (vec![0.0; j.len()], vec![0.0; j.len()]);
+        for l in &h.links {
+            let (na, nb) = (&nodes[l.a as usize], &nodes[l.b as usize]);
+            let g = refine::kernel_gradient(na, nb);
+            for &p in h.tree.patches(l.a) {
+                for &q in h.tree.patches(l.b) {
+                    let (p, q) = (p as usize, q as usize);
+                    let u = (geom[q].centroid - nb.centroid) - (geom[p].centroid - na.centroid);
+                    let ds = -geom[p].area * geom[q].area * g.dot(u);
+                    closed[p] += ds * (j[q] - j[p]);
+                    closed[q] += ds * (j[p] - j[q]);
+                    open[p] += ds * (j[q] - e_amb);
+                    open[q] += ds * (j[p] - e_amb);
+                }
+            }
+        }
+        let scale = closed.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        assert!(scale > 0.0);
+        for (want, got) in [(&closed, h.sharing_shift(&j, None)), (&open, h.sharing_shift(&j, Some(e_amb)))] {
+            for (p, (w, g)) in want.iter().zip(&got).enumerate() {
+                assert!((w - g).abs() <= SHIFT_TOL * scale, "patch {p}: {g} against {w} pair by pair");
+            }
+        }
+    }
+
+    /// The tree sums against the pair-by-pair ones: round-off.
+    const SHIFT_TOL: f64 = 1e-12;
+}
