@@ -174,3 +174,33 @@ fn calibration_is_the_same_on_any_thread_count() {
     assert_eq!(a, b);
     assert_ne!(a.0, CostModel::default(), "the model was fitted");
 }
+
+#[test]
+fn a_sampled_zero_keeps_its_error() {
+    // Patches behind the sphere at a coarse goal: Monte Carlo with every sample blocked gives
+    // 0 with a standard error from its prior. That entry is reported (not dropped as a zero),
+    // and every pair that is not zero exactly has an entry within its error or the goal.
+    let scene = plates_around_a_meshed_sphere();
+    let kernel = AnalyticKernel::with_policy(&scene, GAUSS_REL_TOL, Policy::Exact { rel_tol: 1e-7 });
+    let exact = engine::run(&scene, &kernel, &Params::default(), Level::Patch).unwrap();
+    let tol = 3e-2;
+    let vf = run(&scene, Method::Auto, tol, Level::Patch);
+    let mut zeros = 0;
+    for i in 0..scene.patches.len() {
+        for j in 0..scene.patches.len() {
+            let f = exact.get(i, j);
+            let Some(e) = entry(&vf, i, j) else {
+                assert!(f == 0.0, "{i}→{j}: {f} has no entry");
+                continue;
+            };
+            let what = format!("{i}→{j}: {} vs {f} ± {} ({})", e.factor, e.std_error, e.method);
+            if e.method == MethodSet::MC_AREA {
+                assert!((e.factor - f).abs() <= 5.0 * e.std_error + 1e-12, "{what}");
+                zeros += usize::from(e.factor == 0.0);
+            } else {
+                assert!((e.factor - f).abs() <= tol, "{what}");
+            }
+        }
+    }
+    assert!(zeros > 0, "some sampled pair saw no visible sample");
+}

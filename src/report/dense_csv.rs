@@ -66,10 +66,11 @@ fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize,
     let mut last: Option<(MethodSet, String)> = None;
     for j in 0..t.n {
         let s = if j < col.len() { col[j] } else { t.get(i, j) };
-        if s == 0.0 {
+        let (method, var) = t.meta(i, j);
+        // A zero estimate with an error (Monte Carlo: every sample blocked) is still reported.
+        if s == 0.0 && var == 0.0 {
             continue;
         }
-        let (method, var) = t.meta(i, j);
         let f = s / a;
         let se = var.sqrt() / a;
         sum += f;

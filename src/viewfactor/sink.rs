@@ -220,7 +220,7 @@ impl<'a> Sink<'a> {
             Store::Dense { n, cells } => (0..n)
                 .map(|i| {
                     (0..n)
-                        .filter(|&j| cells[i * n + j].s > 0.0)
+                        .filter(|&j| cells[i * n + j].s > 0.0 || cells[i * n + j].var > 0.0)
                         .map(|j| entry(i, j as u32, &cells[i * n + j]))
                         .collect()
                 })
@@ -228,7 +228,12 @@ impl<'a> Sink<'a> {
             Store::Sparse(maps) => maps
                 .into_iter()
                 .enumerate()
-                .map(|(i, row)| row.iter().filter(|(_, a)| a.s > 0.0).map(|(&j, a)| entry(i, j, a)).collect())
+                .map(|(i, row)| {
+                    row.iter()
+                        .filter(|(_, a)| a.s > 0.0 || a.var > 0.0)
+                        .map(|(&j, a)| entry(i, j, a))
+                        .collect()
+                })
                 .collect(),
         };
         let patch_row_sums =

@@ -237,7 +237,8 @@ impl<'s> AnalyticKernel<'s> {
 }
 
 impl<'s> AnalyticKernel<'s> {
-    /// The entry of pair (i, j) given its shadow status; None when blocked or zero.
+    /// The entry of pair (i, j) given its shadow status; None when blocked, or zero without an
+    /// error.
     #[inline]
     fn entry(
         &self,
@@ -265,7 +266,8 @@ impl<'s> AnalyticKernel<'s> {
                 RawEntry { j: j as u32, method: r.method, s: r.s, var: r.var }
             }
         };
-        (entry.s > 0.0).then_some(entry)
+        // A zero Monte Carlo estimate (every sample blocked) keeps its variance.
+        (entry.s > 0.0 || entry.var > 0.0).then_some(entry)
     }
 
     /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, all > i),

@@ -6,12 +6,13 @@
 //! the obstructed exchange area under a [`Policy`]:
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
 //!   unobstructed value, rules [`EXACT_RULES`] per cell, minimum depth [`EXACT_MIN_DEPTH`];
-//!   a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid takes the facet sum
-//!   ([`super::solid`]);
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
 //!   the branch is built (see [`super::policy`]).
+//!
+//! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
+//! integrated as the facet sum ([`super::solid`]) instead of the shadow.
 use super::adaptive::{AdaptParams, Integrator};
 use super::blockers::Blockers;
 use super::classify::{classify_row, RowShadows};
@@ -83,10 +84,7 @@ impl<'s> Shadows<'s> {
             Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
-        let integrator = match policy {
-            Policy::Exact { .. } => integrator.with_solids(SOLID_MIN_FACES),
-            Policy::Auto { .. } => integrator,
-        };
+        let integrator = integrator.with_solids(SOLID_MIN_FACES);
         let pad = blockers.pad();
         let (samplers, segments) = match policy {
             Policy::Auto { .. } => (
