@@ -6,7 +6,6 @@ from casekit import Case, converged
 from geom import rectangle
 from shadow import plate, box
 from cases_view import CF, AMB, X, Y, Z
-from cases_curved import SLOW_SHADOW
 
 SHADOW = "1LI Gauss of Lambert's formula minus the blocker's exact central-projection shadow (cases/_generator/shadow.py), cells split at the shadow's kinks"
 
@@ -170,7 +169,6 @@ def o8():
              "CAD benchmark sphere_room (validation/cad.md): symmetry, reciprocity and exact shadows of the convex facetted sphere",
              note="The icosphere keeps the coordinate mirrors and the cyclic axis permutation (float32 rounding\nkeeps them too), which map the walls onto each other: F(sphere -> each wall) = 1/6 exactly.")
     c.quick = False
-    c.skips["analytic"] = SLOW_SHADOW.replace("auto and Monte Carlo cover", "auto (at 1e-4) and Monte Carlo cover")
     # At the suite's 1e-6 goal auto integrates the wall pairs behind the sphere (> 240 s).
     c.auto_goal = 1e-4
     sphere = gltf.icosphere((0, 0, 0), 0.6, 3)
