@@ -246,8 +246,8 @@ impl Integrator {
             solid_min: None,
         }
     }
-    /// Pairs whose partial blockers are all faces of one convex solid, at least `min_faces` of
-    /// them, take the facet sum ([`super::solid`]) instead of the shadow integration.
+    /// Pairs whose partial blockers are all faces of one convex solid of at least `min_faces`
+    /// faces take the facet sum ([`super::solid`]) instead of the shadow integration.
     pub fn with_solids(mut self, min_faces: usize) -> Self {
         self.solid_min = Some(min_faces);
         self

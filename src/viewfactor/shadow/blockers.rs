@@ -59,6 +59,8 @@ pub struct Blocker {
     /// For a face of a closed *convex* body: the body's id (its first face). The shadow of a
     /// convex body is the convex hull of its faces' shadows.
     pub body: Option<u32>,
+    /// Faces of that convex body (0 when there is none).
+    pub body_faces: u32,
 }
 
 /// The scene's blockers with their box hierarchies.
@@ -169,6 +171,7 @@ fn collect(scene: &Scene, out: &mut Vec<Blocker>) {
                     across: Vec::new(),
                     closed: 0,
                     body: None,
+                    body_faces: 0,
                 });
                 continue;
             }
@@ -267,6 +270,7 @@ fn mark_closed(blockers: &mut [Blocker], consistent: &[bool]) {
         for &b in &members {
             blockers[b].closed = sign;
             blockers[b].body = convex.then_some(start as u32);
+            blockers[b].body_faces = if convex { members.len() as u32 } else { 0 };
         }
     }
 }
@@ -303,6 +307,7 @@ fn push_convex(p: &Polygon, source: BlockerSource, out: &mut Vec<Blocker>) {
             across: Vec::new(),
             closed: 0,
             body: None,
+            body_faces: 0,
         });
     } else {
         for t in p.triangulate() {
@@ -313,6 +318,7 @@ fn push_convex(p: &Polygon, source: BlockerSource, out: &mut Vec<Blocker>) {
                 across: Vec::new(),
                 closed: 0,
                 body: None,
+                body_faces: 0,
             });
         }
     }

@@ -113,9 +113,10 @@ pub fn shadowed(
         c
     });
     if let Some(min) = integrator.solid_min() {
-        // One convex solid with outward normals: the facet sum.
+        // One convex solid with outward normals, of at least `min` faces: the facet sum.
         let body = closed[0].1;
-        if n >= min && body.is_some() && closed.iter().all(|&c| c == (1, body)) {
+        let faces = s.kept.first().map_or(0, |k| blockers.get(k.0 as usize).body_faces as usize);
+        if faces >= min && body.is_some() && closed.iter().all(|&c| c == (1, body)) {
             if let Some(q) = super::solid::blocked(
                 (e.vertices(), e.normal()),
                 (r.vertices(), r.normal()),

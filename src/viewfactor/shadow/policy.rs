@@ -29,12 +29,14 @@ pub const EXACT_MIN_DEPTH: u32 = 0;
 /// 5×5 difference meets 1e-8 without splits where 3×3 vs 4×4 needed about three per pair
 /// (box_500_block: 229 against 471 viewpoints per pair, same accuracy).
 pub const EXACT_RULES: (usize, usize) = (4, 5);
-/// Fewest partial faces of one convex solid for which the shadow branch (`analytic`, and
-/// `auto` where it integrates) sums the blocked exchange over the faces ([`super::solid`]) instead of integrating the shadow: a facetted curved body
-/// makes the shadow kink at every face plane crossing the emitter (sphere_room: 1e-5 wrong at
-/// 1e5 viewpoints per pair, against 660 viewpoints and agreement with the independent
-/// integration), while a block's few large faces integrate faster as a shadow (box_500_block:
-/// 157 against 1,630 viewpoints per pair, same values within 6e-10).
+/// Fewest faces of a convex solid behind which the shadow branch (`analytic`, and `auto` where
+/// it integrates) sums the blocked exchange over the solid's faces ([`super::solid`]) instead of
+/// integrating the shadow. A facetted curved body makes the shadow kink at every face plane
+/// crossing the emitter, and the shadow integration came out wrong behind it: sphere_room 1e-5
+/// of u off at 1e5 viewpoints per pair, the concentric spheres' F(outer → outer) 1.5e-8 off;
+/// the facet sum agrees with the independent integrations at 660 viewpoints per pair. A block's
+/// few large faces integrate faster as a shadow (box_500_block: 157 against 1,630 viewpoints
+/// per pair, same values within 6e-10).
 pub const SOLID_MIN_FACES: usize = 16;
 /// `auto` also splits every emitter once: one cell's rules alone can agree on a wrong value.
 pub const AUTO_MIN_DEPTH: u32 = 1;
