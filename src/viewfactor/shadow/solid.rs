@@ -39,7 +39,8 @@ const MAX_FACE_PIECES: usize = 256;
 pub struct SolidInfo {
     /// Σ_f S_f: the blocked exchange area, m².
     pub blocked: f64,
-    /// Error estimate of `blocked` (the integrated faces'), m².
+    /// Error estimate of `blocked` (the integrated faces' estimates and the exact faces'
+    /// round-off bounds), m².
     pub error: f64,
     /// Faces summed exactly by the contour integral.
     pub exact: u32,
@@ -110,7 +111,9 @@ pub fn blocked(
         }
         let e_f: Vec<DVec3> = s.ring.iter().map(|q| fe.to_world(q.extend(0.0))).collect();
         if lands_inside(&e_f, f, &fr, &r2, snap, &mut s.rays) {
-            info.blocked += ring_ring(&e_f, n_e, f, pf.n).value;
+            let x = ring_ring(&e_f, n_e, f, pf.n);
+            info.blocked += x.value;
+            info.error += x.round_off;
             info.exact += 1;
         } else {
             s.todo.push((k, s.ring.clone()));
