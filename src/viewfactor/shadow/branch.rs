@@ -239,6 +239,14 @@ mod tests {
         (shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work), u)
     }
 
+    /// The blockers that are faces of obstructions (not patch outlines).
+    fn obstruction_faces<'a>(shadows: &'a Shadows) -> Vec<&'a super::super::blockers::Blocker> {
+        (0..shadows.blockers().len())
+            .map(|b| shadows.blockers().get(b))
+            .filter(|b| matches!(b.source, super::super::blockers::BlockerSource::Obstruction { .. }))
+            .collect()
+    }
+
     /// The box [lo, hi] as 12 triangles, normals out (or in), two per face.
     fn block(lo: DVec3, hi: DVec3, inward: bool) -> Vec<Polygon> {
         let c = |i: usize| DVec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][i >> 1 & 1], [lo.z, hi.z][i >> 2]);
@@ -422,10 +430,7 @@ mod tests {
             .obstruction("sphere", sphere)
             .build();
         let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
-        let faces: Vec<_> = (0..shadows.blockers().len())
-            .map(|b| shadows.blockers().get(b))
-            .filter(|b| matches!(b.source, super::super::blockers::BlockerSource::Obstruction { .. }))
-            .collect();
+        let faces = obstruction_faces(&shadows);
         assert!(faces.len() == 1280 && faces.iter().all(|b| b.closed == 1 && b.body.is_some()));
         let (r, u) = integrate_01(&shadows);
         let (reference, convergence) = SPHERE_PAIR_REFERENCE;
@@ -462,10 +467,7 @@ mod tests {
             .obstruction("enclosure", block(DVec3::ZERO, DVec3::ONE, true))
             .build();
         let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
-        let faces: Vec<_> = (0..shadows.blockers().len())
-            .map(|b| shadows.blockers().get(b))
-            .filter(|b| matches!(b.source, super::super::blockers::BlockerSource::Obstruction { .. }))
-            .collect();
+        let faces = obstruction_faces(&shadows);
         assert!(faces.len() == 12 && faces.iter().all(|b| b.closed == -1 && b.body.is_some()));
         let (r, u) = integrate_01(&shadows);
         assert!(u > 1e-6, "the plates face each other: {u}");
