@@ -84,26 +84,7 @@ pub fn shadowed(
     if n == 0 {
         return Shadowed { s: s_unobs, ..Default::default() };
     }
-    // Shared edges between kept, unclipped blockers, as ring indices.
     s.kept.sort_unstable_by_key(|k| k.0);
-    let neighbours: Vec<Vec<Option<u32>>> = {
-        let mut out = vec![Vec::new(); n];
-        for &(b, k, whole) in &s.kept {
-            if whole {
-                out[k as usize] = blockers
-                    .get(b as usize)
-                    .across
-                    .iter()
-                    .map(|c| {
-                        let c = (*c)?;
-                        let at = s.kept.binary_search_by_key(&c, |k| k.0).ok()?;
-                        s.kept[at].2.then_some(s.kept[at].1)
-                    })
-                    .collect();
-            }
-        }
-        out
-    };
     let rings: Vec<&[DVec3]> = s.rings[..n].iter().map(|r| r.as_slice()).collect();
     let swapped = !emits_first(pi, pj, &rings);
     let (e, r) = if swapped { (pj, pi) } else { (pi, pj) };
@@ -140,6 +121,26 @@ pub fn shadowed(
             }
         }
     }
+    // Shared edges between kept, unclipped blockers, as ring indices (the shadow integration
+    // only; `kept` is sorted by blocker above).
+    let neighbours: Vec<Vec<Option<u32>>> = {
+        let mut out = vec![Vec::new(); n];
+        for &(b, k, whole) in &s.kept {
+            if whole {
+                out[k as usize] = blockers
+                    .get(b as usize)
+                    .across
+                    .iter()
+                    .map(|c| {
+                        let c = (*c)?;
+                        let at = s.kept.binary_search_by_key(&c, |k| k.0).ok()?;
+                        s.kept[at].2.then_some(s.kept[at].1)
+                    })
+                    .collect();
+            }
+        }
+        out
+    };
     let Some(mut geo) = ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings)
     else {
         return Shadowed { s: 0.0, swapped, ..Default::default() };
