@@ -81,6 +81,24 @@ impl Error {
             Error::Compute(_) | Error::Io { .. } => 1,
         }
     }
+    /// The same error with `notes` appended to its message (what the computation reported
+    /// before it failed, such as entries that missed their error goal); unchanged without notes.
+    pub fn with_notes(self, notes: &[String]) -> Self {
+        if notes.is_empty() {
+            return self;
+        }
+        let tail = format!(" (the view-factor method reported: {})", notes.join("; "));
+        match self {
+            Error::Input(mut e) => {
+                e.problem.push_str(&tail);
+                Error::Input(e)
+            }
+            Error::Usage(s) => Error::Usage(s + &tail),
+            Error::Unsupported(s) => Error::Unsupported(s + &tail),
+            Error::Compute(s) => Error::Compute(s + &tail),
+            io @ Error::Io { .. } => io,
+        }
+    }
 }
 
 impl From<InputError> for Error {

@@ -165,3 +165,21 @@ proptest! {
         prop_assert!((f - fm).abs() <= 5.0 * sd + 1e-4, "analytic {} vs mc-area {} ± {}", f, fm, sd);
     }
 }
+
+#[test]
+fn an_entry_over_its_goal_is_named_once_the_run_ends() {
+    // A relative target below what f64 reaches: the shadow integration of the one blocked pair
+    // stops at its depth limit with an estimate above the goal, and the run says so, naming the
+    // pair and the count; at the default target the same scene reports nothing.
+    use lambert::viewfactor::analytic::kernel::AnalyticKernel;
+    use lambert::viewfactor::engine;
+    use lambert::viewfactor::shadow::Policy;
+    let scene = common::blocked_squares();
+    let kernel = AnalyticKernel::with_policy(&scene, GAUSS_REL_TOL, Policy::Exact { rel_tol: 1e-19 });
+    let vf = engine::run(&scene, &kernel, &Params::default(), Level::Patch).unwrap();
+    assert_eq!(vf.warnings.len(), 1, "{:?}", vf.warnings);
+    let w = &vf.warnings[0];
+    assert!(w.starts_with("1 partly obstructed entry") && w.contains("F(bottom#0 -> top#0)"), "{w}");
+    assert!((vf.get(0, 1) - F_BLOCKED).abs() <= EXACT_TOL, "{}", vf.get(0, 1));
+    assert!(run(&scene, Method::Analytic, Level::Patch).warnings.is_empty());
+}

@@ -60,12 +60,14 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     // Also keeps the per-patch row sums before enforcement (VTK `raw_row_sum`).
     let (vf, raw_sums) = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
+        say_warnings(&vf.warnings);
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
         let sums = vf.patch_row_sums.clone();
         (vf, sums)
     } else {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
+        say_warnings(&raw.warnings);
         let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
         let mut vf = at_level(&scene, &ex, level).to_viewfactors(raw.wall);
         vf.pairs = raw.pairs;
@@ -88,6 +90,13 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         eprintln!("lambert: closed scene, {}", row_error_summary(&vf));
     }
     Ok(())
+}
+
+/// Prints what the view-factor method reported about its own accuracy.
+fn say_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("lambert: warning: {w}");
+    }
 }
 
 /// Run settings the scene file asks for (a View3D model's `eps`), where the command line is
@@ -147,6 +156,7 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
     let start = std::time::Instant::now();
     let Some(mut ex) = exchange::dense::build(scene, &cfg.params)? else { return Ok(false) };
     let wall = start.elapsed();
+    say_warnings(&ex.t.warnings);
     let open = !scene.is_closed();
     if mode == Enforce::None {
         warn_dense_leaks(scene, &ex);
@@ -381,7 +391,9 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
         None => {
             exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
-            viewfactor::compute(&scene, &cfg.params, Level::Patch)?
+            let vf = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
+            say_warnings(&vf.warnings);
+            vf
         }
     };
     if cfg.patches && vf.level == Level::Surface {
@@ -574,6 +586,7 @@ fn lean_solve(
     }
     let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_outward_hint(scene, e))?;
     let Some(run) = run else { return Ok(None) };
+    say_warnings(&run.warnings);
     print_enforcement(mode, &run.report);
     eprintln!(
         "lambert: {} patches, {} pairs, dense store {:.1} MB",

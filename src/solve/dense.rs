@@ -38,6 +38,8 @@ pub struct DenseRun {
     pub pairs: u64,
     /// Bytes of the packed store (triangle and exceptions).
     pub store_bytes: usize,
+    /// What the view-factor method reported about its own accuracy.
+    pub warnings: Vec<String>,
 }
 
 /// View factors, enforcement (`mode`) and the gray solve on the lean path; `None` when the
@@ -51,9 +53,10 @@ pub fn solve_scene(
     let Some(mut ex) = dense::build(scene, vf)? else { return Ok(None) };
     let p =
         EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
-    let report = dense::enforce(&mut ex, &p)?;
+    let report = dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
     let solution = solve_gray(scene, &ex, params)?;
-    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes() }))
+    let warnings = std::mem::take(&mut ex.t.warnings);
+    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes(), warnings }))
 }
 
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for

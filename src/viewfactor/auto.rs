@@ -1,7 +1,8 @@
 //! `auto`, the default method: per pair, the cheapest method that meets `--tolerance`.
 //!
-//! **Decision rule.** `--tolerance` τ is an absolute goal on each F, so on each exchange area
-//! the goal is τ·A_i. Per pair (i, j):
+//! **Decision rule.** `--tolerance` τ is an absolute goal on each F in both directions, so on
+//! each exchange area the goal is τ·min(A_i, A_j) ([`super::shadow::policy::pair_goal`]).
+//! Per pair (i, j):
 //! 1. back-facing or coplanar → 0 (exact);
 //! 2. no blocker reaches the pair (exact classification, [`super::shadow::classify`]) →
 //!    the analytic ladder with relative target [`LADDER_SHARE`]·τ (F ≤ 1, so the absolute goal
@@ -16,7 +17,12 @@
 //!      ([`super::shadow::adaptive`], rules 2×2 vs 3×3 per cell, the emitter split at least
 //!      once, refined until the rules agree to τ·A_i);
 //!    - **Monte Carlo** ([`super::shadow::mc_pair`]): u·ΣKV/ΣK; its standard error is at most
-//!      u·√(¼/n), so n = ¼(Z·u/(τA_i))² samples always meet the goal.
+//!      u·√(¼/n) for independent equal-weight samples, so n = ¼(Z·u/goal)² samples are tried
+//!      first; where the kernel weights leave it short at the sample cap, the pair is
+//!      integrated instead.
+//!
+//!    An entry whose error estimate still exceeds its goal (integration at its depth limit)
+//!    is counted, and the run names the worst ([`super::shadow::misses`]).
 //!
 //!    The entry records which one produced it (`analytic-shadowed` or `mc-area`).
 //!

@@ -41,6 +41,11 @@ pub trait RowKernel: Sync {
     fn symmetric(&self) -> bool;
     /// Fills row `i`.
     fn row(&self, i: usize, out: &mut Row) -> Result<()>;
+    /// What the run should tell its user once every row is done (entries that missed their
+    /// error goal), one line each.
+    fn warnings(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
@@ -94,5 +99,7 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
         fold(&mut sink, start, rows)?;
     }
     progress.finish();
-    Ok(sink.finish(start.elapsed()))
+    let mut vf = sink.finish(start.elapsed());
+    vf.warnings = kernel.warnings();
+    Ok(vf)
 }

@@ -48,6 +48,8 @@ pub struct ViewFactors {
     pub pairs: u64,
     /// Wall time of the computation.
     pub wall: Duration,
+    /// What the method reported about its own accuracy (entries above their error goal).
+    pub warnings: Vec<String>,
 }
 
 impl ViewFactors {
@@ -247,6 +249,7 @@ impl<'a> Sink<'a> {
             patch_samples: self.samples,
             pairs: self.pairs,
             wall,
+            warnings: Vec::new(),
         }
     }
 }

@@ -364,4 +364,22 @@ impl RowKernel for AnalyticKernel<'_> {
         out.pairs = (n - i - 1) as u64;
         Ok(())
     }
+
+    fn warnings(&self) -> Vec<String> {
+        let Some(shadows) = &self.shadows else { return Vec::new() };
+        let (count, worst) = shadows.misses().summary();
+        let Some(w) = worst else { return Vec::new() };
+        // The error on F in the worse direction: over the smaller patch's area.
+        let small = self.scene.patches[w.i].polygon.area().min(self.scene.patches[w.j].polygon.area());
+        vec![format!(
+            "{count} partly obstructed entr{} ended with an error estimate above its goal (the shadow \
+             integration stopped at its depth limit); worst: F({} -> {}) or its reciprocal, error \
+             estimate {:.1e} on F against a goal of {:.1e}",
+            if count == 1 { "y" } else { "ies" },
+            self.scene.patch_name(w.i),
+            self.scene.patch_name(w.j),
+            w.error / small,
+            w.goal / small
+        )]
+    }
 }

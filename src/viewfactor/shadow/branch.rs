@@ -17,10 +17,11 @@ use super::adaptive::{AdaptParams, Integrator};
 use super::blockers::Blockers;
 use super::classify::{classify_row, RowShadows};
 use super::mc_pair::{estimate, Budget, McPair, PatchSampler, SegmentBlocker};
+use super::misses::{Miss, MissLog};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
-    Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH, MC_MAX_SAMPLES,
-    MC_SIGMAS, SOLID_MIN_FACES,
+    pair_goal, Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH,
+    MC_MAX_SAMPLES, MC_SIGMAS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentTree;
 use crate::scene::Scene;
@@ -70,6 +71,8 @@ pub struct Shadows<'s> {
     segments: Vec<SegmentBlocker>,
     /// Prices of the two estimators (`auto`).
     model: CostModel,
+    /// Entries that missed their goal.
+    misses: MissLog,
 }
 
 impl<'s> Shadows<'s> {
@@ -93,8 +96,16 @@ impl<'s> Shadows<'s> {
             ),
             Policy::Exact { .. } => (Vec::new(), Vec::new()),
         };
-        let mut me =
-            Self { scene, blockers, integrator, policy, samplers, segments, model: CostModel::default() };
+        let mut me = Self {
+            scene,
+            blockers,
+            integrator,
+            policy,
+            samplers,
+            segments,
+            model: CostModel::default(),
+            misses: MissLog::default(),
+        };
         if let Policy::Auto { tol, seed } = policy {
             me.model = super::calibrate::fit(&super::calibrate::measure(&me, tol, seed), me.model);
         }
@@ -126,10 +137,16 @@ impl<'s> Shadows<'s> {
     }
 
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
-    /// partial blockers `partial` (from the row classification).
+    /// partial blockers `partial` (from the row classification). Under `auto` the goal is
+    /// [`pair_goal`] (both F_ij and F_ji); Monte Carlo that cannot reach it within
+    /// [`MC_MAX_SAMPLES`] is replaced by the shadow integration. An entry whose error estimate
+    /// still exceeds its goal is recorded in [`Self::misses`].
     pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
         let integrate = |goal: f64, s: &mut PairWork| {
             let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+            if r.error > goal {
+                self.misses.record(Miss { i, j, error: r.error, goal });
+            }
             Obstructed {
                 s: r.s,
                 var: 0.0,
@@ -141,11 +158,18 @@ impl<'s> Shadows<'s> {
         match self.policy {
             Policy::Exact { rel_tol } => integrate(rel_tol * u, s),
             Policy::Auto { tol, seed } => {
-                let goal = tol * self.scene.patches[i].polygon.area();
+                let (ai, aj) = (self.scene.patches[i].polygon.area(), self.scene.patches[j].polygon.area());
+                let goal = pair_goal(tol, ai, aj);
                 match self.model.choose(u, goal, partial.len()) {
                     Choice::Shadowed => integrate(goal, s),
                     Choice::MonteCarlo(n) => {
                         let m = self.sample(i, j, u, partial, (n, goal), seed, s);
+                        if MC_SIGMAS * m.var.sqrt() > goal {
+                            // The sample cap was reached first: the entry is integrated.
+                            let mut r = integrate(goal, s);
+                            r.work += m.samples as u64;
+                            return r;
+                        }
                         Obstructed {
                             s: m.s,
                             var: m.var,
@@ -157,6 +181,11 @@ impl<'s> Shadows<'s> {
                 }
             }
         }
+    }
+
+    /// Entries whose error estimate ended above their goal (see [`super::misses`]).
+    pub fn misses(&self) -> &MissLog {
+        &self.misses
     }
 
     /// Shadow integration of pair (i, j) to the absolute goal `goal`, refining no further past

@@ -22,8 +22,8 @@
 use super::branch::{PairWork, Shadows};
 use super::classify::{RowShadows, Status};
 use super::policy::{
-    CostModel, PowerLaw, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_SAMPLE_NS, MC_TEST_NS, SHADOW_SETUP_UNITS,
-    SHADOW_UNIT_NS,
+    pair_goal, CostModel, PowerLaw, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_SAMPLE_NS, MC_TEST_NS,
+    SHADOW_SETUP_UNITS, SHADOW_UNIT_NS,
 };
 use crate::viewfactor::analytic::contour::polygon_polygon;
 
@@ -86,10 +86,11 @@ pub fn sample_pairs(shadows: &Shadows<'_>, tol: f64) -> Vec<Sample> {
     for i in rows {
         shadows.classify_row(i, &mut row);
         let pi = &scene.patches[i].polygon;
-        let goal = tol * pi.area();
         for j in i + 1..n {
             let Status::Partial(partial) = row.status(j) else { continue };
-            let u = polygon_polygon(pi, &scene.patches[j].polygon);
+            let pj = &scene.patches[j].polygon;
+            let goal = pair_goal(tol, pi.area(), pj.area());
+            let u = polygon_polygon(pi, pj);
             let m = CostModel::samples(u, goal);
             if u > 0.0 && m > MC_MIN_SAMPLES as f64 && m <= MC_MAX_SAMPLES as f64 {
                 open.push(Sample { i, j, u, goal, partial: partial.to_vec() });

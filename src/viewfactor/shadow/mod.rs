@@ -28,7 +28,8 @@
 //!   shadow-integration-vs-Monte-Carlo decision with its prices;
 //! - [`calibrate`]: the prices fitted on a few of the scene's own pairs (counted work);
 //! - [`branch`]: [`Shadows`], the branch a kernel row calls: classify, then integrate under
-//!   the policy.
+//!   the policy;
+//! - [`misses`]: entries whose error estimate ended above their goal (named by the run).
 pub mod adaptive;
 pub mod blockers;
 pub mod branch;
@@ -36,6 +37,7 @@ pub mod calibrate;
 pub mod classify;
 pub mod detect;
 pub mod mc_pair;
+pub mod misses;
 pub mod pair;
 pub mod policy;
 pub mod segtree;

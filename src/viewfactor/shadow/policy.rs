@@ -60,6 +60,14 @@ pub enum Policy {
     },
 }
 
+/// `auto`'s absolute goal on the exchange area A_i F_ij = A_j F_ji of a pair: `tol`·min(A_i, A_j),
+/// so that both F_ij and F_ji are within `tol`. A goal of `tol`·A_i alone lets a small patch
+/// facing a large one carry an error of `tol`·A_i/A_j on its F_ji (a part's triangle beside a
+/// room wall: thousands of times the goal).
+pub fn pair_goal(tol: f64, area_i: f64, area_j: f64) -> f64 {
+    tol * area_i.min(area_j)
+}
+
 /// Monte Carlo must meet the goal at this many standard errors (about 95 %).
 pub const MC_SIGMAS: f64 = 2.0;
 /// Fewest Monte Carlo samples per pair: the half-count prior keeps the reported error honest,
