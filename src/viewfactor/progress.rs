@@ -3,6 +3,12 @@
 //! (a log file, CI) one line every [`LOG_EVERY`] (`LAMBERT_PROGRESS_EVERY` seconds overrides
 //! it); nothing with `--quiet`. A reporter thread reads an atomic counter, so the workers
 //! only add to it and the numbers never depend on the report.
+//!
+//! **Time left.** Pairs differ in cost by orders of magnitude (a clear pair is one contour
+//! integral, a pair behind a meshed part hundreds of shadow viewpoints), and the costly ones
+//! often finish last. The estimate therefore takes the slower of the mean rate so far and the
+//! rate over the last [`RATE_WINDOW`]; when no row finished within that window it says so
+//! instead of printing a time.
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -16,6 +22,9 @@ pub const BAR_DELAY: Duration = Duration::from_secs(1);
 pub const LOG_EVERY: Duration = Duration::from_secs(10);
 /// How often the reporter looks at the counter (the bar redraws at most this often).
 const POLL: Duration = Duration::from_millis(100);
+/// The recent rate is measured over this much time: long enough to span a few rows, short
+/// enough to notice within a log interval or two that the remaining pairs cost more.
+pub const RATE_WINDOW: Duration = Duration::from_secs(30);
 /// Environment variable: the log interval in seconds.
 pub const EVERY_ENV: &str = "LAMBERT_PROGRESS_EVERY";
 
@@ -105,6 +114,7 @@ fn report(s: &Shared, total: u64, what: &'static str, mode: Mode) {
         Mode::Log(every) => every,
         _ => Duration::MAX,
     };
+    let mut history = History::default();
     let mut stopped = s.stop.lock().unwrap_or_else(|e| e.into_inner());
     while !*stopped {
         stopped = s.wake.wait_timeout(stopped, POLL).unwrap_or_else(|e| e.into_inner()).0;
@@ -112,13 +122,15 @@ fn report(s: &Shared, total: u64, what: &'static str, mode: Mode) {
             break;
         }
         let (done, elapsed) = (s.done.load(Ordering::Relaxed).min(total), start.elapsed());
+        history.push(elapsed, done);
         match mode {
             Mode::Bar if elapsed >= BAR_DELAY => {
                 let b = bar.get_or_insert_with(|| new_bar(total, what));
                 b.set_position(done);
+                b.set_message(time_left(done, total, elapsed, history.recent()));
             }
             Mode::Log(every) if elapsed >= next_log => {
-                eprintln!("lambert: progress: {}", line(done, total, what, elapsed));
+                eprintln!("lambert: progress: {}", line(done, total, what, elapsed, history.recent()));
                 while next_log <= elapsed {
                     next_log += every;
                 }
@@ -133,23 +145,60 @@ fn report(s: &Shared, total: u64, what: &'static str, mode: Mode) {
 
 fn new_bar(total: u64, what: &str) -> indicatif::ProgressBar {
     let b = indicatif::ProgressBar::with_draw_target(Some(total), indicatif::ProgressDrawTarget::stderr());
-    let template =
-        format!("{{elapsed_precise}} [{{bar:40}}] {{percent}}% of {{human_len}} {what}, eta {{eta}}");
+    let template = format!("{{elapsed_precise}} [{{bar:40}}] {{percent}}% of {{human_len}} {what}, {{msg}}");
     if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
         b.set_style(style.progress_chars("=> "));
     }
     b
 }
 
-/// One log line: share done, counts, elapsed and the remaining time at the mean rate so far.
-pub fn line(done: u64, total: u64, what: &str, elapsed: Duration) -> String {
+/// (elapsed, done) samples of the last [`RATE_WINDOW`], one per second.
+#[derive(Debug, Default)]
+struct History {
+    samples: std::collections::VecDeque<(Duration, u64)>,
+}
+
+impl History {
+    fn push(&mut self, t: Duration, done: u64) {
+        if self.samples.back().is_none_or(|&(last, _)| t >= last + Duration::from_secs(1)) {
+            self.samples.push_back((t, done));
+        }
+        while self.samples.len() > 2 && self.samples[1].0 + RATE_WINDOW <= t {
+            self.samples.pop_front();
+        }
+    }
+    /// The recent progress (Δt, Δdone) when the samples span the whole window.
+    fn recent(&self) -> Option<(Duration, u64)> {
+        let (&(t0, d0), &(t1, d1)) = (self.samples.front()?, self.samples.back()?);
+        (t1 - t0 >= RATE_WINDOW).then(|| (t1 - t0, d1 - d0))
+    }
+}
+
+/// The remaining time at the slower of the mean rate so far and the `recent` rate (Δt, Δdone
+/// over [`RATE_WINDOW`]), or why there is none.
+pub fn time_left(done: u64, total: u64, elapsed: Duration, recent: Option<(Duration, u64)>) -> String {
+    if done == 0 {
+        return "rate not known yet".into();
+    }
+    let mean = done as f64 / elapsed.as_secs_f64().max(1e-9);
+    let rate = match recent {
+        Some((_, 0)) => {
+            return format!(
+                "none finished in the last {:.0} s (the remaining ones cost more)",
+                RATE_WINDOW.as_secs_f64()
+            )
+        }
+        Some((dt, dd)) => mean.min(dd as f64 / dt.as_secs_f64()),
+        None => mean,
+    };
+    format!("about {:.0} s left", total.saturating_sub(done) as f64 / rate)
+}
+
+/// One log line: share done, counts, elapsed and the remaining time ([`time_left`]).
+pub fn line(done: u64, total: u64, what: &str, elapsed: Duration, recent: Option<(Duration, u64)>) -> String {
     let share = done as f64 / total.max(1) as f64;
     let secs = elapsed.as_secs_f64();
-    let left = if done > 0 {
-        format!("about {:.0} s left", secs * (1.0 - share) / share)
-    } else {
-        "rate not known yet".into()
-    };
+    let left = time_left(done, total, elapsed, recent);
     format!("{:.1}% of {total} {what} ({done} done), {secs:.0} s elapsed, {left}", 100.0 * share)
 }
 
@@ -159,9 +208,38 @@ mod tests {
 
     #[test]
     fn a_log_line_gives_share_counts_and_time_left() {
-        let l = line(250, 1000, "pairs", Duration::from_secs(10));
+        let l = line(250, 1000, "pairs", Duration::from_secs(10), None);
         assert_eq!(l, "25.0% of 1000 pairs (250 done), 10 s elapsed, about 30 s left");
-        assert!(line(0, 1000, "pairs", Duration::from_secs(10)).ends_with("rate not known yet"));
+        assert!(line(0, 1000, "pairs", Duration::from_secs(10), None).ends_with("rate not known yet"));
+    }
+
+    #[test]
+    fn the_time_left_follows_the_slower_recent_rate() {
+        // 950 of 1000 pairs in 10 s, then 10 more in the last 30 s: the mean rate (24/s) would
+        // say 2 s; the recent one (1/3 per s) says 120 s.
+        let (elapsed, recent) = (Duration::from_secs(40), Some((Duration::from_secs(30), 10)));
+        assert_eq!(time_left(960, 1000, elapsed, recent), "about 120 s left");
+        // Nothing finished within the window: no time is claimed.
+        let stalled = time_left(950, 1000, elapsed, Some((Duration::from_secs(30), 0)));
+        assert!(stalled.starts_with("none finished in the last 30 s"), "{stalled}");
+        // A recent rate above the mean does not shorten the estimate.
+        assert_eq!(
+            time_left(500, 1000, Duration::from_secs(100), Some((Duration::from_secs(30), 300))),
+            "about 100 s left"
+        );
+    }
+
+    #[test]
+    fn the_history_spans_the_window_once_it_has_passed() {
+        let mut h = History::default();
+        for s in 0..=40u64 {
+            h.push(Duration::from_secs(s), if s < 10 { 95 * s } else { 950 });
+        }
+        assert_eq!(h.recent(), Some((Duration::from_secs(30), 0)));
+        let mut young = History::default();
+        young.push(Duration::ZERO, 0);
+        young.push(Duration::from_secs(5), 10);
+        assert_eq!(young.recent(), None);
     }
 
     #[test]
