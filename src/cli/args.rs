@@ -105,9 +105,10 @@ pub struct ValidateArgs {
     /// Folder of cases.
     #[arg(long, default_value = "cases")]
     pub cases: PathBuf,
-    /// Folder for the report and charts.
-    #[arg(long, default_value = "validation")]
-    pub out: PathBuf,
+    /// Folder for the report and charts [default: validation; with --quick, a scratch folder
+    /// in the system's temporary directory, so the committed full report stays].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// A fast subset for CI.
     #[arg(long)]
     pub quick: bool,
