@@ -192,3 +192,56 @@ pub fn check_options(options: &Options) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn staged_files_move_in_at_the_end_and_a_failed_run_leaves_the_folder_as_it_was() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("validation");
+        std::fs::create_dir(&out).unwrap();
+        std::fs::write(out.join("report.md"), "earlier").unwrap();
+        // A leftover of a killed run is removed.
+        std::fs::create_dir(out.join(STAGING)).unwrap();
+        std::fs::write(out.join(STAGING).join("stale.png"), "x").unwrap();
+        {
+            let s = Staging::create(&out).unwrap();
+            assert!(!s.dir.join("stale.png").exists());
+            std::fs::write(s.dir.join("report.md"), "half").unwrap();
+            // Dropped without commit: the run failed.
+        }
+        assert_eq!(std::fs::read_to_string(out.join("report.md")).unwrap(), "earlier");
+        assert!(!out.join(STAGING).exists());
+        let s = Staging::create(&out).unwrap();
+        std::fs::write(s.dir.join("report.md"), "new").unwrap();
+        std::fs::write(s.dir.join("chart.svg"), "svg").unwrap();
+        assert_eq!(std::fs::read_to_string(out.join("report.md")).unwrap(), "earlier");
+        s.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(out.join("report.md")).unwrap(), "new");
+        assert_eq!(std::fs::read_to_string(out.join("chart.svg")).unwrap(), "svg");
+        assert!(!out.join(STAGING).exists());
+    }
+
+    #[test]
+    fn quick_runs_never_replace_a_full_report() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases = dir.path().join("cases");
+        std::fs::create_dir(&cases).unwrap();
+        let out = dir.path().to_path_buf();
+        let options = |quick| Options { cases: cases.clone(), out: out.clone(), quick };
+        // The mark is what the report of a full run says, and only of a full run.
+        assert!(report::markdown(&Suite::default()).contains(FULL_MODE_MARK));
+        assert!(!report::markdown(&Suite { quick: true, ..Suite::default() }).contains(FULL_MODE_MARK));
+        // No report yet, or a quick one: both modes may write.
+        check_options(&options(true)).unwrap();
+        std::fs::write(out.join("report.md"), "Mode: **quick**.").unwrap();
+        check_options(&options(true)).unwrap();
+        std::fs::write(out.join("report.md"), format!("Generated. {FULL_MODE_MARK}. 39 cases")).unwrap();
+        check_options(&options(false)).unwrap();
+        let e = check_options(&options(true)).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("report.md"), "{e}");
+    }
+}
