@@ -203,6 +203,20 @@ fn a_fifo_is_written_in_place() {
     assert!(partials(d).is_empty());
 }
 
+/// A write that fails (a full device) names the path, what was being written and the flag.
+#[test]
+fn a_failed_write_names_the_path_and_what_was_written() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("/dev/full is not available: skipped");
+        return;
+    }
+    let dir = setup();
+    let o = run(dir.path(), &["viewfactors", "s.toml", "-o", "/dev/full"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("/dev/full: cannot write the view-factor CSV (-o): "), "{err}");
+}
+
 #[test]
 fn limits_are_refused_up_front() {
     let dir = setup();

@@ -109,7 +109,10 @@ fn rlimit(r: Resource) -> Option<u64> {
     let mut lim = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
     // SAFETY: `lim` is a valid, writable rlimit for the call to fill.
     let r = unsafe { libc::getrlimit(resource, &mut lim) };
-    (r == 0 && lim.rlim_cur != libc::RLIM_INFINITY).then(|| lim.rlim_cur as u64)
+    // `rlim_t` is not u64 on every target.
+    #[allow(clippy::unnecessary_cast)]
+    let cur = lim.rlim_cur as u64;
+    (r == 0 && lim.rlim_cur != libc::RLIM_INFINITY).then_some(cur)
 }
 
 #[cfg(not(unix))]
