@@ -368,4 +368,16 @@ fn quick_validation_keeps_a_full_report() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("holds the full suite's report") && err.contains("another --out"), "{err}");
     assert_eq!(std::fs::read_to_string(out.join("report.md")).unwrap(), full);
+    // An --out that is a file is refused before any case runs.
+    let o = Command::new(BIN)
+        .args(["validate", "--quick", "--cases"])
+        .arg(root().join("cases"))
+        .arg("--out")
+        .arg(out.join("report.md"))
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("report.md: cannot create the folder") && !err.contains("checks"), "{err}");
+    assert_eq!(std::fs::read_to_string(out.join("report.md")).unwrap(), full);
 }

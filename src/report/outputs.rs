@@ -273,11 +273,6 @@ impl OutputSet {
         Ok(())
     }
 
-    /// True when the output `key` was planned.
-    pub fn has(&self, key: &str) -> bool {
-        self.slots.iter().any(|s| s.out.key == key)
-    }
-
     /// Writes output `key` through `f` (which gets the writer and the path to name in its
     /// errors): into its temporary, or in place for stdout and devices. Errors name the path
     /// and what was being written.

@@ -133,7 +133,8 @@ struct Staging {
 impl Staging {
     /// Creates `out` (if needed) and an empty staging folder in it.
     fn create(out: &Path) -> Result<Self> {
-        std::fs::create_dir_all(out).map_err(|e| io(out, "validation report folder (--out)", e))?;
+        std::fs::create_dir_all(out)
+            .map_err(|e| Error::Usage(format!("--out {}: cannot create the folder: {e}", out.display())))?;
         let dir = out.join(STAGING);
         if dir.exists() {
             std::fs::remove_dir_all(&dir).map_err(|e| io(&dir, "staging folder (a leftover)", e))?;
