@@ -381,3 +381,26 @@ fn quick_validation_keeps_a_full_report() {
     assert!(err.contains("report.md: cannot create the folder") && !err.contains("checks"), "{err}");
     assert_eq!(std::fs::read_to_string(out.join("report.md")).unwrap(), full);
 }
+
+/// The scene records every file it reads: the scene file, model files and external buffers
+/// (percent-escapes in a buffer URI decoded as the glTF reader decodes them).
+#[test]
+fn the_scene_lists_every_file_it_reads() {
+    let dir = setup();
+    let d = dir.path();
+    let scene = lambert::scene::load(&d.join("m.toml")).unwrap();
+    let want: Vec<PathBuf> = ["m.toml", "external.gltf", "external.bin"].iter().map(|f| d.join(f)).collect();
+    assert_eq!(scene.inputs, want);
+    let gltf = std::fs::read_to_string(d.join("external.gltf")).unwrap();
+    assert!(gltf.contains("\"uri\": \"external.bin\""), "fixture changed");
+    std::fs::write(
+        d.join("spaced.gltf"),
+        gltf.replace("\"uri\": \"external.bin\"", "\"uri\": \"my%20buffer.bin\""),
+    )
+    .unwrap();
+    std::fs::copy(d.join("external.bin"), d.join("my buffer.bin")).unwrap();
+    let scene = lambert::scene::load(&d.join("spaced.gltf")).unwrap();
+    assert_eq!(scene.inputs, vec![d.join("spaced.gltf"), d.join("my buffer.bin")]);
+    let o = run(d, &["viewfactors", "spaced.gltf", "-o", "my buffer.bin"]);
+    refused(&o, &["-o my buffer.bin is a file that the scene spaced.gltf loads"]);
+}
