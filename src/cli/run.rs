@@ -47,20 +47,9 @@ fn plan_outputs(
 
 /// The files `scene` was read from, as inputs no output may overwrite.
 fn scene_inputs(scene: &Scene) -> Vec<Input> {
-    let what = format!("a file that the scene {} loads", scene.source.display());
-    scene
-        .inputs
-        .iter()
-        .map(
-            |p| {
-                if *p == scene.source {
-                    Input::new("the scene file", p)
-                } else {
-                    Input::new(what.clone(), p)
-                }
-            },
-        )
-        .collect()
+    let loaded = format!("a file that the scene {} loads", scene.source.display());
+    let what = |p: &Path| if p == scene.source { "the scene file".to_string() } else { loaded.clone() };
+    scene.inputs.iter().map(|p| Input::new(what(p), p)).collect()
 }
 
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {

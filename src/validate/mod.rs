@@ -186,7 +186,7 @@ pub fn check_options(options: &Options) -> Result<()> {
     if options.quick && std::fs::read_to_string(&report).is_ok_and(|t| t.contains(FULL_MODE_MARK)) {
         return Err(Error::Usage(format!(
             "--quick --out {}: that folder holds the full suite's report ({}); the quick subset would replace \
-             it and its charts; give another --out, or leave --out out (a scratch folder)",
+             it and its charts; give another --out, or drop --out (a scratch folder is used)",
             options.out.display(),
             report.display()
         )));
