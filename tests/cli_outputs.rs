@@ -157,6 +157,18 @@ fn a_killed_run_leaves_the_earlier_outputs_and_the_next_run_cleans_up() {
     assert!(csv.starts_with("surface,area,emissivity"), "{csv}");
     assert!(std::fs::read_to_string(d.join("good.vtu")).unwrap().contains("<VTKFile"));
     assert!(std::fs::read_to_string(d.join("radk.csv")).unwrap().starts_with("from,to,radk"));
+    // The picture of `render` alike.
+    std::fs::write(d.join("pic.png"), EARLIER).unwrap();
+    let args = ["render", "s.toml", "good.csv", "-o", "pic.png", "--size", "400x300"];
+    let o =
+        Command::new(BIN).current_dir(d).args(args).env("LAMBERT_TEST_ABORT_AT", "output").output().unwrap();
+    assert_eq!(o.status.code(), None, "{}", stderr(&o));
+    unchanged(d, &["pic.png"]);
+    assert_eq!(partials(d), vec!["pic.png.partial".to_string()]);
+    let o = run(d, &args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read(d.join("pic.png")).unwrap().starts_with(b"\x89PNG"));
+    assert!(partials(d).is_empty());
 }
 
 /// Results to stdout come after every file has been written: a deck that cannot be written
