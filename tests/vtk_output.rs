@@ -211,8 +211,10 @@ fn bad_vtk_extension_is_refused_before_work() {
     assert!(o.stdout.is_empty(), "work started before the check");
     let missing_dir = dir.path().join("no/such/dir/out.vtu");
     let o = run(&["viewfactors", FURNACE, "-o", "-", "--vtk", missing_dir.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1), "an unwritable path is an I/O failure");
-    assert!(String::from_utf8_lossy(&o.stderr).contains("out.vtu"));
+    assert_eq!(o.status.code(), Some(2), "a missing folder is refused before any work");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("out.vtu") && err.contains("does not exist"), "{err}");
+    assert!(o.stdout.is_empty(), "work started before the check");
 }
 
 /// The .vtu read by an independent reader (meshio): cell count and every cell value.

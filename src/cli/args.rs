@@ -33,19 +33,19 @@ pub struct CommonArgs {
     /// mc-cosine.
     #[arg(short, long, default_value = "auto")]
     pub method: String,
-    /// Rays or points per patch for the Monte Carlo methods.
+    /// Rays or points per patch for the Monte Carlo methods (at most 100000000).
     #[arg(long)]
     pub samples: Option<usize>,
     /// Pixels along a hemicube face or the single plane.
     #[arg(long)]
     pub resolution: Option<usize>,
-    /// Absolute accuracy goal on each F for `auto` [default: 1e-4].
+    /// Absolute accuracy goal on each F for `auto`, at least 1e-13 [default: 1e-4].
     #[arg(long)]
     pub tolerance: Option<f64>,
     /// Random seed; the same seed gives the same result on any thread count.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Worker threads (default: all cores).
+    /// Worker threads, 1 to 1024 (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
     /// none, reciprocity or closure [default: none for `viewfactors`; for `solve`, closure in a
@@ -105,9 +105,10 @@ pub struct ValidateArgs {
     /// Folder of cases.
     #[arg(long, default_value = "cases")]
     pub cases: PathBuf,
-    /// Folder for the report and charts.
-    #[arg(long, default_value = "validation")]
-    pub out: PathBuf,
+    /// Folder for the report and charts [default: validation; with --quick, a scratch folder
+    /// in the system's temporary directory, so the committed full report stays].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// A fast subset for CI.
     #[arg(long)]
     pub quick: bool,

@@ -1,18 +1,11 @@
 //! High-level configuration: validated values derived from the arguments, built before any
 //! work starts.
 use super::args::CommonArgs;
+use super::limits;
+use lambert::report::outputs::Output;
 use lambert::viewfactor::{Method, Params};
 use lambert::{Error, Result};
 use std::path::PathBuf;
-
-/// Where CSV goes.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Output {
-    /// Standard output.
-    Stdout,
-    /// A file, written through a temporary and renamed on success.
-    File(PathBuf),
-}
 
 /// Validated options shared by `viewfactors` and `solve`.
 #[derive(Debug, Clone)]
@@ -25,31 +18,20 @@ pub struct Config {
     pub patches: bool,
     /// Enforcement choice as given (`None` = the subcommand's default).
     pub enforce: Option<String>,
-    /// Output target.
+    /// The `-o` output (a file, or stdout when absent or `-`).
     pub output: Output,
     /// `--tolerance` as given (`None`: the default, or the scene file's).
     pub tolerance_given: Option<f64>,
 }
 
 impl Config {
-    /// A file target (`-` = stdout).
-    pub fn file_output(p: &std::path::Path) -> Output {
-        if p.as_os_str() == "-" {
-            Output::Stdout
-        } else {
-            Output::File(p.to_path_buf())
-        }
-    }
-
-    /// Validates the shared arguments and configures the thread pool.
+    /// Validates the shared arguments (ranges and caps of [`limits`]) and configures the thread
+    /// pool.
     pub fn from_args(a: &CommonArgs) -> Result<Self> {
         let method: Method = a.method.parse()?;
         let mut params = Params { method, seed: a.seed, progress: !a.quiet, ..Params::default() };
         if let Some(s) = a.samples {
-            if s == 0 {
-                return Err(Error::Usage("--samples must be at least 1".into()));
-            }
-            params.samples = s;
+            params.samples = limits::samples(s)?;
         }
         if let Some(r) = a.resolution {
             if !(2..=16384).contains(&r) {
@@ -58,10 +40,7 @@ impl Config {
             params.resolution = r;
         }
         if let Some(t) = a.tolerance {
-            if !(t.is_finite() && t > 0.0 && t < 1.0) {
-                return Err(Error::Usage(format!("--tolerance must be in (0, 1), got {t}")));
-            }
-            params.tolerance = t;
+            params.tolerance = limits::tolerance(t, "--tolerance")?;
         }
         if let Some(e) = &a.enforce {
             if !["none", "reciprocity", "closure"].contains(&e.as_str()) {
@@ -71,16 +50,11 @@ impl Config {
             }
         }
         if let Some(t) = a.threads {
-            if t == 0 {
-                return Err(Error::Usage("--threads must be at least 1".into()));
-            }
-            // The global pool can be set once per process; a second call keeps the first.
-            let _ = rayon::ThreadPoolBuilder::new().num_threads(t).build_global();
+            limits::threads(t)?;
         }
         let output = match &a.output {
-            None => Output::Stdout,
-            Some(p) if p.as_os_str() == "-" => Output::Stdout,
-            Some(p) => Output::File(p.clone()),
+            None => Output::stdout("output", "-o", "CSV"),
+            Some(p) => Output::new("output", "-o", "CSV", p),
         };
         Ok(Self {
             scene: a.scene.clone(),

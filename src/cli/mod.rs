@@ -1,5 +1,7 @@
 //! Command line: clap arguments ([`args`]) become a validated [`config::Config`] before any
-//! work starts; [`run`] orchestrates library calls and holds no physics.
+//! work starts ([`limits`]: ranges, caps and cost warnings); [`run`] orchestrates library
+//! calls and holds no physics.
 pub mod args;
 pub mod config;
+pub mod limits;
 pub mod run;

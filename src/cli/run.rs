@@ -1,14 +1,15 @@
 //! Orchestration of the subcommands: load → compute → report. No physics here.
 use super::args::{Command, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs};
-use super::config::{Config, Output};
+use super::config::Config;
+use super::limits;
 use lambert::exchange::{self, Enforce, EnforceParams, Exchange};
 use lambert::report;
 use lambert::report::decks::{DeckFormat, DeckInfo};
+use lambert::report::outputs::{Input, Output, OutputSet};
 use lambert::scene::{self, Scene};
 use lambert::solve;
 use lambert::viewfactor::{self, Level, Method, MethodSet, ViewFactors};
 use lambert::{Error, Result};
-use std::io::Write;
 use std::path::Path;
 
 /// Runs one subcommand.
@@ -21,41 +22,56 @@ pub fn run(cmd: Command) -> Result<()> {
     }
 }
 
-/// Writes through `f` to stdout, or to a temporary beside `path` that replaces it only on
-/// success, so a failed run never destroys an earlier result.
-pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Result<()>) -> Result<()> {
-    match output {
-        Output::Stdout => {
-            let stdout = std::io::stdout();
-            let mut lock = stdout.lock();
-            f(&mut lock, Path::new("<stdout>"))
-        }
-        Output::File(path) => {
-            let io = |e| Error::Io { path: path.clone(), source: e };
-            let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
-            tmp_name.push(".partial");
-            let tmp = path.with_file_name(tmp_name);
-            report::replace_on_success(path, &tmp, |target| {
-                let mut file = std::io::BufWriter::new(std::fs::File::create(target).map_err(io)?);
-                f(&mut file, path).and_then(|_| file.flush().map_err(io))
-            })
-        }
+/// Plans the outputs of `viewfactors` / `solve` (`-o`, `--vtk`, `--conductances`) and checks
+/// them against the scene file and `inputs` before any work.
+fn plan_outputs(
+    cfg: &Config,
+    what: &str,
+    vtk: Option<&Path>,
+    conductances: Option<&Path>,
+    inputs: &[Input],
+) -> Result<OutputSet> {
+    let mut outs = vec![cfg.output.clone().described(what)];
+    if let Some(p) = vtk {
+        outs.push(Output::new("vtk", "--vtk", "VTK results", p));
     }
+    if let Some(p) = conductances {
+        outs.push(Output::new("conductances", "--conductances", "conductance deck", p));
+    }
+    let set = OutputSet::plan(outs)?;
+    let mut all = vec![Input::new("the scene file", &cfg.scene)];
+    all.extend_from_slice(inputs);
+    set.check_inputs(&all)?;
+    Ok(set)
+}
+
+/// The files `scene` was read from, as inputs no output may overwrite.
+fn scene_inputs(scene: &Scene) -> Vec<Input> {
+    let loaded = format!("a file that the scene {} loads", scene.source.display());
+    let what = |p: &Path| if p == scene.source { "the scene file".to_string() } else { loaded.clone() };
+    scene.inputs.iter().map(|p| Input::new(what(p), p)).collect()
 }
 
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
-    check_vtk(&a.common.vtk)?;
+    let vtk = check_vtk(&a.common.vtk)?;
+    let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;
     let scene = scene::load(&cfg.scene)?;
+    outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
-    apply_scene_defaults(&mut cfg, &scene);
+    apply_scene_defaults(&mut cfg, &scene)?;
+    let cheaper =
+        "a coarser mesh cuts it, or a Monte Carlo method (-m mc-cosine: cost in patches × --samples)";
+    if let Some(w) = limits::mesh_cost(&scene, cfg.params.method, rayon::current_num_threads(), cheaper) {
+        eprintln!("lambert: warning: {w}");
+    }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let fallback = if scene.run_defaults.closure { "closure" } else { "none" };
     let mode: Enforce = cfg.enforce.as_deref().unwrap_or(fallback).parse()?;
-    if a.common.vtk.is_none() && lean_viewfactors(&scene, &cfg, level, mode)? {
-        return Ok(());
+    if vtk.is_none() && lean_viewfactors(&scene, &cfg, level, mode, &mut outs)? {
+        return outs.commit();
     }
     // Also keeps the per-patch row sums before enforcement (VTK `raw_row_sum`).
     let (vf, raw_sums) = if mode == Enforce::None {
@@ -73,10 +89,12 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         vf.pairs = raw.pairs;
         (vf, raw.patch_row_sums)
     };
-    write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
-    if let Some(path) = &a.common.vtk {
-        report::vtk::write(path, &scene, &report::vtk::viewfactor_fields(&scene, &vf, &raw_sums))?;
+    if let Some(kind) = vtk {
+        let fields = report::vtk::viewfactor_fields(&scene, &vf, &raw_sums);
+        outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, &scene, &fields))?;
     }
+    outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
+    outs.commit()?;
     let secs = vf.wall.as_secs_f64();
     eprintln!(
         "lambert: {} patches, {} pairs, {:.3} s ({:.3e} pairs/s), method {}",
@@ -101,14 +119,20 @@ fn say_warnings(warnings: &[String]) {
 
 /// Run settings the scene file asks for (a View3D model's `eps`), where the command line is
 /// silent; said on stderr so the run is reproducible from the command alone.
-fn apply_scene_defaults(cfg: &mut Config, scene: &Scene) {
+fn apply_scene_defaults(cfg: &mut Config, scene: &Scene) -> Result<()> {
     if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
-        cfg.params.tolerance = t;
+        cfg.params.tolerance = scene_tolerance(scene, t)?;
         eprintln!("lambert: tolerance {t} from the scene file (View3D eps)");
     }
     if cfg.enforce.is_none() && scene.run_defaults.closure {
         eprintln!("lambert: enforce closure: the scene file declares a closed enclosure (View3D encl = 1)");
     }
+    Ok(())
+}
+
+/// A scene file's tolerance (View3D `eps`), held to the same floor as `--tolerance`.
+fn scene_tolerance(scene: &Scene, t: f64) -> Result<f64> {
+    limits::tolerance(t, &format!("{}: View3D eps", scene.source.display()))
 }
 
 /// The requested method and, when it chooses per pair (`auto`), what produced the entries:
@@ -147,7 +171,13 @@ const LEAN_SURFACES: usize = 512;
 
 /// `viewfactors` on the lean packed store when the output is patch-level, enforced, or has
 /// many surfaces (and the method has a row kernel); false sends the run to the sparse path.
-fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) -> Result<bool> {
+fn lean_viewfactors(
+    scene: &Scene,
+    cfg: &Config,
+    level: Level,
+    mode: Enforce,
+    outs: &mut OutputSet,
+) -> Result<bool> {
     let symmetric = cfg.params.method.is_symmetric();
     let wanted = level == Level::Patch || mode != Enforce::None || scene.surfaces.len() > LEAN_SURFACES;
     if cfg.params.method.is_monte_carlo() || !(symmetric || mode != Enforce::None) || !wanted {
@@ -171,10 +201,10 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
             Level::Patch => std::mem::take(&mut ex.names),
             Level::Surface => scene.surfaces.iter().map(|s| s.name.clone()).collect(),
         };
-        write_output(&cfg.output, |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, p))?;
+        outs.write("output", |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, p))?;
     } else {
         let vf = exchange::dense::to_surface_viewfactors(&ex, scene, wall);
-        write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, open, p))?;
+        outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, open, p))?;
     }
     let secs = wall.as_secs_f64();
     eprintln!(
@@ -341,14 +371,14 @@ fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
     ex.aggregate(&group, names, areas, Level::Surface)
 }
 
-/// A bad `--vtk` extension is refused before any work starts.
-fn check_vtk(path: &Option<std::path::PathBuf>) -> Result<()> {
-    path.as_deref().map_or(Ok(()), |p| report::vtk::kind_of(p).map(|_| ()))
+/// A bad `--vtk` extension is refused before any work starts; the file type otherwise.
+fn check_vtk(path: &Option<std::path::PathBuf>) -> Result<Option<report::vtk::VtkKind>> {
+    path.as_deref().map(report::vtk::kind_of).transpose()
 }
 
 fn solve(a: SolveArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
-    check_vtk(&a.common.vtk)?;
+    let vtk = check_vtk(&a.common.vtk)?;
     let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
     let deck = match (&a.format, &a.conductances) {
         (Some(f), Some(_)) => DeckFormat::from_name(f)?,
@@ -358,12 +388,16 @@ fn solve(a: SolveArgs) -> Result<()> {
         (None, Some(path)) => DeckFormat::from_path(path)?,
         (None, None) => DeckFormat::Csv,
     };
+    let saved: Vec<Input> = a.viewfactors.iter().map(|p| Input::new("the --viewfactors input", p)).collect();
+    let mut outs =
+        plan_outputs(&cfg, "results CSV", a.common.vtk.as_deref(), a.conductances.as_deref(), &saved)?;
     let scene = scene::load(&cfg.scene)?;
+    outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
     if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
-        cfg.params.tolerance = t;
+        cfg.params.tolerance = scene_tolerance(&scene, t)?;
     }
     scene.check_boundary_conditions()?;
     if a.conductances.is_some() {
@@ -375,16 +409,16 @@ fn solve(a: SolveArgs) -> Result<()> {
         None => Enforce::solve_default(!scene.is_closed()),
     };
     let exchange = ExchangePath::from_name(&a.exchange)?;
-    if let Some(tol) = cfg.tolerance_given {
-        if !(tol > 0.0 && tol.is_finite()) {
-            return Err(Error::Usage(format!("--tolerance must be positive and finite, got {tol}")));
-        }
+    if a.viewfactors.is_none() {
+        warn_mesh_cost(&scene, &cfg, &a, exchange, mode, &params);
     }
     if let Some(run) = clustered_solve(&scene, &cfg, &a, exchange, mode, &params)? {
-        return finish_solve(&scene, &cfg, run.solution, a.common.vtk.as_deref());
+        finish_solve(&scene, &cfg, run.solution, vtk, &mut outs)?;
+        return outs.commit();
     }
     if let Some(run) = lean_solve(&scene, &cfg.params, &a, mode, &params)? {
-        return finish_solve(&scene, &cfg, run.solution, a.common.vtk.as_deref());
+        finish_solve(&scene, &cfg, run.solution, vtk, &mut outs)?;
+        return outs.commit();
     }
 
     let vf = match &a.viewfactors {
@@ -407,8 +441,9 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
         None => solve::solve_gray(&scene, &ex, &params)?,
     };
-    finish_solve(&scene, &cfg, sol, a.common.vtk.as_deref())?;
-    if let Some(path) = &a.conductances {
+    // The deck is written (as a temporary) before the results, so that a deck that cannot be
+    // written stops the run before anything reaches stdout.
+    if a.conductances.is_some() {
         let c = solve::conductance::radk(&scene, &ex, &params)?;
         let c = if cfg.patches || ex.level == Level::Surface {
             c
@@ -422,9 +457,38 @@ fn solve(a: SolveArgs) -> Result<()> {
             c.aggregate(&group, names)
         };
         let info = DeckInfo { scene: cfg.scene.display().to_string(), title: scene.title.clone() };
-        write_output(&Config::file_output(path), |w, p| report::decks::write(deck, w, &c, &info, p))?;
+        outs.write("conductances", |w, p| report::decks::write(deck, w, &c, &info, p))?;
     }
-    Ok(())
+    finish_solve(&scene, &cfg, sol, vtk, &mut outs)?;
+    outs.commit()
+}
+
+/// The cost warning of [`limits::mesh_cost`] for a `solve` that integrates every patch pair
+/// (the clustered path is what large meshes are for).
+fn warn_mesh_cost(
+    scene: &Scene,
+    cfg: &Config,
+    a: &SolveArgs,
+    path: ExchangePath,
+    mode: Enforce,
+    params: &solve::Params,
+) {
+    let served = lean_served(scene, &cfg.params, a, mode, params);
+    if served && path != ExchangePath::Dense {
+        return;
+    }
+    let cheaper = if served {
+        format!(
+            "`--exchange hierarchical` (the default above {HIERARCHICAL_MIN_PATCHES} patches) clusters them"
+        )
+    } else {
+        "a coarser mesh cuts it; the clustered path (`--exchange hierarchical`) serves gray runs with -m auto \
+         or analytic and the direct solver, without --viewfactors or --conductances"
+            .to_string()
+    };
+    if let Some(w) = limits::mesh_cost(scene, cfg.params.method, rayon::current_num_threads(), &cheaper) {
+        eprintln!("lambert: warning: {w}");
+    }
 }
 
 /// Bytes per patch pair of the sparse store and solve (measured: 6.4 GB at N = 8,472, about
@@ -455,7 +519,7 @@ impl ExchangePath {
 
 /// `--exchange auto` goes hierarchical above this many patches (measured in
 /// validation/scale.md: below it the dense path is as fast and exact).
-const HIERARCHICAL_MIN_PATCHES: usize = 12_000;
+pub(crate) const HIERARCHICAL_MIN_PATCHES: usize = 12_000;
 /// `--exchange auto` stays dense (while it fits) for tolerances below this: the links' cost
 /// grows faster than the dense store's as the tolerance tightens (validation/scale.md).
 const HIERARCHICAL_MIN_TOLERANCE: f64 = 1e-3;
@@ -597,8 +661,15 @@ fn lean_solve(
     Ok(Some(run))
 }
 
-/// Prints the solve summary and energy balance and writes the results table.
-fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution, vtk: Option<&Path>) -> Result<()> {
+/// Prints the solve summary and energy balance and writes the VTK file (when asked) and the
+/// results table into `outs` (committed by the caller).
+fn finish_solve(
+    scene: &Scene,
+    cfg: &Config,
+    sol: solve::Solution,
+    vtk: Option<report::vtk::VtkKind>,
+    outs: &mut OutputSet,
+) -> Result<()> {
     let info = &sol.info;
     eprintln!(
         "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",
@@ -616,15 +687,23 @@ fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution, vtk: Option<&
         if max > 0.0 { sum.abs() / max } else { 0.0 },
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     );
-    write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))?;
-    if let Some(path) = vtk {
-        report::vtk::write(path, scene, &report::vtk::solution_fields(scene, &out))?;
+    if let Some(kind) = vtk {
+        let fields = report::vtk::solution_fields(scene, &out);
+        outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, scene, &fields))?;
     }
-    Ok(())
+    outs.write("output", |w, p| report::solve_csv::write_solution(w, &out, p))
 }
 
+/// `validate --quick` writes here unless `--out` is given (never over the committed report).
+const QUICK_SCRATCH: &str = "lambert-validate-quick";
+
 fn validate(a: ValidateArgs) -> Result<()> {
-    let options = lambert::validate::Options { cases: a.cases, out: a.out, quick: a.quick };
+    let out = match (a.out, a.quick) {
+        (Some(out), _) => out,
+        (None, false) => "validation".into(),
+        (None, true) => std::env::temp_dir().join(QUICK_SCRATCH),
+    };
+    let options = lambert::validate::Options { cases: a.cases, out, quick: a.quick };
     lambert::validate::check_options(&options)?;
     let suite = lambert::validate::run(&options, &mut |line| eprintln!("validate: {line}"))?;
     print!("{}", lambert::validate::report::console(&suite.checks));
@@ -646,7 +725,10 @@ fn render(a: RenderArgs) -> Result<()> {
     }
     let size = parse_size(&a.size)?;
     let range = a.range.as_deref().map(parse_range).transpose()?;
+    let mut outs = OutputSet::plan(vec![Output::new("output", "-o", "PNG picture", &a.output)])?;
+    outs.check_inputs(&[Input::new("the scene file", &a.scene), Input::new("the result CSV", &a.result)])?;
     let scene = scene::load(&a.scene)?;
+    outs.check_inputs(&scene_inputs(&scene))?;
     let camera = match &a.camera {
         Some(spec) => Camera::frame(&scene).with_spec(spec)?,
         None => Camera::frame(&scene),
@@ -664,7 +746,8 @@ fn render(a: RenderArgs) -> Result<()> {
         caption,
     };
     let img = render::render(&scene, &v.values, &opts)?;
-    render::write_png(&img, &a.output)?;
+    outs.write("output", |w, p| render::encode_png(&img, w, p))?;
+    outs.commit()?;
     let c = &opts.camera;
     eprintln!(
         "lambert: render: {} patches, {}x{} px, camera eye={},{},{} target={},{},{} up={},{},{} fov={}",

@@ -280,38 +280,28 @@ pub fn pcg(
 }
 
 /// Environment variable overriding the available memory in bytes (tests, batch schedulers).
-pub const MEM_AVAILABLE_ENV: &str = "LAMBERT_MEM_AVAILABLE";
+pub use super::memory::MEM_AVAILABLE_ENV;
 /// Peak bytes of the dense path per byte of the packed triangle: the triangle itself, the
 /// exceptions of mixed rows and the O(N) vectors, with room to spare.
 pub const DENSE_PEAK_FACTOR: f64 = 1.25;
 
-/// Memory available to this run in bytes: the override, else `MemAvailable` of
-/// /proc/meminfo; None when neither is known (the check is then skipped).
-pub fn available_memory() -> Option<u64> {
-    if let Ok(v) = std::env::var(MEM_AVAILABLE_ENV) {
-        return v.trim().parse().ok();
-    }
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
 /// Refuses (exit 2) a dense request for `n` nodes whose store, `bytes_per_pair` × n²/2 plus
-/// headroom, exceeds the available memory, before anything large is allocated.
+/// headroom, exceeds the memory available to the process ([`super::memory::available`]:
+/// free memory, rlimits, cgroup), before anything large is allocated.
 pub fn check_fits(n: usize, bytes_per_pair: f64, source: &std::path::Path) -> Result<()> {
     let need = n as f64 * (n as f64 + 1.0) / 2.0 * bytes_per_pair * DENSE_PEAK_FACTOR;
-    let Some(avail) = available_memory() else { return Ok(()) };
-    if need <= avail as f64 {
+    let Some(avail) = super::memory::available() else { return Ok(()) };
+    if need <= avail.bytes as f64 {
         return Ok(());
     }
     Err(InputError::file(
         source,
         format!(
             "{n} patches need about {:.1} GB for the dense exchange matrix (n²/2 pairs × {bytes_per_pair} bytes) \
-             but only {:.1} GB is available; use `--exchange hierarchical`, or coarser `subdivide`",
+             but only {:.1} GB is available ({}); use `--exchange hierarchical`, or coarser `subdivide`",
             need / 1e9,
-            avail as f64 / 1e9
+            avail.bytes as f64 / 1e9,
+            avail.bound
         ),
     )
     .into())

@@ -12,7 +12,8 @@
 //! - [`operator`]: the symmetric operator (packed triangle or link hierarchy) that the lean
 //!   enforcement and solve work on;
 //! - [`hierarchy`]: clustered exchange with error-bounded links for large scenes;
-//! - [`linalg`]: deterministic parallel reductions and the PSD conjugate-gradient solver.
+//! - [`linalg`]: deterministic parallel reductions and the PSD conjugate-gradient solver;
+//! - [`memory`]: the memory a run may still allocate (free memory, rlimits, cgroup).
 //!
 //! Everything is O(nnz): no dense N×N temporary is ever formed.
 use crate::viewfactor::{Entry, Level, MethodSet, ViewFactors};
@@ -26,6 +27,7 @@ pub mod enforce;
 pub mod hierarchy;
 pub mod linalg;
 pub mod lsq;
+pub mod memory;
 pub mod ml;
 pub mod operator;
 pub mod scaling;

@@ -182,8 +182,10 @@ fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &Chart) -> std:
 /// Writes `chart` as `<stem>.svg` and `<stem>.png` in `dir`.
 pub fn write(chart: &Chart, dir: &Path, stem: &str) -> Result<()> {
     register_font();
-    let fail =
-        |path: &Path, msg: String| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(msg) };
+    let fail = |path: &Path, msg: String| Error::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(format!("cannot write the chart: {msg}")),
+    };
     let svg = dir.join(format!("{stem}.svg"));
     draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), chart).map_err(|m| fail(&svg, m))?;
     let png = dir.join(format!("{stem}.png"));

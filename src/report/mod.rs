@@ -7,39 +7,18 @@
 //! - [`charts`]: log–log charts of the validation studies (SVG, PNG);
 //! - [`mesh`]: patch polygons as a welded mesh, cell values averaged to vertices;
 //! - [`vtk`]: VTK XML (.vtu/.vtp) for ParaView (`--vtk`);
+//! - [`outputs`]: the files of a run, checked before any work and put in place together;
 //! - [`render`]: false-colour pictures of a result on the geometry (`lambert render`).
 pub mod charts;
 pub mod csv;
 pub mod decks;
 pub mod dense_csv;
 pub mod mesh;
+pub mod outputs;
 pub mod read_vf;
 pub mod render;
 pub mod solve_csv;
 pub mod vtk;
-
-/// Runs `write` on the temporary `tmp` beside `path`, then renames it over `path`; on failure
-/// the temporary is removed and an earlier `path` is left as it was. A `path` that exists and
-/// is not a regular file (`/dev/null`, a FIFO, a terminal) is written directly: renaming over
-/// it would replace the device with a file.
-pub fn replace_on_success(
-    path: &std::path::Path,
-    tmp: &std::path::Path,
-    write: impl FnOnce(&std::path::Path) -> crate::Result<()>,
-) -> crate::Result<()> {
-    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
-        return write(path);
-    }
-    match write(tmp) {
-        Ok(()) => {
-            std::fs::rename(tmp, path).map_err(|e| crate::Error::Io { path: path.to_path_buf(), source: e })
-        }
-        Err(e) => {
-            let _ = std::fs::remove_file(tmp);
-            Err(e)
-        }
-    }
-}
 
 /// Characters the exponent form must save before it replaces the plain form (keeps "1000").
 const EXPONENT_MIN_SAVING: usize = 3;

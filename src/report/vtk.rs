@@ -5,7 +5,8 @@
 //! - [`VtkFields`]: named per-patch columns plus integer columns, and lookup lines
 //!   (surface names, method codes) written as an XML comment ahead of the data;
 //! - [`solution_fields`] / [`viewfactor_fields`]: the columns of a `solve` / `viewfactors` run;
-//! - [`write`]: the file, through a temporary renamed on success.
+//! - [`write_to`]: the file's bytes into a writer; [`write`]: a file, through a temporary
+//!   renamed on success.
 //!
 //! Memory is O(patches + vertices): the arrays, their base64 text, nothing of size N².
 use super::mesh::PatchMesh;
@@ -201,25 +202,41 @@ pub fn model(mesh: &PatchMesh, fields: &VtkFields, kind: VtkKind, title: &str) -
 /// beside it that replaces `path` only on success.
 pub fn write(path: &Path, scene: &Scene, fields: &VtkFields) -> Result<()> {
     let kind = kind_of(path)?;
+    super::outputs::write_file("vtk", "--vtk", "VTK results", path, |w, p| {
+        write_to(w, p, kind, scene, fields)
+    })
+}
+
+/// Writes `fields` on the patches of `scene` as VTK XML of `kind` into `out`; `path` names
+/// the file in errors.
+pub fn write_to(
+    out: &mut dyn Write,
+    path: &Path,
+    kind: VtkKind,
+    scene: &Scene,
+    fields: &VtkFields,
+) -> Result<()> {
     let mesh = PatchMesh::build(scene);
     let title = scene.title.clone().unwrap_or_else(|| "lambert".into());
     let vtk = model(&mesh, fields, kind, &title);
     drop(mesh);
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
-    let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
-    tmp_name.push(".partial");
-    let tmp = path.with_file_name(tmp_name);
-    super::replace_on_success(path, &tmp, |tmp| {
-        let mut out = std::io::BufWriter::new(std::fs::File::create(tmp).map_err(io)?);
-        // A comment before the root element: readers skip it, people read it.
-        writeln!(out, "<!-- lambert results on the patches of '{}'", comment_safe(&title)).map_err(io)?;
-        for note in &fields.notes {
-            writeln!(out, "     {}", comment_safe(note)).map_err(io)?;
-        }
-        writeln!(out, "-->").map_err(io)?;
-        vtk.write_xml(&mut out).map_err(|e| io(std::io::Error::other(format!("{e:?}"))))?;
-        out.flush().map_err(io)
-    })
+    // A comment before the root element: readers skip it, people read it.
+    writeln!(out, "<!-- lambert results on the patches of '{}'", comment_safe(&title)).map_err(io)?;
+    for note in &fields.notes {
+        writeln!(out, "     {}", comment_safe(note)).map_err(io)?;
+    }
+    writeln!(out, "-->").map_err(io)?;
+    vtk.write_xml(&mut *out).map_err(|e| io(vtk_io_error(e)))?;
+    out.flush().map_err(io)
+}
+
+/// vtkio's error as an I/O error: its own I/O errors unwrapped, anything else in words.
+fn vtk_io_error(e: vtkio::Error) -> std::io::Error {
+    match e {
+        vtkio::Error::IO(e) => e,
+        other => std::io::Error::other(other.to_string()),
+    }
 }
 
 /// `--` may not appear inside an XML comment.

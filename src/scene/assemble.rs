@@ -12,7 +12,7 @@ use crate::error::InputError;
 use crate::geometry::{DVec3, Polygon};
 use crate::Result;
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A validated shape.
 #[derive(Debug, Clone)]
@@ -189,6 +189,12 @@ pub fn assemble(
     }
     scene.condition_errors = conflicts;
     scene.warnings = warnings;
+    let files = models.iter().flat_map(|m| std::iter::once(&m.model.file).chain(&m.model.extra_files));
+    for f in std::iter::once(path).chain(files.map(PathBuf::as_path)) {
+        if !scene.inputs.iter().any(|i| i == f) {
+            scene.inputs.push(f.to_path_buf());
+        }
+    }
     Ok(scene)
 }
 

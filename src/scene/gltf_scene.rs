@@ -43,6 +43,9 @@ pub struct Model {
     pub file: PathBuf,
     /// Its mesh nodes in traversal order.
     pub surfaces: Vec<MeshSurface>,
+    /// Other files read for it (glTF external buffers); [`Scene::inputs`](super::Scene::inputs)
+    /// collects them with `file`.
+    pub extra_files: Vec<PathBuf>,
 }
 
 /// Loads the mesh surfaces of a .gltf or .glb file.
@@ -114,7 +117,46 @@ fn parse(path: &Path, bytes: Vec<u8>) -> Result<Model, InputError> {
         let extras = extras_layer(node, path).map_err(|p| at(format!("node extras: {p}")))?;
         surfaces.push(MeshSurface { name, triangles, dropped, extras });
     }
-    Ok(Model { file: path.to_path_buf(), surfaces })
+    let extra_files = external_buffers(doc, base);
+    Ok(Model { file: path.to_path_buf(), surfaces, extra_files })
+}
+
+/// The files behind the external buffer URIs (relative and `file:` URIs, as the glTF reader
+/// resolves them; `data:` URIs are inside the file).
+fn external_buffers(doc: &gltf::Document, base: &Path) -> Vec<PathBuf> {
+    doc.buffers()
+        .filter_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
+                let file = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:"));
+                Some(match file {
+                    Some(f) => PathBuf::from(f),
+                    None => base.join(percent_decode(uri)),
+                })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// `%XX` escapes of a relative URI decoded (invalid escapes kept as written).
+fn percent_decode(uri: &str) -> String {
+    let b = uri.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut k = 0;
+    while k < b.len() {
+        let hex = b.get(k + 1..k + 3).and_then(|h| std::str::from_utf8(h).ok());
+        match (b[k], hex.and_then(|h| u8::from_str_radix(h, 16).ok())) {
+            (b'%', Some(v)) => {
+                out.push(v);
+                k += 3;
+            }
+            (c, _) => {
+                out.push(c);
+                k += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// Refuses GLB headers the glTF reader would mis-handle (length below the header size).

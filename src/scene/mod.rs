@@ -143,6 +143,9 @@ pub struct Scene {
     /// Run settings the scene file asks for where the command line is silent (View3D's
     /// `eps` and `encl`).
     pub run_defaults: RunDefaults,
+    /// Every file read to build the scene: the scene file first, then model files and their
+    /// buffers (so that no output of a run overwrites one of them).
+    pub inputs: Vec<PathBuf>,
 }
 
 /// Run settings a scene file may suggest; command-line options win.

@@ -425,5 +425,5 @@ fn build(
         slot[k] = surfaces.len();
         surfaces.push(MeshSurface { name, triangles: pieces[k].clone(), dropped: 0, extras });
     }
-    Ok(Model { file: PathBuf::from(path), surfaces })
+    Ok(Model { file: PathBuf::from(path), surfaces, extra_files: Vec::new() })
 }

@@ -57,7 +57,8 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
     let n = scene.patches.len();
     let mut sink = Sink::new(scene, level, kernel.symmetric());
     let threads = rayon::current_num_threads().max(1);
-    let wave = (WAVE_ENTRY_BUDGET / n.max(1)).clamp(4 * threads, 4096).max(1);
+    // Not `clamp`: beyond 1,024 threads (RAYON_NUM_THREADS) its lower bound would pass the upper.
+    let wave = (WAVE_ENTRY_BUDGET / n.max(1)).max(4 * threads).min(4096);
     // Pairs per row: the kernel's half of a symmetric matrix, or the whole row.
     let symmetric = kernel.symmetric();
     let row_pairs = |i: usize| if symmetric { (n - i) as u64 } else { n as u64 };

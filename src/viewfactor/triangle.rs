@@ -330,7 +330,8 @@ const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) -> Result<()> {
     let n = t.n;
     let threads = rayon::current_num_threads().max(1);
-    let wave = (WAVE_ENTRY_BUDGET / n.max(1)).clamp(4 * threads, 4096).max(1);
+    // Not `clamp`: beyond 1,024 threads (RAYON_NUM_THREADS) its lower bound would pass the upper.
+    let wave = (WAVE_ENTRY_BUDGET / n.max(1)).max(4 * threads).min(4096);
     // Per row r: exceptions collected unsorted, merged at the end.
     let mut pending: Vec<Vec<Exception>> = vec![Vec::new(); n];
     let mut seen = vec![false; n];

@@ -182,14 +182,22 @@ fn annotate(rgb: &mut [u8], opts: &Options, (lo, hi): (f64, f64)) -> std::result
 
 /// Writes `img` as PNG to `path` through a temporary beside it, renamed on success.
 pub fn write_png(img: &Image, path: &Path) -> Result<()> {
-    let io = |msg: String| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(msg) };
-    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
-    let tmp = path.with_file_name(format!("{stem}.partial.png"));
-    super::replace_on_success(path, &tmp, |tmp| {
-        let mut be = BitMapBackend::new(tmp, (img.w, img.h));
-        be.blit_bitmap((0, 0), (img.w, img.h), &img.rgb).map_err(|x| io(x.to_string()))?;
-        be.present().map_err(|x| io(x.to_string()))
-    })
+    super::outputs::write_file("output", "-o", "PNG picture", path, |w, p| encode_png(img, w, p))
+}
+
+/// Encodes `img` as PNG into `out` (the encoder and settings plotters' bitmap files use);
+/// `path` names the file in errors.
+pub fn encode_png(img: &Image, out: &mut dyn std::io::Write, path: &Path) -> Result<()> {
+    use image::ImageEncoder;
+    image::codecs::png::PngEncoder::new(out)
+        .write_image(&img.rgb, img.w, img.h, image::ColorType::Rgb8)
+        .map_err(|e| {
+            let source = match e {
+                image::ImageError::IoError(e) => e,
+                other => std::io::Error::other(other.to_string()),
+            };
+            Error::Io { path: path.to_path_buf(), source }
+        })
 }
 
 #[cfg(test)]
@@ -265,5 +273,27 @@ mod tests {
             caption: String::new(),
         };
         assert!(matches!(render(&scene, &values, &opts), Err(Error::Usage(_))));
+    }
+
+    /// The PNG written through the output set is byte for byte the file plotters' bitmap
+    /// backend saves for the same pixels.
+    #[test]
+    fn png_bytes_match_the_bitmap_backend() {
+        let (w, h) = (37u32, 23u32);
+        let rgb: Vec<u8> = (0..w * h * 3).map(|k| (k * 7 % 251) as u8).collect();
+        let img = Image { w, h, rgb };
+        let dir = tempfile::tempdir().unwrap();
+        let by_plotters = dir.path().join("plotters.png");
+        {
+            let mut be = BitMapBackend::new(&by_plotters, (w, h));
+            be.blit_bitmap((0, 0), (w, h), &img.rgb).unwrap();
+            be.present().unwrap();
+        }
+        let ours = dir.path().join("ours.png");
+        write_png(&img, &ours).unwrap();
+        assert_eq!(std::fs::read(&ours).unwrap(), std::fs::read(&by_plotters).unwrap());
+        // A missing folder is refused before anything is encoded, naming the flag and folder.
+        let e = write_png(&img, &dir.path().join("nodir/x.png")).unwrap_err();
+        assert!(e.to_string().contains("-o") && e.to_string().contains("nodir"), "{e}");
     }
 }
