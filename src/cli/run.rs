@@ -71,7 +71,10 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         vf.pairs = raw.pairs;
         (vf, raw.patch_row_sums)
     };
-    write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
+    let geometry = scene::fingerprint::geometry(&scene);
+    write_output(&cfg.output, |w, p| {
+        report::csv::write_viewfactors(w, &vf, !scene.is_closed(), &geometry, p)
+    })?;
     if let Some(path) = &a.common.vtk {
         report::vtk::write(path, &scene, &report::vtk::viewfactor_fields(&scene, &vf, &raw_sums))?;
     }
@@ -156,15 +159,18 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
         print_enforcement(mode, &rep);
     }
     let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
+    let geometry = scene::fingerprint::geometry(scene);
     if level == Level::Patch || one_patch_each {
         let names: Vec<String> = match level {
             Level::Patch => std::mem::take(&mut ex.names),
             Level::Surface => scene.surfaces.iter().map(|s| s.name.clone()).collect(),
         };
-        write_output(&cfg.output, |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, p))?;
+        write_output(&cfg.output, |w, p| {
+            report::dense_csv::write_triangle(w, &ex.t, &names, open, &geometry, p)
+        })?;
     } else {
         let vf = exchange::dense::to_surface_viewfactors(&ex, scene, wall);
-        write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, open, p))?;
+        write_output(&cfg.output, |w, p| report::csv::write_viewfactors(w, &vf, open, &geometry, p))?;
     }
     let secs = wall.as_secs_f64();
     eprintln!(
