@@ -50,6 +50,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
+    warn_facing_away(&scene);
     apply_scene_defaults(&mut cfg, &scene);
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let fallback = if scene.run_defaults.closure { "closure" } else { "none" };
@@ -219,6 +220,7 @@ fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
             leaks.len(),
             worst.join(", ")
         );
+        warn_obstructions(scene, &ex.names[leaks[0].0]);
     }
 }
 
@@ -256,6 +258,22 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
             leaks.len(),
             worst.join(", ")
         );
+        warn_obstructions(scene, &vf.names[leaks[0].0]);
+    }
+}
+
+/// The obstruction note of [`scene::hints::obstruction_note`] beside a leak warning whose
+/// worst row is `name`, when the facts support it.
+fn warn_obstructions(scene: &Scene, name: &str) {
+    if let Some(note) = scene::hints::obstruction_note(scene, name) {
+        eprintln!("lambert: warning: {note}");
+    }
+}
+
+/// SPEC extension: a panel of an open scene that faces away from every surface it could see.
+fn warn_facing_away(scene: &Scene) {
+    for f in scene::hints::facing_away(scene) {
+        eprintln!("lambert: warning: {}", scene::hints::facing_away_warning(scene, &f));
     }
 }
 
@@ -302,6 +320,7 @@ fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
 /// Adds the outward-normal hint to a refusal that names a row of a closed mesh surface whose
 /// normals all face outward.
 fn with_outward_hint(scene: &Scene, e: Error) -> Error {
+    let e = with_obstruction_note(scene, e);
     let Error::Input(mut ie) = e else { return e };
     let named = ie.surface.as_deref().map(|n| n.split('#').next().unwrap_or(n).to_string());
     let outward = scene::orientation::outward_closed_meshes(scene);
@@ -309,6 +328,30 @@ fn with_outward_hint(scene: &Scene, e: Error) -> Error {
     {
         ie.problem =
             format!("{}. Note: {}", ie.problem, scene::orientation::outward_hint(&scene.surfaces[s].name));
+    }
+    Error::Input(ie)
+}
+
+/// Adds the obstruction note to a leak refusal whose row has obstructions in front of it.
+fn with_obstruction_note(scene: &Scene, e: Error) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    if let Some(note) = ie.surface.as_deref().and_then(|n| scene::hints::obstruction_note(scene, n)) {
+        ie.problem = format!("{}. Note: {note}", ie.problem);
+    }
+    Error::Input(ie)
+}
+
+/// Adds to a leak refusal of `solve --viewfactors FILE` that FILE carries no geometry
+/// fingerprint, so it may belong to another scene with the same names.
+fn with_unstamped_note(e: Error, file: &Path) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    if ie.problem.contains("leaks") {
+        ie.problem = format!(
+            "{}. Note: {} carries no geometry fingerprint (an older or hand-made file), so it may have \
+             been computed for another scene with the same names",
+            ie.problem,
+            file.display()
+        );
     }
     Error::Input(ie)
 }
@@ -362,9 +405,12 @@ fn solve(a: SolveArgs) -> Result<()> {
         cfg.params.tolerance = t;
     }
     scene.check_boundary_conditions()?;
+    warn_facing_away(&scene);
     if a.conductances.is_some() {
         // RADK comes from one dense solve over the patches: refuse before any work is done.
         solve::conductance::check_nodes(scene.patches.len())?;
+        let level = if a.viewfactors.is_some() { Level::Surface } else { Level::Patch };
+        solve::conductance::check_deck(&scene, level, cfg.patches)?;
     }
     let mode = match cfg.enforce.as_deref() {
         Some(e) => e.parse()?,
@@ -383,20 +429,26 @@ fn solve(a: SolveArgs) -> Result<()> {
         return finish_solve(&scene, &cfg, run.solution, a.common.vtk.as_deref());
     }
 
-    let vf = match &a.viewfactors {
-        Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
+    let (vf, stamped) = match &a.viewfactors {
+        Some(path) => report::read_vf::read_stamped(path, &scene)?,
         None => {
             exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
-            viewfactor::compute(&scene, &cfg.params, Level::Patch)?
+            (viewfactor::compute(&scene, &cfg.params, Level::Patch)?, true)
         }
     };
+    if a.conductances.is_some() {
+        solve::conductance::check_deck(&scene, vf.level, cfg.patches)?;
+    }
     if cfg.patches && vf.level == Level::Surface {
         return Err(Error::Usage(
             "--patches needs patch-level view factors (a `viewfactors --patches` file)".into(),
         ));
     }
     let rays = if a.viewfactors.is_none() { hit_rays(&cfg.params) } else { None };
-    let ex = enforced(&scene, &vf, mode, rays)?;
+    let ex = enforced(&scene, &vf, mode, rays).map_err(|e| match (&a.viewfactors, stamped) {
+        (Some(file), false) => with_unstamped_note(e, file),
+        _ => e,
+    })?;
     let sol = match &scene.spectral {
         Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
         None => solve::solve_gray(&scene, &ex, &params)?,
