@@ -40,10 +40,10 @@ pub fn write_triangle<W: Write>(
     let mut write = |out: &mut W, text: &str| -> std::io::Result<()> {
         match (stamp.as_ref(), text.find('\n')) {
             (Some(g), Some(k)) => {
-                out.write_all(text[..k].as_bytes())?;
+                out.write_all(&text.as_bytes()[..k])?;
                 out.write_all(g.as_bytes())?;
                 stamp = None;
-                out.write_all(text[k..].as_bytes())
+                out.write_all(&text.as_bytes()[k..])
             }
             _ => out.write_all(text.as_bytes()),
         }
