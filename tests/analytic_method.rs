@@ -109,7 +109,9 @@ fn open_scene_sends_the_rest_to_ambient() {
         .build();
     let vf = compute(&scene, &analytic(), Level::Surface).unwrap();
     let mut csv = Vec::new();
-    lambert::report::csv::write_viewfactors(&mut csv, &vf, true, std::path::Path::new("-")).unwrap();
+    let geometry = lambert::scene::fingerprint::geometry(&scene);
+    lambert::report::csv::write_viewfactors(&mut csv, &vf, true, &geometry, std::path::Path::new("-"))
+        .unwrap();
     let text = String::from_utf8(csv).unwrap();
     let want = 1.0 - parallel_opposed_rectangles(1.0, 1.0, 1.0);
     for from in ["lower", "upper"] {

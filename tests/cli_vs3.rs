@@ -112,3 +112,87 @@ fn bad_view3d_files_exit_2_name_file_and_line_and_keep_the_output() {
     let err = text(&o.stderr);
     assert!(err.contains("cube.vs3") && err.contains("floor"), "{err}");
 }
+
+/// A unit-cube room as View3D quadrilaterals; `rotate` starts every quadrilateral at its
+/// second corner, which moves the diagonal a two-triangle split would take.
+fn quad_room(rotate: bool) -> String {
+    let faces = [
+        ("floor", [1, 2, 3, 4]),
+        ("ceiling", [5, 6, 7, 8]),
+        ("wall_y0", [1, 5, 8, 2]),
+        ("wall_y1", [4, 3, 7, 6]),
+        ("wall_x0", [1, 4, 6, 5]),
+        ("wall_x1", [2, 8, 7, 3]),
+    ];
+    let mut text = String::from(
+        "F 3\nV 1 0 0 0\nV 2 1 0 0\nV 3 1 1 0\nV 4 0 1 0\nV 5 0 0 1\nV 6 0 1 1\nV 7 1 1 1\nV 8 1 0 1\n",
+    );
+    for (k, (name, mut v)) in faces.into_iter().enumerate() {
+        if rotate {
+            v.rotate_left(1);
+        }
+        text += &format!("S {} {} {} {} {} 0 0 0.8 {name}\n", k + 1, v[0], v[1], v[2], v[3]);
+    }
+    text
+}
+
+#[test]
+fn a_quadrilateral_is_one_surface_whatever_its_diagonal() {
+    // Hot floor, cold ceiling, adiabatic walls: by symmetry all four walls settle at one
+    // temperature, and the room gives the same heat rates as the TOML polygons.
+    let dir = tempfile::tempdir().unwrap();
+    let conditions = "[defaults]\nheat_flux = 0.0\n\n[[surface]]\nname = \"floor\"\ntemperature = 1000.0\n\n\
+                      [[surface]]\nname = \"ceiling\"\ntemperature = 300.0\n";
+    let solve = |vs3: &str, name: &str| -> Vec<(String, f64, f64)> {
+        std::fs::write(dir.path().join(format!("{name}.vs3")), vs3).unwrap();
+        let scene = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&scene, format!("[[model]]\nfile = \"{name}.vs3\"\n\n{conditions}")).unwrap();
+        let o = run(&["solve", scene.to_str().unwrap(), "--patches"]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        text(&o.stdout)
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f[0].to_string(), f[3].parse().unwrap(), f[5].parse().unwrap())
+            })
+            .collect()
+    };
+    let a = solve(&quad_room(false), "a");
+    let b = solve(&quad_room(true), "b");
+    assert_eq!(a.len(), 6, "one patch per quadrilateral: {a:?}");
+    let floor_q = a[0].2;
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.0, y.0);
+        assert!((x.1 - y.1).abs() < 1e-9 * x.1, "{}: {} K vs {} K with the other diagonal", x.0, x.1, y.1);
+        assert!((x.2 - y.2).abs() < 1e-9 * floor_q, "{}: {} W vs {} W", x.0, x.2, y.2);
+    }
+    for w in &a[2..] {
+        assert!((w.1 - a[2].1).abs() < 1e-9 * a[2].1, "symmetric walls: {a:?}");
+    }
+    // The same room as TOML polygons.
+    let mut toml = String::from("[defaults]\nemissivity = 0.8\n");
+    let corner = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]];
+    for line in quad_room(false).lines().filter(|l| l.starts_with('S')) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let pts: Vec<String> =
+            f[2..6].iter().map(|v| format!("{:?}", corner[v.parse::<usize>().unwrap() - 1])).collect();
+        let condition = match f[9] {
+            "floor" => "temperature = 1000.0",
+            "ceiling" => "temperature = 300.0",
+            _ => "heat_flux = 0.0",
+        };
+        toml += &format!("\n[[surface]]\nname = \"{}\"\npolygon = [{}]\n{condition}\n", f[9], pts.join(", "));
+    }
+    let path = dir.path().join("polygons.toml");
+    std::fs::write(&path, &toml).unwrap();
+    let o = run(&["solve", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{toml}\n{}", text(&o.stderr));
+    let rows: Vec<Vec<String>> =
+        text(&o.stdout).lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect();
+    for (x, r) in a.iter().zip(&rows) {
+        assert_eq!(x.0.split('#').next(), Some(r[0].as_str()));
+        let (t, q): (f64, f64) = (r[3].parse().unwrap(), r[5].parse().unwrap());
+        assert!((x.1 - t).abs() < 1e-9 * t && (x.2 - q).abs() < 1e-9 * floor_q, "{}: {x:?} vs {r:?}", r[0]);
+    }
+}

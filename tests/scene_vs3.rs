@@ -133,6 +133,11 @@ fn blast_shapes_place_rectangles_triangles_and_quads() {
     let wall = [[1.0, 2.0, 3.0], [1.0, 2.0, 4.0], [1.0, 4.0, 3.0], [1.0, 4.0, 4.0]];
     assert!(close(&ring(0), &wall), "R: {:?}", ring(0));
     assert!(close(&ring(1), &wall), "Q: {:?}", ring(1));
+    // A rectangle or quadrilateral is one polygon (one patch), never split on a diagonal.
+    for k in [0, 1] {
+        let polys = &v.model.surfaces[k].triangles;
+        assert_eq!((polys.len(), polys[0].vertices().len()), (1, 4), "surface {k}");
+    }
     let n = v.model.surfaces[0].triangles[0].normal();
     assert!((n.x - 1.0).abs() < 1e-12, "azimuth 90°, tilt 90° faces east (+x): {n:?}");
     let floor = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]];
@@ -163,7 +168,9 @@ fn emittances_names_and_combined_surfaces() {
     .unwrap();
     let s = &v.model.surfaces;
     assert_eq!(s.len(), 3, "part merges into surface 1; the obstruction stays");
-    assert_eq!((s[0].name.as_str(), s[0].triangles.len()), ("ambient_1", 2));
+    // Two triangle records, combined: one polygon each.
+    let corners: Vec<usize> = s[0].triangles.iter().map(|p| p.vertices().len()).collect();
+    assert_eq!((s[0].name.as_str(), corners), ("ambient_1", vec![3, 3]));
     assert_eq!(s[1].name, "ambient_2");
     assert_eq!(s[0].extras.emissivity, Some(0.001), "View3D's lower clamp");
     assert_eq!(s[2].extras.role, Some(lambert::scene::props::Role::Obstruction));
@@ -219,7 +226,8 @@ fn refusals_name_the_file_the_line_and_the_problem() {
             format!("F 3\n{v}S 1 1 2 3 4 0 0 0.5 a\nS 2 1 2 3 4 0 1 0.5 b\nS 3 1 2 3 4 0 2 0.5 c\n"),
             "model.vs3:8: surface 'c': surface 3 combines into 2, which is itself combined",
         ),
-        (format!("F 3\n{v}S 1 1 2 2 4 0 0 0.5 a\n"), "model.vs3:6: surface 'a': surface 1:"),
+        // A repeated corner is dropped as in any polygon (`1 2 2 4` is a triangle); two left is none.
+        (format!("F 3\n{v}S 1 1 2 2 2 0 0 0.5 a\n"), "model.vs3:6: surface 'a': surface 1:"),
         (
             "F 3\nV 1 0 0 0\nV 2 1 0 0\nV 3 1 1 0\nV 4 0 1 1\nS 1 1 2 3 4 0 0 0.5 warped\n".into(),
             "model.vs3:6: surface 'warped': surface 1:",

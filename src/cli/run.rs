@@ -61,6 +61,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
+    warn_facing_away(&scene);
     apply_scene_defaults(&mut cfg, &scene)?;
     let cheaper =
         "a coarser mesh cuts it, or a Monte Carlo method (-m mc-cosine: cost in patches × --samples)";
@@ -93,7 +94,8 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         let fields = report::vtk::viewfactor_fields(&scene, &vf, &raw_sums);
         outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, &scene, &fields))?;
     }
-    outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), p))?;
+    let geometry = scene::fingerprint::geometry(&scene);
+    outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), &geometry, p))?;
     outs.commit()?;
     let secs = vf.wall.as_secs_f64();
     eprintln!(
@@ -196,15 +198,16 @@ fn lean_viewfactors(
         print_enforcement(mode, &rep);
     }
     let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
+    let geometry = scene::fingerprint::geometry(scene);
     if level == Level::Patch || one_patch_each {
         let names: Vec<String> = match level {
             Level::Patch => std::mem::take(&mut ex.names),
             Level::Surface => scene.surfaces.iter().map(|s| s.name.clone()).collect(),
         };
-        outs.write("output", |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, p))?;
+        outs.write("output", |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, &geometry, p))?;
     } else {
         let vf = exchange::dense::to_surface_viewfactors(&ex, scene, wall);
-        outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, open, p))?;
+        outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, open, &geometry, p))?;
     }
     let secs = wall.as_secs_f64();
     eprintln!(
@@ -253,6 +256,7 @@ fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
             leaks.len(),
             worst.join(", ")
         );
+        warn_obstructions(scene, &ex.names[leaks[0].0]);
     }
 }
 
@@ -290,6 +294,22 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
             leaks.len(),
             worst.join(", ")
         );
+        warn_obstructions(scene, &vf.names[leaks[0].0]);
+    }
+}
+
+/// The obstruction note of [`scene::hints::obstruction_note`] beside a leak warning whose
+/// worst row is `name`, when the facts support it.
+fn warn_obstructions(scene: &Scene, name: &str) {
+    if let Some(note) = scene::hints::obstruction_note(scene, name) {
+        eprintln!("lambert: warning: {note}");
+    }
+}
+
+/// SPEC extension: a panel of an open scene that faces away from every surface it could see.
+fn warn_facing_away(scene: &Scene) {
+    for f in scene::hints::facing_away(scene) {
+        eprintln!("lambert: warning: {}", scene::hints::facing_away_warning(scene, &f));
     }
 }
 
@@ -336,6 +356,7 @@ fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
 /// Adds the outward-normal hint to a refusal that names a row of a closed mesh surface whose
 /// normals all face outward.
 fn with_outward_hint(scene: &Scene, e: Error) -> Error {
+    let e = with_obstruction_note(scene, e);
     let Error::Input(mut ie) = e else { return e };
     let named = ie.surface.as_deref().map(|n| n.split('#').next().unwrap_or(n).to_string());
     let outward = scene::orientation::outward_closed_meshes(scene);
@@ -343,6 +364,30 @@ fn with_outward_hint(scene: &Scene, e: Error) -> Error {
     {
         ie.problem =
             format!("{}. Note: {}", ie.problem, scene::orientation::outward_hint(&scene.surfaces[s].name));
+    }
+    Error::Input(ie)
+}
+
+/// Adds the obstruction note to a leak refusal whose row has obstructions in front of it.
+fn with_obstruction_note(scene: &Scene, e: Error) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    if let Some(note) = ie.surface.as_deref().and_then(|n| scene::hints::obstruction_note(scene, n)) {
+        ie.problem = format!("{}. Note: {note}", ie.problem);
+    }
+    Error::Input(ie)
+}
+
+/// Adds to a leak refusal of `solve --viewfactors FILE` that FILE carries no geometry
+/// fingerprint, so it may belong to another scene with the same names.
+fn with_unstamped_note(e: Error, file: &Path) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    if ie.problem.contains("leaks") {
+        ie.problem = format!(
+            "{}. Note: {} carries no geometry fingerprint (an older or hand-made file), so it may have \
+             been computed for another scene with the same names",
+            ie.problem,
+            file.display()
+        );
     }
     Error::Input(ie)
 }
@@ -400,9 +445,12 @@ fn solve(a: SolveArgs) -> Result<()> {
         cfg.params.tolerance = scene_tolerance(&scene, t)?;
     }
     scene.check_boundary_conditions()?;
+    warn_facing_away(&scene);
     if a.conductances.is_some() {
         // RADK comes from one dense solve over the patches: refuse before any work is done.
         solve::conductance::check_nodes(scene.patches.len())?;
+        let level = if a.viewfactors.is_some() { Level::Surface } else { Level::Patch };
+        solve::conductance::check_deck(&scene, level, cfg.patches)?;
     }
     let mode = match cfg.enforce.as_deref() {
         Some(e) => e.parse()?,
@@ -421,22 +469,28 @@ fn solve(a: SolveArgs) -> Result<()> {
         return outs.commit();
     }
 
-    let vf = match &a.viewfactors {
-        Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
+    let (vf, stamped) = match &a.viewfactors {
+        Some(path) => report::read_vf::read_stamped(path, &scene)?,
         None => {
             exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
             let vf = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
             say_warnings(&vf.warnings);
-            vf
+            (vf, true)
         }
     };
+    if a.conductances.is_some() {
+        solve::conductance::check_deck(&scene, vf.level, cfg.patches)?;
+    }
     if cfg.patches && vf.level == Level::Surface {
         return Err(Error::Usage(
             "--patches needs patch-level view factors (a `viewfactors --patches` file)".into(),
         ));
     }
     let rays = if a.viewfactors.is_none() { hit_rays(&cfg.params) } else { None };
-    let ex = enforced(&scene, &vf, mode, rays)?;
+    let ex = enforced(&scene, &vf, mode, rays).map_err(|e| match (&a.viewfactors, stamped) {
+        (Some(file), false) => with_unstamped_note(e, file),
+        _ => e,
+    })?;
     let sol = match &scene.spectral {
         Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
         None => solve::solve_gray(&scene, &ex, &params)?,

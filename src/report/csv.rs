@@ -1,4 +1,12 @@
 //! CSV writers for SPEC.md outputs. Numbers use Rust's shortest round-trip f64 formatting.
+//!
+//! The `viewfactors` file is `from,to,factor,std_error,method,geometry`. `geometry` holds the
+//! scene's geometry fingerprint ([`crate::scene::fingerprint`]) on the first data row and is
+//! empty on the others: `solve --viewfactors` then refuses a file written for another
+//! geometry. An extra column keeps SPEC's header row first and every row the same width, so
+//! plain CSV readers (pandas, the csv module, spreadsheets) read the file unchanged; a comment
+//! line would push the header down, a sidecar file gets lost, and the value on every row would
+//! add ~25 bytes per entry. Files without the column still load.
 use crate::viewfactor::ViewFactors;
 use crate::{Error, Result};
 use std::io::Write;
@@ -11,11 +19,25 @@ fn csv_err(path: &Path, e: csv::Error) -> Error {
     Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) }
 }
 
-/// Writes `from,to,factor,std_error,method`; open scenes get a `to = ambient` row per source.
-pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &Path) -> Result<()> {
+/// Header of the `viewfactors` file.
+pub const HEADER: [&str; 6] = ["from", "to", "factor", "std_error", "method", GEOMETRY];
+/// Name of the column that carries the geometry fingerprint (first data row only).
+pub const GEOMETRY: &str = "geometry";
+
+/// Writes `from,to,factor,std_error,method,geometry` with the fingerprint `geometry` on the
+/// first row; open scenes get a `to = ambient` row per source.
+pub fn write_viewfactors<W: Write>(
+    out: W,
+    vf: &ViewFactors,
+    open: bool,
+    geometry: &str,
+    path: &Path,
+) -> Result<()> {
     let mut w = csv::Writer::from_writer(out);
     let err = |e| csv_err(path, e);
-    w.write_record(["from", "to", "factor", "std_error", "method"]).map_err(err)?;
+    w.write_record(HEADER).map_err(err)?;
+    let mut stamp = Some(geometry);
+    let mut stamp = move || stamp.take().unwrap_or("");
     for (i, row) in vf.rows.iter().enumerate() {
         for e in row {
             w.write_record([
@@ -24,6 +46,7 @@ pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &
                 &super::fmt_f64(e.factor),
                 &super::fmt_f64(e.std_error),
                 &e.method.to_string(),
+                stamp(),
             ])
             .map_err(err)?;
         }
@@ -39,6 +62,7 @@ pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &
                     &super::fmt_f64(rest),
                     &super::fmt_f64(var.sqrt()),
                     &method.to_string(),
+                    stamp(),
                 ])
                 .map_err(err)?;
             }

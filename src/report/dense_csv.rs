@@ -1,4 +1,4 @@
-//! The `viewfactors` CSV (`from,to,factor,std_error,method`, SPEC.md) streamed from the lean
+//! The `viewfactors` CSV (`from,to,factor,std_error,method,geometry`, SPEC.md) streamed from the lean
 //! packed triangle: rows are formatted in parallel, a block at a time, and written in order,
 //! so the output never exists as a second matrix. Byte for byte the records of [`super::csv`]
 //! (names are CSV-encoded once; numbers by [`super::push_f64`]).
@@ -22,16 +22,32 @@ fn encode(field: &str) -> Result<String> {
 }
 
 /// Writes the view factors F_ij = s̄_ij / A_i of `t` (zeros skipped); open scenes get a
-/// `to = ambient` row with the rest of each row, as [`super::csv::write_viewfactors`].
+/// `to = ambient` row with the rest of each row, and the first row the fingerprint
+/// `geometry`, as [`super::csv::write_viewfactors`].
 pub fn write_triangle<W: Write>(
     mut out: W,
     t: &Triangle,
     names: &[String],
     open: bool,
+    geometry: &str,
     path: &Path,
 ) -> Result<()> {
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
-    out.write_all(b"from,to,factor,std_error,method\n").map_err(io)?;
+    out.write_all(super::csv::HEADER.join(",").as_bytes()).map_err(io)?;
+    out.write_all(b"\n").map_err(io)?;
+    // The first record carries the fingerprint (rows end in an empty `geometry` field).
+    let mut stamp = Some(encode(geometry)?);
+    let mut write = |out: &mut W, text: &str| -> std::io::Result<()> {
+        match (stamp.as_ref(), text.find('\n')) {
+            (Some(g), Some(k)) => {
+                out.write_all(&text.as_bytes()[..k])?;
+                out.write_all(g.as_bytes())?;
+                stamp = None;
+                out.write_all(&text.as_bytes()[k..])
+            }
+            _ => out.write_all(text.as_bytes()),
+        }
+    };
     let names: Vec<String> = names.iter().map(|s| encode(s)).collect::<Result<_>>()?;
     let ambient = encode(super::csv::AMBIENT)?;
     let n = t.n;
@@ -48,7 +64,7 @@ pub fn write_triangle<W: Write>(
     while !pending.is_empty() {
         let next = std::thread::scope(|sc| {
             let job = sc.spawn(|| if lo < n { block(lo) } else { Vec::new() });
-            let written = pending.iter().try_for_each(|text| out.write_all(text.as_bytes()));
+            let written = pending.iter().try_for_each(|text| write(&mut out, text));
             (job.join(), written)
         });
         next.1.map_err(io)?;
@@ -88,7 +104,7 @@ fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize,
             last = Some((method, method.to_string()));
         }
         out.push_str(last.as_ref().map_or("", |l| l.1.as_str()));
-        out.push('\n');
+        out.push_str(",\n");
     }
     let rest = (1.0 - sum).max(0.0);
     if open && rest > 0.0 {
@@ -101,7 +117,7 @@ fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize,
         super::push_f64(&mut out, var_sum.sqrt());
         out.push(',');
         out.push_str(&methods.to_string());
-        out.push('\n');
+        out.push_str(",\n");
     }
     out
 }

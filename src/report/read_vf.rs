@@ -1,7 +1,10 @@
 //! Reads a saved `viewfactors` CSV for `solve --viewfactors` and matches it to a scene:
 //! surface level (names = surfaces) or patch level (`surface#k`), detected from the first row.
 //! Extra columns are ignored, `to = ambient` rows are recomputed, a `std_error` column is kept.
-//! Unknown names, nodes without rows, duplicates and bad numbers are input errors (exit 2).
+//! A `geometry` fingerprint (report::csv) other than the scene's, or two different ones, is
+//! a file written for another geometry; files without one (older files, hand-made exact
+//! factors) load on the names alone. Unknown names, nodes without rows, duplicates and bad
+//! numbers are input errors (exit 2).
 use crate::error::InputError;
 use crate::scene::Scene;
 use crate::viewfactor::{Entry, Level, MethodSet, ViewFactors};
@@ -15,6 +18,12 @@ const LIST: usize = 8;
 
 /// Reads `path` and returns view factors in the scene's node order.
 pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
+    read_stamped(path, scene).map(|(vf, _)| vf)
+}
+
+/// As [`read_viewfactors`], and whether the file carried the scene's geometry fingerprint
+/// (false: an older or hand-made file, matched on its names only).
+pub fn read_stamped(path: &Path, scene: &Scene) -> Result<(ViewFactors, bool)> {
     let bad = |problem: String| InputError::file(path, problem);
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
@@ -26,6 +35,8 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
         return Err(bad("the header must contain from,to,factor (a `lambert viewfactors` CSV)".into()).into());
     };
     let cs = col("std_error");
+    let cg = col(crate::report::csv::GEOMETRY);
+    let mut stamp: Option<(String, usize)> = None;
     let surfaces: HashMap<String, usize> =
         scene.surfaces.iter().enumerate().map(|(i, s)| (s.name.clone(), i)).collect();
     let patches: HashMap<String, usize> =
@@ -39,6 +50,20 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
         let line = rec.position().map_or(0, |p| p.line() as usize);
         let field = |c: usize| rec.get(c).unwrap_or("");
         let (from, to) = (field(cf), field(ct));
+        if let Some(g) = cg.map(field).filter(|g| !g.is_empty()) {
+            match &stamp {
+                None => stamp = Some((g.to_string(), line)),
+                Some((first, at)) if first != g => {
+                    return Err(bad(format!(
+                        "two geometry fingerprints ({first} on line {at}, {g} here): rows of files written \
+                         for different geometries"
+                    ))
+                    .at_line(line)
+                    .into())
+                }
+                Some(_) => {}
+            }
+        }
         let lvl = *level.get_or_insert_with(|| {
             let l = if surfaces.contains_key(from) || !patches.contains_key(from) {
                 Level::Surface
@@ -82,6 +107,19 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
     let Some(level) = level else {
         return Err(bad("the view-factor file has no rows".into()).into());
     };
+    let ours = crate::scene::fingerprint::geometry(scene);
+    if let Some((theirs, at)) = &stamp {
+        if *theirs != ours {
+            return Err(bad(format!(
+                "the view factors were computed for another geometry (fingerprint {theirs}; this scene's \
+                 is {ours}): a different scene, or these surfaces moved, reshaped or subdivided differently. \
+                 Run `lambert viewfactors` on this scene, or, if the geometry is the same in every way the \
+                 factors depend on, empty the geometry field to use the file anyway"
+            ))
+            .at_line(*at)
+            .into());
+        }
+    }
     if !unknown.is_empty() {
         unknown.sort();
         unknown.dedup();
@@ -131,7 +169,7 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
         Level::Patch => sums,
         Level::Surface => scene.patches.iter().map(|p| sums[p.surface]).collect(),
     };
-    Ok(ViewFactors {
+    let vf = ViewFactors {
         level,
         names,
         areas,
@@ -141,5 +179,6 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
         pairs: 0,
         wall: Duration::ZERO,
         warnings: Vec::new(),
-    })
+    };
+    Ok((vf, stamp.is_some()))
 }

@@ -28,7 +28,8 @@ use std::path::{Path, PathBuf};
 pub struct MeshSurface {
     /// Surface name (see the module docs).
     pub name: String,
-    /// Its world-space triangles, front faces counter-clockwise.
+    /// Its world-space polygons, front faces counter-clockwise: triangles (glTF), or one
+    /// polygon per View3D record.
     pub triangles: Vec<Polygon>,
     /// Degenerate triangles dropped.
     pub dropped: usize,

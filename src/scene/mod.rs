@@ -10,6 +10,8 @@
 //! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
 //! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`];
 //! - [`orientation`]: closed mesh surfaces whose normals face outward (leak hints);
+//! - [`hints`]: facts behind other hints (obstructions in an enclosure, panels facing away);
+//! - [`fingerprint`]: the geometry hash that saved view factors carry;
 //! - [`vs3`]: View3D `.vs3` input files (F 3, F 3a) as a model or a whole scene;
 //! - [`bands`]: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
 use crate::error::InputError;
@@ -21,7 +23,9 @@ use std::path::PathBuf;
 
 pub mod assemble;
 pub mod bands;
+pub mod fingerprint;
 pub mod gltf_scene;
+pub mod hints;
 pub mod orientation;
 pub mod patching;
 pub mod props;

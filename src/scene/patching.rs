@@ -8,7 +8,8 @@
 //!   most L. Rectangles and polygons get the coarsest grid whose cell diameter is ≤ L; disks
 //!   use the polygon grid over their regular polygon; mesh triangles are refined uniformly
 //!   into n² triangles, n = ⌈longest edge / L⌉ per triangle (neighbours may then meet at
-//!   T-junctions, which view factors do not mind).
+//!   T-junctions, which view factors do not mind); a mesh's larger polygons (View3D
+//!   quadrilaterals) get the polygon grid.
 //!
 //! Patches keep the surface's orientation, and their areas sum to the surface's area.
 use super::validate::MAX_PATCHES_PER_SURFACE;
@@ -157,7 +158,8 @@ fn gcd(a: usize, b: usize) -> usize {
     }
 }
 
-/// Patches of a triangle mesh: its triangles, refined so no edge exceeds `max_size`.
+/// Patches of a mesh: its triangles, refined so no edge exceeds `max_size`; a larger polygon
+/// (a View3D quadrilateral) is split as [`polygon`] does.
 pub fn mesh(triangles: &[Polygon], max_size: Option<f64>) -> Result<Vec<Polygon>, String> {
     let Some(l) = max_size else { return Ok(triangles.to_vec()) };
     let longest = |t: &Polygon| t.edges().map(|(a, b)| a.distance(b)).fold(0.0, f64::max);
@@ -169,6 +171,11 @@ pub fn mesh(triangles: &[Polygon], max_size: Option<f64>) -> Result<Vec<Polygon>
     let mut out = Vec::with_capacity(total as usize);
     for (t, n) in triangles.iter().zip(counts) {
         let v = t.vertices();
+        if v.len() > 3 {
+            // A View3D quadrilateral: split as any polygon.
+            out.extend(polygon(t, Split::MaxSize(l))?);
+            continue;
+        }
         let pieces = refine_triangle(v[0], v[1], v[2], n as usize)
             .ok_or_else(|| "a refined mesh triangle became degenerate".to_string())?;
         out.extend(pieces);

@@ -9,7 +9,9 @@
 //! starts a comment; `E`/`*` ends the data. What View3D has and lambert cannot express
 //! (subsurfaces with `base > 0`, mask `M` and null `N` surfaces) is refused naming the
 //! record; controls that only steer View3D's own integrator or output are reported and
-//! ignored. Quadrilaterals become two triangles (View3D requires them planar and convex).
+//! ignored. Each record is one polygon (View3D requires quadrilaterals planar and convex), so
+//! a quadrilateral is one patch; a surface that combines several records (`cmb`) is a mesh of
+//! their polygons, one patch each, with the one boundary condition of the surface.
 use super::gltf_scene::{MeshSurface, Model};
 use super::props::{Layer, Role};
 use crate::error::InputError;
@@ -333,7 +335,7 @@ fn build(
     warnings: &mut Vec<String>,
 ) -> Result<Model, InputError> {
     let err = |rec: &Record, p: String| InputError::surface(path, rec.name.clone(), p).at_line(rec.line);
-    let mut pieces: Vec<Vec<Polygon>> = Vec::with_capacity(records.len());
+    let mut pieces: Vec<Polygon> = Vec::with_capacity(records.len());
     for (k, rec) in records.iter().enumerate() {
         let pts: Vec<DVec3> = match &rec.corners {
             Corners::Points(p) => p.clone(),
@@ -353,14 +355,12 @@ fn build(
                 })
                 .collect::<Result<_, _>>()?,
         };
-        let tri = |a: usize, b: usize, c: usize| {
-            Polygon::new(vec![pts[a], pts[b], pts[c]])
-                .map_err(|e| err(rec, format!("surface {}: {}", k + 1, super::validate::polygon_problem(&e))))
-        };
-        // The whole polygon first: planarity and area are checked as for any scene polygon.
-        Polygon::new(pts.clone())
+        // One polygon per record: a quadrilateral is one patch with one heat balance, as in
+        // View3D, so results never depend on a diagonal. Planarity and area are checked as for
+        // any scene polygon.
+        let polygon = Polygon::new(pts)
             .map_err(|e| err(rec, format!("surface {}: {}", k + 1, super::validate::polygon_problem(&e))))?;
-        pieces.push(if pts.len() == 4 { vec![tri(0, 1, 2)?, tri(0, 2, 3)?] } else { vec![tri(0, 1, 2)?] });
+        pieces.push(polygon);
     }
     let mut surfaces: Vec<MeshSurface> = Vec::new();
     let mut slot = vec![usize::MAX; records.len()];
@@ -393,7 +393,7 @@ fn build(
                     path.display(), rec.line, k + 1, rec.name, rec.emit, rec.combine, records[target].name, records[target].emit, records[target].emit
                 ));
             }
-            surfaces[slot[target]].triangles.extend(pieces[k].iter().cloned());
+            surfaces[slot[target]].triangles.push(pieces[k].clone());
             continue;
         }
         let mut extras = Layer::new("the View3D file", path, Some(rec.line));
@@ -423,7 +423,7 @@ fn build(
             ));
         }
         slot[k] = surfaces.len();
-        surfaces.push(MeshSurface { name, triangles: pieces[k].clone(), dropped: 0, extras });
+        surfaces.push(MeshSurface { name, triangles: vec![pieces[k].clone()], dropped: 0, extras });
     }
     Ok(Model { file: PathBuf::from(path), surfaces, extra_files: Vec::new() })
 }

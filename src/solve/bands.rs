@@ -203,6 +203,7 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
         }
         // δT = −J⁻¹ r, damped to keep T positive and steps within half the current T.
         let m = flux.len();
+        direct::fix_parallelism();
         let jm = Mat::from_fn(m, m, |a, b| jac[a][b]);
         let rhs = Mat::from_fn(m, 1, |a, _| -r[a]);
         let d = faer::linalg::solvers::Solve::solve(&jm.partial_piv_lu(), &rhs);

@@ -6,11 +6,14 @@
 //! share one factorisation of K. The ambient (open scenes) is a black node: its column is the
 //! solve with E_b∞ = 1, its row RADK_∞j = Σ_i S_i∞ J_i^(j) (everything reaching it is
 //! absorbed). Symmetry and row sums Σ_j RADK_ij = A_i ε_i are properties to test, not imposed.
+//! [`check_deck`] refuses, before any work, a deck whose nodes could not reproduce the solve.
 use super::direct;
 use super::system::{self, RowKind};
 use super::Params;
+use crate::error::InputError;
 use crate::exchange::Exchange;
-use crate::scene::Scene;
+use crate::scene::{BoundaryCondition, Scene};
+use crate::viewfactor::Level;
 use crate::{Error, Result};
 use faer::Mat;
 
@@ -53,6 +56,57 @@ pub fn check_nodes(n: usize) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// Refuses a deck that could not reproduce the solve it comes with, before any work:
+/// - semi-gray bands whose emissivities differ from a surface's gray one: RADK is a gray
+///   quantity, and band-wise exchange makes it depend on the temperatures;
+/// - per-surface nodes (`patches` false) over a patch-level exchange (`exchange`) when a
+///   surface with a heat-flux condition has several patches: the solve gives each patch its
+///   own temperature, which one network node cannot carry, so the summed conductances would
+///   give other heat rates than the solve (the cube furnace's floor: 5 % off). A surface
+///   with a temperature condition is isothermal, and its summed conductances are exact.
+pub fn check_deck(scene: &Scene, exchange: Level, patches: bool) -> Result<()> {
+    if let Some(sp) = &scene.spectral {
+        let gray = |s: usize| sp.emissivity[s].iter().all(|&e| e == scene.surfaces[s].emissivity);
+        if let Some(s) = (0..scene.surfaces.len()).find(|&s| !gray(s)) {
+            let bands: Vec<String> = sp.emissivity[s].iter().map(|e| e.to_string()).collect();
+            return Err(Error::Unsupported(format!(
+                "{}: --conductances writes gray conductances, but surface '{}' has band emissivities {} \
+                 ([[band]] table): with semi-gray bands the exchange depends on the temperatures, so no \
+                 gray deck reproduces the solve",
+                scene.source.display(),
+                scene.surfaces[s].name,
+                bands.join(", ")
+            )));
+        }
+    }
+    if patches || exchange == Level::Surface {
+        return Ok(());
+    }
+    let lumped: Vec<&crate::scene::Surface> = scene
+        .surfaces
+        .iter()
+        .filter(|s| s.patches.len() > 1 && matches!(s.condition, Some(BoundaryCondition::HeatFlux(_))))
+        .collect();
+    let Some(first) = lumped.first() else { return Ok(()) };
+    let more = match lumped.len() {
+        1 => String::new(),
+        n => format!(" ({} more such surfaces)", n - 1),
+    };
+    Err(InputError::surface(
+        &scene.source,
+        &first.name,
+        format!(
+            "--conductances per surface: this surface has a heat_flux condition over {} patches{more}, and \
+             the solve gives each patch its own temperature; one network node per surface cannot carry \
+             them, so the summed conductances would not reproduce the solve's heat rates. Add --patches \
+             for a deck over the patches (nodes {}#0, ...), or give the surface one patch",
+            first.patches.len(),
+            first.name
+        ),
+    )
+    .into())
 }
 
 /// Computes RADK for the nodes of `ex` (plus the ambient for open scenes).

@@ -6,13 +6,16 @@
 //!   then does dense work at sparse-kernel speed and memory;
 //! - otherwise sparse LLT (AMD ordering) with the symbolic analysis cached in [`Cache`] and
 //!   reused when only the values change (bands, conductances); sparse LU as the fallback.
+//!
+//! faer runs sequentially ([`FAER_PAR`]), so every factor and solve is the same on any
+//! thread count.
 use super::system::Csr;
 use crate::{Error, Result};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::cholesky;
 use faer::sparse::linalg::solvers::{Llt as SpLlt, Lu as SpLu, SymbolicLlt};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Mat, Side};
+use faer::{Mat, Par, Side};
 
 /// Largest unknown count solved densely. Measured (validation/solve.md; crates.md §2): on full
 /// view-factor fill dense LLT factors faster than sparse LLT at N = 2,000 (70 vs 229 ms
@@ -74,6 +77,7 @@ impl Factor {
 
     /// Solves K X = B for several right-hand sides.
     pub fn solve_many(&self, b: Mat<f64>) -> Mat<f64> {
+        fix_parallelism();
         match self {
             Factor::DenseLlt(f) => f.solve(&b),
             Factor::DenseLu(f) => f.solve(&b),
@@ -84,9 +88,25 @@ impl Factor {
     }
 }
 
+/// faer's parallelism for every factorisation and solve: sequential. faer's parallel kernels
+/// split sums (a mat-vec's inner dimension, for one) into as many parts as threads, so the
+/// last digits of a dense LLT followed the thread count; `solve --viewfactors` and
+/// `--conductances` differed between `--threads 1` and `2`. A fixed split (`Par::rayon(2)`)
+/// is also deterministic but rests on faer internals, and measured no faster here: dense LLT
+/// of N = 3,750 took 0.98–1.29 s sequential, 1.18–1.57 s on all threads and 1.15–1.73 s
+/// split in two (2 cores shared with other work). The lean, hierarchical and iterative paths
+/// do not use faer.
+pub const FAER_PAR: Par = Par::Seq;
+
+/// Sets [`FAER_PAR`] as faer's global parallelism (faer's solvers read only the global).
+pub fn fix_parallelism() {
+    faer::set_global_parallelism(FAER_PAR);
+}
+
 /// Factorises K: dense up to `dense_max` unknowns, and up to `dense_full_max` when the factor
 /// would be mostly full ([`DENSE_FILL`]); sparse otherwise. LLT first, LU on failure.
 pub fn factor(k: &Csr, dense_max: usize, dense_full_max: usize, cache: &mut Cache) -> Result<Factor> {
+    fix_parallelism();
     let n = k.n();
     if n == 0 {
         return Ok(Factor::Empty);
