@@ -61,6 +61,10 @@ pub struct ModelEntry {
     pub model: Model,
     /// The `[[model]]` entry's properties.
     pub layer: Layer,
+    /// The mesh checks of a glTF, STL or OBJ file.
+    pub report: Option<super::hygiene::MeshReport>,
+    /// Notes from reading the file.
+    pub notes: Vec<String>,
 }
 
 /// Builds the scene; `defaults` is the `[defaults]` layer (empty when absent).
@@ -189,6 +193,15 @@ pub fn assemble(
     }
     scene.condition_errors = conflicts;
     scene.warnings = warnings;
+    for entry in models {
+        scene.warnings.extend(entry.notes);
+        if let Some(r) = entry.report {
+            let stl = r.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"));
+            let lines = super::hygiene::warnings(&r, &scene, stl);
+            scene.warnings.extend(lines);
+            scene.meshes.push(r);
+        }
+    }
     Ok(scene)
 }
 
