@@ -46,7 +46,7 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
     check_vtk(&a.common.vtk)?;
-    let scene = scene::load(&cfg.scene)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.mesh)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
@@ -151,8 +151,14 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
     if mode == Enforce::None {
         warn_dense_leaks(scene, &ex);
     } else {
-        let p = EnforceParams { mode, open, source: scene.source.clone(), ..Default::default() };
-        let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
+        let p = EnforceParams {
+            mode,
+            open,
+            source: scene.source.clone(),
+            facts: facts(scene),
+            ..Default::default()
+        };
+        let rep = exchange::dense::enforce(&mut ex, &p)?;
         print_enforcement(mode, &rep);
     }
     let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
@@ -196,13 +202,8 @@ fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
     }
     let leaks = exchange::dense::leaks(&ex.t);
     if !leaks.is_empty() {
-        let outward = scene::orientation::outward_closed_meshes(scene);
-        let mut named: Vec<usize> =
-            leaks.iter().map(|&(i, _, _)| scene.patches[i].surface).filter(|s| outward.contains(s)).collect();
-        named.dedup();
-        for s in named {
-            eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
-        }
+        let rows: Vec<(usize, f64)> = leaks.iter().map(|l| (l.0, l.1)).collect();
+        warn_leak_hint(scene, &exchange::leak::rows_from_triangle(&ex.t, &ex.names, &rows));
         let worst: Vec<String> = leaks
             .iter()
             .take(5)
@@ -232,17 +233,7 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
         }
     }
     if !leaks.is_empty() {
-        let surface_of = |i: usize| match vf.level {
-            Level::Surface => i,
-            Level::Patch => scene.patches[i].surface,
-        };
-        let outward = scene::orientation::outward_closed_meshes(scene);
-        let mut named: Vec<usize> =
-            leaks.iter().map(|&(i, _)| surface_of(i)).filter(|s| outward.contains(s)).collect();
-        named.dedup();
-        for s in named {
-            eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
-        }
+        warn_leak_hint(scene, &exchange::leak::rows_from_viewfactors(vf, &leaks));
         let worst: Vec<String> =
             leaks.iter().take(5).map(|&(i, s)| format!("{} (row sum {})", vf.names[i], row_sum(s))).collect();
         eprintln!(
@@ -250,6 +241,19 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
             leaks.len(),
             worst.join(", ")
         );
+    }
+}
+
+/// The geometry facts that leak hints are checked against.
+fn facts(scene: &Scene) -> Option<std::sync::Arc<scene::orientation::SceneFacts>> {
+    Some(std::sync::Arc::new(scene::orientation::SceneFacts::of(scene)))
+}
+
+/// Prints the hint for leaking `rows`, when the geometry facts name a cause.
+fn warn_leak_hint(scene: &Scene, rows: &[exchange::leak::LeakRow]) {
+    let hint = exchange::leak::hint(&scene::orientation::SceneFacts::of(scene), rows);
+    if !hint.is_empty() {
+        eprintln!("lambert: warning: {hint}");
     }
 }
 
@@ -274,9 +278,14 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
             ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
         }
     }
-    let p =
-        EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
-    let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
+    let p = EnforceParams {
+        mode,
+        open: !scene.is_closed(),
+        source: scene.source.clone(),
+        facts: facts(scene),
+        ..Default::default()
+    };
+    let rep = exchange::enforce(&mut ex, &p)?;
     print_enforcement(mode, &rep);
     Ok(ex)
 }
@@ -291,20 +300,6 @@ fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
         rep.iterations,
         rep.after
     );
-}
-
-/// Adds the outward-normal hint to a refusal that names a row of a closed mesh surface whose
-/// normals all face outward.
-fn with_outward_hint(scene: &Scene, e: Error) -> Error {
-    let Error::Input(mut ie) = e else { return e };
-    let named = ie.surface.as_deref().map(|n| n.split('#').next().unwrap_or(n).to_string());
-    let outward = scene::orientation::outward_closed_meshes(scene);
-    if let Some(s) = outward.into_iter().find(|&s| named.as_deref() == Some(scene.surfaces[s].name.as_str()))
-    {
-        ie.problem =
-            format!("{}. Note: {}", ie.problem, scene::orientation::outward_hint(&scene.surfaces[s].name));
-    }
-    Error::Input(ie)
 }
 
 /// Rays per patch when the method counts hits with equal weights.
@@ -348,7 +343,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         (None, Some(path)) => DeckFormat::from_path(path)?,
         (None, None) => DeckFormat::Csv,
     };
-    let scene = scene::load(&cfg.scene)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.mesh)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
@@ -505,8 +500,7 @@ fn clustered_solve(
         tolerance: (tol * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE),
         ..cfg.params.clone()
     };
-    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)
-        .map_err(|e| with_outward_hint(scene, e))?;
+    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)?;
     print_enforcement(mode, &run.report);
     if let Some((loose, s)) = &run.first {
         eprintln!(
@@ -572,7 +566,7 @@ fn lean_solve(
     if !lean_served(scene, vf, a, mode, params) {
         return Ok(None);
     }
-    let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_outward_hint(scene, e))?;
+    let run = solve::dense::solve_scene(scene, vf, mode, params)?;
     let Some(run) = run else { return Ok(None) };
     print_enforcement(mode, &run.report);
     eprintln!(
@@ -633,7 +627,7 @@ fn render(a: RenderArgs) -> Result<()> {
     }
     let size = parse_size(&a.size)?;
     let range = a.range.as_deref().map(parse_range).transpose()?;
-    let scene = scene::load(&a.scene)?;
+    let scene = scene::load_with(&a.scene, &super::config::mesh_options(&a.mesh)?)?;
     let camera = match &a.camera {
         Some(spec) => Camera::frame(&scene).with_spec(spec)?,
         None => Camera::frame(&scene),

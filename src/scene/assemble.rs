@@ -196,8 +196,7 @@ pub fn assemble(
     for entry in models {
         scene.warnings.extend(entry.notes);
         if let Some(r) = entry.report {
-            let stl = r.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"));
-            let lines = super::hygiene::warnings(&r, &scene, stl);
+            let lines = super::hygiene::warnings(&r, &scene);
             scene.warnings.extend(lines);
             scene.meshes.push(r);
         }

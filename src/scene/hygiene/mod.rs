@@ -22,7 +22,7 @@ use std::path::PathBuf;
 
 pub mod intersect;
 pub mod repair;
-mod warn;
+pub mod warn;
 
 pub use warn::warnings;
 

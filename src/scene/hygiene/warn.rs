@@ -2,8 +2,8 @@
 //!
 //! Open edges are said only in closed scenes and only for exchanging surfaces (an open panel
 //! in an open scene, or a thin shade, is normal). A closed component facing inward is said
-//! when it does not enclose the rest of the scene (an enclosure faces inward by design), and
-//! always for STL, whose format prescribes outward normals.
+//! when it does not enclose the rest of the scene: an enclosure faces inward by design, a
+//! body inside one must not.
 use super::{Example, MeshReport, SLIVER_ASPECT};
 use crate::scene::Scene;
 use glam::DVec3;
@@ -12,7 +12,7 @@ use glam::DVec3;
 const ENCLOSE_SLACK: f64 = 1e-6;
 
 /// The warning lines for `r` in `scene` (already assembled).
-pub fn warnings(r: &MeshReport, scene: &Scene, outward_convention: bool) -> Vec<String> {
+pub fn warnings(r: &MeshReport, scene: &Scene) -> Vec<String> {
     let file = r.file.display();
     let at = |e: &Example| format!("surface '{}' triangle {}", r.name(e.at), e.at.index);
     let mut out = Vec::new();
@@ -81,7 +81,7 @@ pub fn warnings(r: &MeshReport, scene: &Scene, outward_convention: bool) -> Vec<
             at(&e)
         ));
     }
-    out.extend(inward_line(r, scene, outward_convention));
+    out.extend(inward_line(r, scene));
     if let (n, Some(e)) = (r.slivers.count, r.slivers.worst) {
         out.push(format!(
             "{file}: {n} sliver triangles (aspect ratio above {SLIVER_ASPECT:e}: longest edge over the height on \
@@ -136,22 +136,18 @@ fn repair_line(r: &MeshReport, log: &super::repair::RepairLog) -> String {
     line
 }
 
-fn inward_line(r: &MeshReport, scene: &Scene, outward_convention: bool) -> Option<String> {
+fn inward_line(r: &MeshReport, scene: &Scene) -> Option<String> {
     let (lo, hi) = scene_box(scene);
     let slack = ENCLOSE_SLACK * (hi - lo).length();
     let encloses = |c: &super::Component| c.lo.cmple(lo + slack).all() && c.hi.cmpge(hi - slack).all();
     let inward: Vec<&super::Component> =
-        r.components.iter().filter(|c| c.is_inward() && (outward_convention || !encloses(c))).collect();
+        r.components.iter().filter(|c| c.is_inward() && !encloses(c)).collect();
     let first = inward.first()?;
     let names: Vec<&str> = first.surfaces.iter().map(|&s| r.surfaces[s].name.as_str()).collect();
-    let why = if outward_convention {
-        "STL prescribes outward normals"
-    } else {
-        "it does not enclose the rest of the scene, as an enclosure would"
-    };
     Some(format!(
-        "{}: {} closed component(s) face inward (negative volume), e.g. the one of surface '{}' ({:.3e} m³): \
-         it is seen from inside; {why}. A body must face the other way; repair turns it",
+        "{}: {} closed component(s) face inward (negative volume) without enclosing the rest of the scene, \
+         e.g. the one of surface '{}' ({:.3e} m³): it is seen from inside, as an enclosure is; a body must \
+         face the other way (repair turns it)",
         r.file.display(),
         inward.len(),
         names.join("', '"),

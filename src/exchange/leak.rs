@@ -1,0 +1,249 @@
+//! Why a closed scene leaks: the hint printed with a leak warning or refusal, checked against
+//! the geometry facts ([`SceneFacts`]) before it is said.
+//!
+//! In order, each cause is named only when the facts show it:
+//! 1. mesh surfaces wound against themselves (repair flips them);
+//! 2. closed meshes facing inward inside the scene (flipped bodies);
+//! 3. an opening: the surfaces' area vectors do not cancel (|Σ A n| bounds the opening's
+//!    projected area from below), with the open meshes and their boundary-edge counts;
+//! 4. no enclosure: everything faces outward. A body is never told to flip; only a closed
+//!    mesh that surrounds the whole scene is offered the flip, beside `[ambient]`;
+//! 5. sampling: the geometry shows none of the above and every leaking row carries sampled
+//!    entries (std_error > 0). Then sampling, not geometry, is named, with the rows, the
+//!    worst sampled entry and the rows that are slivers.
+//!
+//! [`rows_from_viewfactors`], [`rows_from_exchange`] and [`rows_from_triangle`] read the
+//! leaking rows' sampled entries from each store.
+use super::Exchange;
+use crate::scene::orientation::SceneFacts;
+use crate::viewfactor::triangle::Triangle;
+use crate::viewfactor::ViewFactors;
+
+/// Leaking rows named in a hint.
+const NAMED_ROWS: usize = 5;
+
+/// A sampled entry of a leaking row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampledEntry {
+    /// Column name.
+    pub to: String,
+    /// F(row → to).
+    pub factor: f64,
+    /// Its standard error.
+    pub std_error: f64,
+}
+
+/// One leaking row and its sampled entries.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeakRow {
+    /// Row name (`surface` or `surface#k`).
+    pub name: String,
+    /// Σ_j F_ij.
+    pub row_sum: f64,
+    /// Entries with a standard error.
+    pub sampled: usize,
+    /// The one with the largest standard error.
+    pub worst: Option<SampledEntry>,
+}
+
+impl LeakRow {
+    fn new(name: &str, row_sum: f64) -> Self {
+        Self { name: name.to_string(), row_sum, sampled: 0, worst: None }
+    }
+    fn add(&mut self, to: &str, factor: f64, std_error: f64) {
+        if std_error > 0.0 {
+            self.sampled += 1;
+            if self.worst.as_ref().is_none_or(|w| std_error > w.std_error) {
+                self.worst = Some(SampledEntry { to: to.to_string(), factor, std_error });
+            }
+        }
+    }
+}
+
+/// The leaking rows `(row, row sum)` of a view-factor matrix.
+pub fn rows_from_viewfactors(vf: &ViewFactors, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+    leaks
+        .iter()
+        .map(|&(i, sum)| {
+            let mut r = LeakRow::new(&vf.names[i], sum);
+            for e in &vf.rows[i] {
+                r.add(&vf.names[e.to as usize], e.factor, e.std_error);
+            }
+            r
+        })
+        .collect()
+}
+
+/// The leaking rows `(row, row sum)` of a sparse exchange matrix.
+pub fn rows_from_exchange(ex: &Exchange, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+    let (ip, cols, s) = (ex.indptr(), ex.s.indices(), ex.s.data());
+    leaks
+        .iter()
+        .map(|&(i, sum)| {
+            let mut r = LeakRow::new(&ex.names[i], sum);
+            for k in ip[i]..ip[i + 1] {
+                let a = ex.areas[i];
+                r.add(&ex.names[cols[k]], s[k] / a, ex.var[k].sqrt() / a);
+            }
+            r
+        })
+        .collect()
+}
+
+/// The leaking rows `(row, row sum)` of the packed store, whose sampled entries are its
+/// exceptions with a variance (one pass over them).
+pub fn rows_from_triangle(t: &Triangle, names: &[String], leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+    let mut slot = vec![usize::MAX; t.n];
+    let mut rows: Vec<LeakRow> = leaks
+        .iter()
+        .enumerate()
+        .map(|(k, &(i, sum))| {
+            slot[i] = k;
+            LeakRow::new(&names[i], sum)
+        })
+        .collect();
+    for (a, list) in t.exceptions.iter().enumerate() {
+        for e in list.iter().filter(|e| e.var > 0.0) {
+            let (b, s, sd) = (e.j as usize, t.get(a, e.j as usize), e.var.sqrt());
+            if slot[a] != usize::MAX {
+                rows[slot[a]].add(&names[b], s / t.areas[a], sd / t.areas[a]);
+            }
+            if b != a && slot[b] != usize::MAX {
+                rows[slot[b]].add(&names[a], s / t.areas[b], sd / t.areas[b]);
+            }
+        }
+    }
+    rows
+}
+
+/// The hint for `rows` (worst first), or an empty string when the facts name no cause.
+pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
+    let mut says: Vec<String> = Vec::new();
+    let leaking: Vec<usize> = rows.iter().filter_map(|r| facts.surface_of(&r.name)).collect();
+    let on_leaking = |name: &str| leaking.iter().any(|&s| facts.names[s] == name);
+
+    // 1. Winding.
+    for d in facts.defects.iter().filter(|d| d.against > 0) {
+        says.push(format!(
+            "surface '{}' has {} triangles wound against their neighbours, so part of it faces the wrong way; \
+             repair = true (or --repair) flips them",
+            d.surface, d.against
+        ));
+    }
+    // 2. Inward bodies inside the scene.
+    for b in facts.bodies.iter().filter(|b| b.volume < 0.0 && !b.encloses_scene) {
+        says.push(format!(
+            "a closed mesh of surface '{}' ({:.3e} m³) faces inward inside the scene: it is seen from inside \
+             and shows its back to the rest; if it is a body, reverse its winding (repair = true turns it \
+             outward)",
+            b.surfaces.join("', '"),
+            -b.volume
+        ));
+    }
+    // 3. An opening.
+    let open: Vec<String> = facts
+        .defects
+        .iter()
+        .filter(|d| d.boundary_edges > 0 && (on_leaking(&d.surface) || facts.all_checked_meshes))
+        .map(|d| format!("'{}' is an open mesh, {} boundary edges", d.surface, d.boundary_edges))
+        .collect();
+    if !facts.closes() {
+        let mut s = format!(
+            "the exchanging surfaces do not close: their area vectors sum to {:.3e} m² ({:.1e} of their area) \
+             where a closed set sums to 0, so an opening at least that large, or surfaces facing the wrong way",
+            facts.area_vector,
+            facts.area_vector / facts.area
+        );
+        if !open.is_empty() {
+            s.push_str(&format!(" ({})", open.join("; ")));
+        }
+        s.push_str(&format!("; close it, or {}", ambient_advice(facts)));
+        says.push(s);
+    } else if facts.all_checked_meshes && !open.is_empty() {
+        says.push(format!("{}; radiation leaves through the openings", open.join("; ")));
+    }
+    // 4. No enclosure: everything faces outward.
+    let outward: Vec<&crate::scene::orientation::Body> =
+        facts.bodies.iter().filter(|b| b.volume > 0.0).collect();
+    if facts.closes() && facts.volume >= 0.0 && !outward.is_empty() {
+        let around: Vec<_> = outward.iter().filter(|b| b.encloses_scene).collect();
+        if let [b] = around.as_slice() {
+            says.push(format!(
+                "surface '{}' is a closed mesh whose normals all face outward around the rest of the scene, so \
+                 it sees nothing from inside; if it is the enclosure, reverse its triangles' winding (flip its \
+                 normals); if the scene is open, {}",
+                b.surfaces.join("', '"),
+                ambient_advice(facts)
+            ));
+        } else {
+            let mut names: Vec<String> = Vec::new();
+            for b in &outward {
+                let n = b.surfaces.join("', '");
+                if !names.contains(&n) {
+                    names.push(n);
+                }
+            }
+            says.push(format!(
+                "nothing encloses the scene: its {} closed meshes (of surface '{}') face outward, bodies seen \
+                 from outside, and no surface surrounds them, so the scene is open: {}",
+                outward.len(),
+                names.join("', '"),
+                ambient_advice(facts)
+            ));
+        }
+    }
+    if !says.is_empty() {
+        return sentences(&says);
+    }
+    // 5. Sampling.
+    if rows.is_empty() || rows.iter().any(|r| r.sampled == 0) {
+        return String::new();
+    }
+    let named: Vec<String> = rows
+        .iter()
+        .take(NAMED_ROWS)
+        .map(|r| format!("{} (row sum {:.6}, {} sampled entries)", r.name, r.row_sum, r.sampled))
+        .collect();
+    let worst = rows
+        .iter()
+        .filter_map(|r| r.worst.as_ref().map(|w| (r, w)))
+        .max_by(|a, b| a.1.std_error.total_cmp(&b.1.std_error));
+    let mut s = format!(
+        "the geometry shows no cause (the surfaces' area vectors cancel, {}no mesh is wound against itself) \
+         and every leaking row carries sampled entries: sampling, not geometry, is the cause. Rows: {}",
+        if facts.all_checked_meshes { "every mesh is closed, " } else { "" },
+        named.join(", ")
+    );
+    if let Some((r, w)) = worst {
+        s.push_str(&format!(
+            "; worst sampled entry {} → {}: F = {:.6e} ± {:.1e}",
+            r.name, w.to, w.factor, w.std_error
+        ));
+    }
+    let slivers = rows
+        .iter()
+        .filter(|r| facts.patch_of(&r.name).is_some_and(|p| facts.sliver_patches.contains(&p)))
+        .count();
+    if slivers > 0 {
+        s.push_str(&format!("; {slivers} of these rows are sliver triangles (repair = true drops slivers)"));
+    }
+    s.push_str("; a tighter --tolerance or -m analytic computes these pairs again");
+    sentences(&[s])
+}
+
+/// Sentences joined, each starting with a capital letter.
+fn sentences(parts: &[String]) -> String {
+    let cap = |s: &String| {
+        let mut c = s.chars();
+        c.next().map(|f| f.to_uppercase().chain(c).collect::<String>()).unwrap_or_default()
+    };
+    parts.iter().map(cap).collect::<Vec<_>>().join(". ")
+}
+
+fn ambient_advice(facts: &SceneFacts) -> &'static str {
+    if facts.bare {
+        "load the file as a [[model]] of a TOML scene with an [ambient] (a bare mesh scene is closed)"
+    } else {
+        "add an [ambient]"
+    }
+}
