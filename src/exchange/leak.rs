@@ -247,3 +247,114 @@ fn ambient_advice(facts: &SceneFacts) -> &'static str {
         "add an [ambient]"
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::orientation::{Body, MeshDefect};
+
+    /// A room (inward, around everything) with a part inside (outward): closed and enclosed.
+    fn room_and_part() -> SceneFacts {
+        SceneFacts {
+            names: vec!["room".into(), "part".into()],
+            patch_start: vec![0, 6],
+            area_vector: 0.0,
+            area: 60.0,
+            volume: -26.0,
+            bodies: vec![
+                Body { surfaces: vec!["room".into()], volume: -27.0, encloses_scene: true },
+                Body { surfaces: vec!["part".into()], volume: 1.0, encloses_scene: false },
+            ],
+            all_checked_meshes: true,
+            sliver_patches: vec![7],
+            ..SceneFacts::default()
+        }
+    }
+
+    fn row(name: &str, sum: f64, sampled: &[(&str, f64, f64)]) -> LeakRow {
+        let mut r = LeakRow::new(name, sum);
+        for &(to, f, sd) in sampled {
+            r.add(to, f, sd);
+        }
+        r
+    }
+
+    #[test]
+    fn sampled_rows_in_a_sound_scene_blame_sampling_and_name_the_worst_entry() {
+        let rows = [
+            row("part#1", 0.906, &[("room#2", 0.1, 1e-4), ("room#3", 0.2, 3e-3), ("part#4", 0.1, 0.0)]),
+            row("room#0", 0.95, &[("part#1", 0.05, 1e-3)]),
+        ];
+        let h = hint(&room_and_part(), &rows);
+        assert!(h.starts_with("The geometry shows no cause"), "{h}");
+        assert!(h.contains("sampling, not geometry, is the cause"), "{h}");
+        assert!(h.contains(
+            "part#1 (row sum 0.906000, 2 sampled entries), room#0 (row sum 0.950000, 1 sampled entries)"
+        ));
+        assert!(h.contains("worst sampled entry part#1 → room#3: F = 2.000000e-1 ± 3.0e-3"), "{h}");
+        assert!(h.contains("1 of these rows are sliver triangles"), "{h}");
+        assert!(!h.contains("reverse") && !h.contains("flip"), "{h}");
+    }
+
+    #[test]
+    fn a_row_without_sampled_entries_is_not_blamed_on_sampling() {
+        let rows =
+            [row("part#1", 0.9, &[("room#2", 0.1, 1e-4)]), row("room#0", 0.9, &[("part#1", 0.1, 0.0)])];
+        assert_eq!(hint(&room_and_part(), &rows), "");
+    }
+
+    #[test]
+    fn geometry_causes_come_before_sampling() {
+        let mut f = room_and_part();
+        f.defects.push(MeshDefect { surface: "part".into(), boundary_edges: 0, against: 3 });
+        let rows = [row("part#1", 0.9, &[("room#2", 0.1, 1e-4)])];
+        let h = hint(&f, &rows);
+        assert!(
+            h.contains("Surface 'part' has 3 triangles wound against their neighbours")
+                && !h.contains("sampling")
+        );
+        // An opening: the area vectors do not cancel, the open mesh is named.
+        let mut f = room_and_part();
+        f.area_vector = 0.5;
+        f.defects.push(MeshDefect { surface: "room".into(), boundary_edges: 4, against: 0 });
+        let h = hint(&f, &[row("room#0", 0.9, &[])]);
+        assert!(h.contains("do not close") && h.contains("'room' is an open mesh, 4 boundary edges"), "{h}");
+        assert!(h.contains("add an [ambient]") && !h.contains("reverse"), "{h}");
+    }
+
+    #[test]
+    fn outward_bodies_without_an_enclosure_are_never_told_to_flip() {
+        let f = SceneFacts {
+            names: vec!["a".into(), "b".into()],
+            patch_start: vec![0, 10],
+            area: 10.0,
+            volume: 2.0,
+            bodies: vec![
+                Body { surfaces: vec!["a".into()], volume: 1.0, encloses_scene: false },
+                Body { surfaces: vec!["b".into()], volume: 1.0, encloses_scene: false },
+            ],
+            bare: true,
+            ..SceneFacts::default()
+        };
+        let h = hint(&f, &[row("a", 0.0, &[]), row("b", 0.0, &[])]);
+        assert!(
+            h.starts_with("Nothing encloses the scene: its 2 closed meshes (of surface 'a', 'b')"),
+            "{h}"
+        );
+        assert!(h.contains("[[model]] of a TOML scene with an [ambient]") && !h.contains("reverse"), "{h}");
+        // One outward mesh around everything may be a wrongly wound enclosure: both options.
+        let f = SceneFacts {
+            bodies: vec![Body { surfaces: vec!["room".into()], volume: 27.0, encloses_scene: true }],
+            names: vec!["room".into()],
+            patch_start: vec![0],
+            area: 54.0,
+            volume: 27.0,
+            ..SceneFacts::default()
+        };
+        let h = hint(&f, &[row("room", 0.0, &[])]);
+        assert!(
+            h.contains("if it is the enclosure, reverse its triangles' winding")
+                && h.contains("add an [ambient]")
+        );
+    }
+}

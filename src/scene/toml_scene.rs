@@ -84,7 +84,17 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
             .into());
         }
         let opts = mesh_options(m).map_err(|(o, p)| err(None, o, format!("{where_}: {p}")))?;
-        let is_vs3 = full.extension().is_some_and(|e| e.eq_ignore_ascii_case("vs3"));
+        let ext = full.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let is_vs3 = ext.as_deref() == Some("vs3");
+        if matches!(ext.as_deref(), Some("gltf" | "glb")) {
+            let key = |k: &Option<Spanned<String>>| k.as_ref().map(|s| s.span().start);
+            if let (Some(at), true) = (key(&m.unit), opts.unit != Unit::M) {
+                return Err(err(None, at, format!("{where_}: glTF is in metres by its specification; unit applies to STL and OBJ models")).into());
+            }
+            if let Some(at) = key(&m.split) {
+                return Err(err(None, at, format!("{where_}: a glTF model is split by its nodes (one surface per mesh node); split applies to STL and OBJ models")).into());
+            }
+        }
         if is_vs3 && opts != MeshOptions::default() {
             return Err(err(
                 None,

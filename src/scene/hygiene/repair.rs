@@ -3,13 +3,14 @@
 //! 2. drop slivers (aspect ratio above [`super::SLIVER_ASPECT`]); a sliver inside a closed
 //!    mesh leaves a hole of its own area, so the edges this opens are counted and said;
 //! 3. flip the triangles wound against the majority of their orientation patch;
-//! 4. turn closed components that face inward (negative volume) outward, as STL prescribes
-//!    and as a body needs; an enclosure meant to be seen from inside is then turned too,
-//!    which the log says.
+//! 4. turn closed components that face inward (negative volume) outward, as a body needs,
+//!    except one whose box holds another component of the file: an enclosure around bodies
+//!    stays as it is. A lone inward shell (an empty room) is turned, and the log says so.
 //!
 //! Self-intersections and non-manifold edges are reported, never changed.
 use super::{aspect, majority_flips, SLIVER_ASPECT};
 use crate::scene::mesh::TriMesh;
+use glam::DVec3;
 
 /// What repair changed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -92,18 +93,20 @@ pub fn repair(mesh: &mut TriMesh) -> RepairLog {
     }
     let mut volume = vec![0.0; n];
     let mut origin = vec![None; n];
+    let mut boxes = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); n];
     for (t, &c) in ids.iter().enumerate() {
         let [a, b, p] = mesh.corners(t);
         let o = *origin[c as usize].get_or_insert(a);
         volume[c as usize] += (a - o).dot((b - o).cross(p - o));
+        let bx = &mut boxes[c as usize];
+        *bx = (bx.0.min(a.min(b).min(p)), bx.1.max(a.max(b).max(p)));
     }
-    for c in 0..n {
-        if closed[c] && volume[c] < 0.0 {
-            log.turned_components += 1;
-        }
-    }
+    let holds = |c: usize, d: usize| boxes[c].0.cmplt(boxes[d].0).all() && boxes[c].1.cmpgt(boxes[d].1).all();
+    let turn: Vec<bool> =
+        (0..n).map(|c| closed[c] && volume[c] < 0.0 && !(0..n).any(|d| d != c && holds(c, d))).collect();
+    log.turned_components = turn.iter().filter(|&&t| t).count();
     for (t, &c) in ids.iter().enumerate() {
-        if closed[c as usize] && volume[c as usize] < 0.0 {
+        if turn[c as usize] {
             mesh.flip(t);
             log.turned_triangles += 1;
         }

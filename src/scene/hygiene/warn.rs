@@ -120,8 +120,8 @@ fn repair_line(r: &MeshReport, log: &super::repair::RepairLog) -> String {
     }
     if log.turned_components > 0 {
         parts.push(format!(
-            "turned {} closed component(s) ({} triangles) that faced inward outward (an enclosure meant to be \
-             seen from inside needs repair off)",
+            "turned {} closed component(s) ({} triangles) that faced inward outward (an empty enclosure meant \
+             to be seen from inside needs repair off)",
             log.turned_components, log.turned_triangles
         ));
     }
