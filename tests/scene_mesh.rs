@@ -231,14 +231,14 @@ fn an_inward_part_inside_a_room_is_flagged_and_repair_turns_it() {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "part.stl", binary_stl(&cube(DVec3::splat(1.0), 1.0, true)));
     let room = "[[surface]]\nname = \"room\"\npolygon = [[0,0,0],[0,3,0],[3,3,0],[3,0,0]]\n";
-    let p = write(dir.path(), "s.toml", &format!("{room}[[model]]\nfile = \"part.stl\"\n"));
+    let p = write(dir.path(), "s.toml", format!("{room}[[model]]\nfile = \"part.stl\"\n"));
     let s = load(&p);
     let w = warning(&s, "face inward");
     assert!(
         w.contains("1 closed component(s)") && w.contains("surface 'part'") && w.contains("-1.000e0 m³"),
         "{w}"
     );
-    let p = write(dir.path(), "r.toml", &format!("{room}[[model]]\nfile = \"part.stl\"\nrepair = true\n"));
+    let p = write(dir.path(), "r.toml", format!("{room}[[model]]\nfile = \"part.stl\"\nrepair = true\n"));
     let s = load(&p);
     assert!(warning(&s, "repair:").contains("turned 1 closed component(s) (12 triangles)"));
     assert!(s.meshes[0].components[0].is_outward_body());
@@ -257,9 +257,9 @@ fn repair_flips_a_wrong_triangle_and_drops_duplicates() {
     t.push(t[7]);
     write(dir.path(), "p.stl", binary_stl(&t));
     let amb = "[ambient]\ntemperature = 0\n";
-    let s = load(&write(dir.path(), "a.toml", &format!("{amb}[[model]]\nfile = \"p.stl\"\n")));
+    let s = load(&write(dir.path(), "a.toml", format!("{amb}[[model]]\nfile = \"p.stl\"\n")));
     assert_eq!((s.patches.len(), s.meshes[0].against.count, s.meshes[0].duplicates.count), (13, 1, 1));
-    let s = load(&write(dir.path(), "b.toml", &format!("{amb}[[model]]\nfile = \"p.stl\"\nrepair = true\n")));
+    let s = load(&write(dir.path(), "b.toml", format!("{amb}[[model]]\nfile = \"p.stl\"\nrepair = true\n")));
     let w = warning(&s, "repair:");
     assert!(w.contains("dropped 1 duplicate faces") && w.contains("flipped 1 triangles"), "{w}");
     assert_eq!(s.patches.len(), 12);

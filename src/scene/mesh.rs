@@ -160,10 +160,10 @@ impl TriMesh {
         }
         let mut ids = vec![u32::MAX; n];
         let mut roots: HashMap<u32, u32> = HashMap::new();
-        for t in 0..n {
+        for (t, id) in ids.iter_mut().enumerate() {
             let r = find(&mut parent, t as u32);
             let next = roots.len() as u32;
-            ids[t] = *roots.entry(r).or_insert(next);
+            *id = *roots.entry(r).or_insert(next);
         }
         (ids, roots.len())
     }

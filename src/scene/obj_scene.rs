@@ -26,7 +26,6 @@ pub fn read(path: &Path) -> Result<RawMesh, InputError> {
         triangulate: false,
         ignore_points: false,
         ignore_lines: false,
-        ..tobj::LoadOptions::default()
     };
     // tobj indexes with unchecked arithmetic on absurd indices; a panic there is an input error.
     let loaded = std::panic::catch_unwind(|| {

@@ -45,9 +45,9 @@ pub fn self_intersections(mesh: &TriMesh, tol: f64) -> Finding {
     let bvh: Bvh2 =
         obvhs::bvh2::builder::build_bvh2(&prims, BvhBuildParams::fast_build(), &mut Default::default());
     let tol = tol.max(1e-12 * diag);
-    for i in 0..n {
+    for (i, bx) in boxes.iter().enumerate() {
         let ti = mesh.triangles[i];
-        bvh.aabb_traverse(boxes[i], |bvh, node| {
+        bvh.aabb_traverse(*bx, |bvh, node| {
             let node = &bvh.nodes[node as usize];
             for slot in node.first_index..node.first_index + node.prim_count {
                 let j = bvh.primitive_indices[slot as usize] as usize;
