@@ -270,6 +270,16 @@ fn repair_flips_a_wrong_triangle_and_drops_duplicates() {
 }
 
 #[test]
+fn an_irregularly_meshed_box_is_closed_across_its_seams() {
+    // Each face of the validation box is triangulated on its own: 168 edges end in T-junctions.
+    let s = load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/o7_irregular_box_block/scene.toml"));
+    let r = &s.meshes[0];
+    assert_eq!((r.boundary.count, r.seams), (0, 168), "{:?}", r.boundary);
+    assert!(r.components.iter().any(|c| c.closed && c.consistent && c.volume < 0.0), "{:?}", r.components);
+    assert!(s.warnings.is_empty(), "{:#?}", s.warnings);
+}
+
+#[test]
 fn gltf_models_are_checked_too() {
     let glb = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/box_interior/box.glb");
     let s = load(&glb);

@@ -3,7 +3,8 @@
 //!
 //! The checks run on the welded mesh of the whole file (all its surfaces together, so a box
 //! whose faces are separate glTF nodes is one closed body):
-//! - open (boundary) edges, used by one triangle; non-manifold edges, used by more than two;
+//! - open (boundary) edges, used by one triangle, less the seams of faces meshed apart
+//!   (T-junctions, tjunction.rs); non-manifold edges, used by more than two;
 //! - duplicate faces (the same three vertices, in either order);
 //! - winding: edges whose two triangles run them the same way, and per component the
 //!   triangles against its majority (the ones [`repair`] flips);
@@ -19,9 +20,11 @@
 use super::mesh::{Edge, Tag, TriMesh, WeldInfo};
 use glam::DVec3;
 use std::path::PathBuf;
+use tjunction::Link;
 
 pub mod intersect;
 pub mod repair;
+pub mod tjunction;
 pub mod warn;
 
 pub use warn::warnings;
@@ -117,6 +120,10 @@ pub struct MeshReport {
     pub surfaces: Vec<SurfaceCheck>,
     /// Weld tolerance used, m.
     pub weld_tol: f64,
+    /// Bounding-box diagonal, m.
+    pub diag: f64,
+    /// Boundary edges covered by collinear edges of other triangles (T-junction seams).
+    pub seams: usize,
     /// What welding did.
     pub weld: WeldInfo,
     /// Boundary edges; value: edge length, m.
@@ -171,12 +178,17 @@ pub fn check(file: PathBuf, names: &[String], mesh: &TriMesh, weld_tol: f64, wel
     for tag in &mesh.tags {
         r.surfaces[tag.surface as usize].triangles += 1;
     }
+    let lo = mesh.vertices.iter().fold(DVec3::INFINITY, |a, &b| a.min(b));
+    let hi = mesh.vertices.iter().fold(DVec3::NEG_INFINITY, |a, &b| a.max(b));
+    r.diag = (hi - lo).length();
     let edges = mesh.edges();
-    edge_findings(&mut r, mesh, &edges);
+    let (covered, links) = tjunction::seams(mesh, &edges, weld_tol);
+    r.seams = covered.iter().filter(|&&c| c).count();
+    edge_findings(&mut r, mesh, &edges, &covered);
     duplicate_faces(&mut r, mesh);
-    let (ids, n) = mesh.components(&edges);
-    r.components = components(mesh, &edges, &ids, n);
-    for (t, flip) in majority_flips(mesh, &edges).into_iter().enumerate() {
+    let (ids, n) = linked_components(mesh, &edges, &links);
+    r.components = components(mesh, &edges, &covered, &links, &ids, n);
+    for (t, flip) in majority_flips(mesh, &edges, &links).into_iter().enumerate() {
         if flip {
             let tag = mesh.tags[t];
             let size = r.components[ids[t] as usize].triangles;
@@ -194,10 +206,10 @@ pub fn check(file: PathBuf, names: &[String], mesh: &TriMesh, weld_tol: f64, wel
     r
 }
 
-fn edge_findings(r: &mut MeshReport, mesh: &TriMesh, edges: &[Edge]) {
-    for e in edges {
+fn edge_findings(r: &mut MeshReport, mesh: &TriMesh, edges: &[Edge], covered: &[bool]) {
+    for (k, e) in edges.iter().enumerate() {
         let tag = mesh.tags[e.uses[0].0 as usize];
-        if e.is_boundary() {
+        if e.is_boundary() && !covered[k] {
             let len = mesh.vertices[e.a as usize].distance(mesh.vertices[e.b as usize]);
             r.boundary.add(tag, len, None);
             r.surfaces[tag.surface as usize].boundary_edges += 1;
@@ -229,10 +241,11 @@ fn duplicate_faces(r: &mut MeshReport, mesh: &TriMesh) {
     }
 }
 
-/// Orientation patches: triangles joined through edges shared by exactly two triangles.
+/// Orientation patches: triangles joined through edges shared by exactly two triangles (and
+/// across seams).
 /// Per triangle, its patch and its parity (1 = wound against the patch's first triangle);
 /// where a patch is not orientable the first assignment stays.
-pub fn orientation_parity(mesh: &TriMesh, edges: &[Edge]) -> (Vec<u8>, Vec<u32>, usize) {
+pub fn orientation_parity(mesh: &TriMesh, edges: &[Edge], links: &[Link]) -> (Vec<u8>, Vec<u32>, usize) {
     let n = mesh.triangles.len();
     let mut nbrs: Vec<Vec<(u32, bool)>> = vec![Vec::new(); n];
     for e in edges.iter().filter(|e| e.uses.len() == 2) {
@@ -240,6 +253,10 @@ pub fn orientation_parity(mesh: &TriMesh, edges: &[Edge]) -> (Vec<u8>, Vec<u32>,
         // Same direction: the two disagree, so their parities differ.
         nbrs[s as usize].push((t, ds == dt));
         nbrs[t as usize].push((s, ds == dt));
+    }
+    for &(s, t, same) in links {
+        nbrs[s as usize].push((t, same));
+        nbrs[t as usize].push((s, same));
     }
     let (mut parity, mut patch) = (vec![u8::MAX; n], vec![0u32; n]);
     let mut patches = 0;
@@ -267,8 +284,8 @@ pub fn orientation_parity(mesh: &TriMesh, edges: &[Edge]) -> (Vec<u8>, Vec<u32>,
 
 /// Per triangle, `true` when it is wound against the majority of its orientation patch (ties:
 /// the half that does not hold the patch's first triangle).
-pub fn majority_flips(mesh: &TriMesh, edges: &[Edge]) -> Vec<bool> {
-    let (parity, patch, n) = orientation_parity(mesh, edges);
+pub fn majority_flips(mesh: &TriMesh, edges: &[Edge], links: &[Link]) -> Vec<bool> {
+    let (parity, patch, n) = orientation_parity(mesh, edges, links);
     let (mut ones, mut size) = (vec![0usize; n], vec![0usize; n]);
     for (t, &p) in patch.iter().enumerate() {
         ones[p as usize] += usize::from(parity[t] == 1);
@@ -284,7 +301,25 @@ pub fn majority_flips(mesh: &TriMesh, edges: &[Edge]) -> Vec<bool> {
         .collect()
 }
 
-fn components(mesh: &TriMesh, edges: &[Edge], ids: &[u32], n: usize) -> Vec<Component> {
+/// Components through shared edges and seam links.
+fn linked_components(mesh: &TriMesh, edges: &[Edge], links: &[Link]) -> (Vec<u32>, usize) {
+    let mut all: Vec<Edge> = edges.to_vec();
+    all.extend(links.iter().map(|&(s, t, _)| Edge {
+        a: u32::MAX,
+        b: u32::MAX,
+        uses: vec![(s, true), (t, false)],
+    }));
+    mesh.components(&all)
+}
+
+fn components(
+    mesh: &TriMesh,
+    edges: &[Edge],
+    covered: &[bool],
+    links: &[Link],
+    ids: &[u32],
+    n: usize,
+) -> Vec<Component> {
     let mut out: Vec<Component> = (0..n)
         .map(|_| Component {
             surfaces: Vec::new(),
@@ -312,12 +347,17 @@ fn components(mesh: &TriMesh, edges: &[Edge], ids: &[u32], n: usize) -> Vec<Comp
         let o = *origin[c].get_or_insert(a);
         comp.volume += (a - o).dot((b - o).cross(p - o)) / 6.0;
     }
-    for e in edges {
+    for (k, e) in edges.iter().enumerate() {
         let c = &mut out[ids[e.uses[0].0 as usize] as usize];
-        if e.uses.len() != 2 {
+        if e.is_nonmanifold() || (e.is_boundary() && !covered[k]) {
             c.closed = false;
         } else if e.is_inconsistent() {
             c.consistent = false;
+        }
+    }
+    for &(s, _, same) in links {
+        if same {
+            out[ids[s as usize] as usize].consistent = false;
         }
     }
     out

@@ -76,7 +76,7 @@ pub fn repair(mesh: &mut TriMesh) -> RepairLog {
 
     // 3. Consistent winding.
     let edges = mesh.edges();
-    for (t, flip) in majority_flips(mesh, &edges).into_iter().enumerate() {
+    for (t, flip) in majority_flips(mesh, &edges, &[]).into_iter().enumerate() {
         if flip {
             mesh.flip(t);
             log.flipped += 1;

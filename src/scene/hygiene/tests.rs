@@ -138,3 +138,22 @@ fn aspect_is_one_for_equilateral_and_grows_as_length_over_height() {
     let thin = [DVec3::ZERO, DVec3::X, DVec3::new(0.5, 1e-3, 0.0)];
     assert!((aspect(thin) - 3f64.sqrt() / 2.0 * 1e3).abs() < 1e-9);
 }
+
+#[test]
+fn a_face_meshed_apart_meets_its_neighbours_in_seams_not_openings() {
+    // The z = 0 face split at the midpoint of its edge on y = 0: that point is a corner of the
+    // face's triangles but not of the y = 0 face's, a T-junction.
+    let mut soup = cube(DVec3::ZERO, 1.0);
+    let m = DVec3::new(0.5, 0.0, 0.0);
+    let (o, y, xy, x) = (DVec3::ZERO, DVec3::Y, DVec3::new(1.0, 1.0, 0.0), DVec3::X);
+    soup.splice(0..2, [[o, y, m], [m, y, xy], [m, xy, x]]);
+    let (r, _) = run(&soup);
+    assert_eq!((r.boundary.count, r.seams), (0, 3), "{r:?}");
+    assert_eq!(r.components.len(), 1);
+    assert!(r.components[0].is_outward_body() && (r.components[0].volume - 1.0).abs() < 1e-15);
+    // Flipping the split face's triangles is seen across the seam as well.
+    let soup: Vec<_> = soup.iter().enumerate().map(|(k, t)| if k < 3 { flipped(*t) } else { *t }).collect();
+    let (r, _) = run(&soup);
+    assert_eq!(r.against.count, 3);
+    assert!(!r.components[0].consistent);
+}

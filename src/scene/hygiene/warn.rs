@@ -16,7 +16,8 @@ pub fn warnings(r: &MeshReport, scene: &Scene) -> Vec<String> {
     let file = r.file.display();
     let at = |e: &Example| format!("surface '{}' triangle {}", r.name(e.at), e.at.index);
     let mut out = Vec::new();
-    if r.weld.moved > 0 {
+    // Moves within the default tolerance are round-off of the file's coordinates.
+    if r.weld.moved > 0 && r.weld.max_move > super::WELD_REL * r.diag {
         out.push(format!(
             "{file}: welded {} vertices onto neighbours within {:.3e} m (at most {:.3e} m apart){}",
             r.weld.moved,
