@@ -42,15 +42,18 @@ pub struct LeakRow {
     pub row_sum: f64,
     /// Entries with a standard error.
     pub sampled: usize,
+    /// Entries of any kind (0: the row found nothing at all).
+    pub entries: usize,
     /// The one with the largest standard error.
     pub worst: Option<SampledEntry>,
 }
 
 impl LeakRow {
     fn new(name: &str, row_sum: f64) -> Self {
-        Self { name: name.to_string(), row_sum, sampled: 0, worst: None }
+        Self { name: name.to_string(), row_sum, sampled: 0, entries: 0, worst: None }
     }
     fn add(&mut self, to: &str, factor: f64, std_error: f64) {
+        self.entries += usize::from(factor != 0.0);
         if std_error > 0.0 {
             self.sampled += 1;
             if self.worst.as_ref().is_none_or(|w| std_error > w.std_error) {
@@ -196,8 +199,25 @@ pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
         return sentences(&says);
     }
     // 5. Sampling.
-    if rows.is_empty() || rows.iter().any(|r| r.sampled == 0) {
+    let sound = format!(
+        "the geometry shows no cause (the surfaces' area vectors cancel, {}no mesh is wound against itself)",
+        if facts.all_checked_meshes { "every mesh is closed, " } else { "" }
+    );
+    if rows.is_empty() {
         return String::new();
+    }
+    if rows.iter().any(|r| r.sampled == 0) {
+        let (sampled, empty) =
+            (rows.iter().filter(|r| r.sampled > 0).count(), rows.iter().filter(|r| r.entries == 0).count());
+        if sampled == 0 && empty == 0 {
+            return String::new();
+        }
+        return sentences(&[format!(
+            "{sound}; of the {} leaking rows, {sampled} carry sampled entries and {empty} have no entry at all \
+             (a sampling method that found nothing from them): more samples, a tighter --tolerance or \
+             -m analytic will tell sampling from geometry",
+            rows.len()
+        )]);
     }
     let named: Vec<String> = rows
         .iter()
@@ -209,9 +229,7 @@ pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
         .filter_map(|r| r.worst.as_ref().map(|w| (r, w)))
         .max_by(|a, b| a.1.std_error.total_cmp(&b.1.std_error));
     let mut s = format!(
-        "the geometry shows no cause (the surfaces' area vectors cancel, {}no mesh is wound against itself) \
-         and every leaking row carries sampled entries: sampling, not geometry, is the cause. Rows: {}",
-        if facts.all_checked_meshes { "every mesh is closed, " } else { "" },
+        "{sound} and every leaking row carries sampled entries: sampling, not geometry, is the cause. Rows: {}",
         named.join(", ")
     );
     if let Some((r, w)) = worst {
@@ -298,9 +316,16 @@ mod tests {
 
     #[test]
     fn a_row_without_sampled_entries_is_not_blamed_on_sampling() {
-        let rows =
-            [row("part#1", 0.9, &[("room#2", 0.1, 1e-4)]), row("room#0", 0.9, &[("part#1", 0.1, 0.0)])];
-        assert_eq!(hint(&room_and_part(), &rows), "");
+        let exact = row("room#0", 0.9, &[("part#1", 0.1, 0.0)]);
+        assert_eq!(hint(&room_and_part(), std::slice::from_ref(&exact)), "");
+        let rows = [row("part#1", 0.9, &[("room#2", 0.1, 1e-4)]), exact, row("room#3", 0.0, &[])];
+        let h = hint(&room_and_part(), &rows);
+        assert!(h.starts_with("The geometry shows no cause"), "{h}");
+        assert!(
+            h.contains("of the 3 leaking rows, 1 carry sampled entries and 1 have no entry at all"),
+            "{h}"
+        );
+        assert!(!h.contains("sampling, not geometry"), "{h}");
     }
 
     #[test]

@@ -657,6 +657,7 @@ impl Hierarchy {
                 name: scene.surfaces[k].name.clone(),
                 row_sum: p,
                 sampled: usize::from(s_var[k] > 0.0),
+                entries: usize::from(p > 0.0),
                 worst: None,
             })
             .collect();
