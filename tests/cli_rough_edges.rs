@@ -150,7 +150,7 @@ fn an_outward_closed_mesh_is_named_in_the_leak_warning_and_refusal() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let err = text(&o.stderr);
     assert!(err.contains("closed scene leaks"), "{err}");
-    assert!(err.contains("surface 'room' is a closed mesh whose normals all face outward"), "{err}");
+    assert!(err.contains("Surface 'room' is a closed mesh whose normals all face outward"), "{err}");
     // Every row sums to 0: printed as 0, never -0.000000.
     assert!(err.contains("room (row sum 0)") && !err.contains("-0.000000"), "{err}");
     let o = run(&["viewfactors", gltf.to_str().unwrap(), "--enforce", "closure"]);

@@ -215,9 +215,12 @@ fn malformed_and_unreadable_files() {
     let bin = dir.path().join("binary.toml");
     std::fs::write(&bin, [b'a', b'=', 0xff, 0xfe]).unwrap();
     assert!(input_error(&bin).problem.contains("not UTF-8"));
-    let odd = dir.path().join("scene.obj");
+    let odd = dir.path().join("scene.ply");
     std::fs::write(&odd, "v 0 0 0").unwrap();
     assert!(input_error(&odd).problem.contains("unknown scene file type"));
+    let obj = dir.path().join("scene.obj");
+    std::fs::write(&obj, "v 0 0 0").unwrap();
+    assert!(input_error(&obj).problem.contains("the mesh has no triangles"));
     let empty = write(dir.path(), "title = \"nothing\"\n");
     assert!(input_error(&empty).problem.contains("no exchanging surfaces"));
 }

@@ -24,11 +24,26 @@ pub enum Command {
     Render(RenderArgs),
 }
 
+/// Options of a bare mesh scene (.stl, .obj, .gltf, .glb).
+#[derive(Debug, Args)]
+pub struct MeshArgs {
+    /// Length unit of a bare STL or OBJ scene's coordinates: m, mm, cm, in or ft [default: m].
+    #[arg(long)]
+    pub unit: Option<String>,
+    /// Repair a bare mesh scene: orient consistently and outward, drop duplicate faces and
+    /// slivers (each change is reported).
+    #[arg(long)]
+    pub repair: bool,
+}
+
 /// Options shared by `viewfactors` and `solve`.
 #[derive(Debug, Args)]
 pub struct CommonArgs {
-    /// Scene file: .toml, .gltf, .glb or a View3D .vs3.
+    /// Scene file: .toml, .gltf, .glb, .stl, .obj or a View3D .vs3.
     pub scene: PathBuf,
+    /// Bare mesh scene options.
+    #[command(flatten)]
+    pub mesh: MeshArgs,
     /// View-factor method: auto, analytic, hemicube, single-plane, mc-area, mc-uniform,
     /// mc-cosine.
     #[arg(short, long, default_value = "auto")]
@@ -117,8 +132,11 @@ pub struct ValidateArgs {
 /// `lambert render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Scene file: .toml, .gltf or .glb (the one the result was solved on).
+    /// Scene file: .toml, .gltf, .glb, .stl, .obj (the one the result was solved on).
     pub scene: PathBuf,
+    /// Bare mesh scene options (as given to `solve`).
+    #[command(flatten)]
+    pub mesh: MeshArgs,
     /// A `solve` CSV, per surface or per patch (`--patches`).
     pub result: PathBuf,
     /// Column to show: temperature, heat_flux, heat_rate, radiosity, irradiation, emissivity

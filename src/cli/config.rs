@@ -1,8 +1,9 @@
 //! High-level configuration: validated values derived from the arguments, built before any
 //! work starts.
-use super::args::CommonArgs;
+use super::args::{CommonArgs, MeshArgs};
 use super::limits;
 use lambert::report::outputs::Output;
+use lambert::scene::mesh_model::{MeshOptions, Unit};
 use lambert::viewfactor::{Method, Params};
 use lambert::{Error, Result};
 use std::path::PathBuf;
@@ -22,6 +23,17 @@ pub struct Config {
     pub output: Output,
     /// `--tolerance` as given (`None`: the default, or the scene file's).
     pub tolerance_given: Option<f64>,
+    /// `--unit` and `--repair` of a bare mesh scene.
+    pub mesh: MeshOptions,
+}
+
+/// `--unit` and `--repair` as mesh options.
+pub fn mesh_options(a: &MeshArgs) -> Result<MeshOptions> {
+    let unit = match &a.unit {
+        Some(u) => Unit::parse(u).map_err(|e| Error::Usage(format!("--unit: {e}")))?,
+        None => Unit::M,
+    };
+    Ok(MeshOptions { unit, repair: a.repair, ..MeshOptions::default() })
 }
 
 impl Config {
@@ -63,6 +75,7 @@ impl Config {
             enforce: a.enforce.clone(),
             output,
             tolerance_given: a.tolerance,
+            mesh: mesh_options(&a.mesh)?,
         })
     }
 }

@@ -56,7 +56,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
     let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;
-    let scene = scene::load(&cfg.scene)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.mesh)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
@@ -193,8 +193,14 @@ fn lean_viewfactors(
     if mode == Enforce::None {
         warn_dense_leaks(scene, &ex);
     } else {
-        let p = EnforceParams { mode, open, source: scene.source.clone(), ..Default::default() };
-        let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
+        let p = EnforceParams {
+            mode,
+            open,
+            source: scene.source.clone(),
+            facts: facts(scene),
+            ..Default::default()
+        };
+        let rep = exchange::dense::enforce(&mut ex, &p)?;
         print_enforcement(mode, &rep);
     }
     let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
@@ -239,13 +245,8 @@ fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
     }
     let leaks = exchange::dense::leaks(&ex.t);
     if !leaks.is_empty() {
-        let outward = scene::orientation::outward_closed_meshes(scene);
-        let mut named: Vec<usize> =
-            leaks.iter().map(|&(i, _, _)| scene.patches[i].surface).filter(|s| outward.contains(s)).collect();
-        named.dedup();
-        for s in named {
-            eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
-        }
+        let rows: Vec<(usize, f64)> = leaks.iter().map(|l| (l.0, l.1)).collect();
+        warn_leak_hint(scene, &exchange::leak::rows_from_triangle(&ex.t, &ex.names, &rows));
         let worst: Vec<String> = leaks
             .iter()
             .take(5)
@@ -276,17 +277,7 @@ fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
         }
     }
     if !leaks.is_empty() {
-        let surface_of = |i: usize| match vf.level {
-            Level::Surface => i,
-            Level::Patch => scene.patches[i].surface,
-        };
-        let outward = scene::orientation::outward_closed_meshes(scene);
-        let mut named: Vec<usize> =
-            leaks.iter().map(|&(i, _)| surface_of(i)).filter(|s| outward.contains(s)).collect();
-        named.dedup();
-        for s in named {
-            eprintln!("lambert: warning: {}", scene::orientation::outward_hint(&scene.surfaces[s].name));
-        }
+        warn_leak_hint(scene, &exchange::leak::rows_from_viewfactors(vf, &leaks));
         let worst: Vec<String> =
             leaks.iter().take(5).map(|&(i, s)| format!("{} (row sum {})", vf.names[i], row_sum(s))).collect();
         eprintln!(
@@ -313,6 +304,19 @@ fn warn_facing_away(scene: &Scene) {
     }
 }
 
+/// The geometry facts that leak hints are checked against.
+fn facts(scene: &Scene) -> Option<std::sync::Arc<scene::orientation::SceneFacts>> {
+    Some(std::sync::Arc::new(scene::orientation::SceneFacts::of(scene)))
+}
+
+/// Prints the hint for leaking `rows`, when the geometry facts name a cause.
+fn warn_leak_hint(scene: &Scene, rows: &[exchange::leak::LeakRow]) {
+    let hint = exchange::leak::hint(&scene::orientation::SceneFacts::of(scene), rows);
+    if !hint.is_empty() {
+        eprintln!("lambert: warning: {hint}");
+    }
+}
+
 /// A row sum for a message: six decimals, and a sum that rounds to zero (a surface that sees
 /// nothing, with round-off of either sign) as `0`, never `-0.000000`.
 fn row_sum(s: f64) -> String {
@@ -334,9 +338,14 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
             ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
         }
     }
-    let p =
-        EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
-    let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_outward_hint(scene, e))?;
+    let p = EnforceParams {
+        mode,
+        open: !scene.is_closed(),
+        source: scene.source.clone(),
+        facts: facts(scene),
+        ..Default::default()
+    };
+    let rep = exchange::enforce(&mut ex, &p)?;
     print_enforcement(mode, &rep);
     Ok(ex)
 }
@@ -351,21 +360,6 @@ fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
         rep.iterations,
         rep.after
     );
-}
-
-/// Adds the outward-normal hint to a refusal that names a row of a closed mesh surface whose
-/// normals all face outward.
-fn with_outward_hint(scene: &Scene, e: Error) -> Error {
-    let e = with_obstruction_note(scene, e);
-    let Error::Input(mut ie) = e else { return e };
-    let named = ie.surface.as_deref().map(|n| n.split('#').next().unwrap_or(n).to_string());
-    let outward = scene::orientation::outward_closed_meshes(scene);
-    if let Some(s) = outward.into_iter().find(|&s| named.as_deref() == Some(scene.surfaces[s].name.as_str()))
-    {
-        ie.problem =
-            format!("{}. Note: {}", ie.problem, scene::orientation::outward_hint(&scene.surfaces[s].name));
-    }
-    Error::Input(ie)
 }
 
 /// Adds the obstruction note to a leak refusal whose row has obstructions in front of it.
@@ -436,7 +430,7 @@ fn solve(a: SolveArgs) -> Result<()> {
     let saved: Vec<Input> = a.viewfactors.iter().map(|p| Input::new("the --viewfactors input", p)).collect();
     let mut outs =
         plan_outputs(&cfg, "results CSV", a.common.vtk.as_deref(), a.conductances.as_deref(), &saved)?;
-    let scene = scene::load(&cfg.scene)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.mesh)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
@@ -635,8 +629,7 @@ fn clustered_solve(
         tolerance: (tol * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE),
         ..cfg.params.clone()
     };
-    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)
-        .map_err(|e| with_outward_hint(scene, e))?;
+    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)?;
     print_enforcement(mode, &run.report);
     if let Some((loose, s)) = &run.first {
         eprintln!(
@@ -702,7 +695,7 @@ fn lean_solve(
     if !lean_served(scene, vf, a, mode, params) {
         return Ok(None);
     }
-    let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_outward_hint(scene, e))?;
+    let run = solve::dense::solve_scene(scene, vf, mode, params)?;
     let Some(run) = run else { return Ok(None) };
     say_warnings(&run.warnings);
     print_enforcement(mode, &run.report);
@@ -781,7 +774,7 @@ fn render(a: RenderArgs) -> Result<()> {
     let range = a.range.as_deref().map(parse_range).transpose()?;
     let mut outs = OutputSet::plan(vec![Output::new("output", "-o", "PNG picture", &a.output)])?;
     outs.check_inputs(&[Input::new("the scene file", &a.scene), Input::new("the result CSV", &a.result)])?;
-    let scene = scene::load(&a.scene)?;
+    let scene = scene::load_with(&a.scene, &super::config::mesh_options(&a.mesh)?)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     let camera = match &a.camera {
         Some(spec) => Camera::frame(&scene).with_spec(spec)?,

@@ -87,7 +87,7 @@ pub fn enforce(d: &mut DenseExchange, p: &EnforceParams) -> Result<EnforceReport
         (Enforce::Reciprocity, false) => ("reciprocity average", 0),
         (_, true) => ("reciprocity average, over-full rows scaled", capped_scaling(&mut d.t, p.tolerance)?),
         (Enforce::Closure, false) => {
-            refuse_leaks(d, &p.source)?;
+            refuse_leaks(d, p)?;
             ("symmetric scaling", symmetric_scaling(&mut d.t, p.tolerance)?)
         }
     };
@@ -108,18 +108,19 @@ pub fn enforce(d: &mut DenseExchange, p: &EnforceParams) -> Result<EnforceReport
     Ok(EnforceReport { before, after, method, iterations })
 }
 
-fn refuse_leaks(d: &DenseExchange, source: &std::path::Path) -> Result<()> {
+fn refuse_leaks(d: &DenseExchange, p: &EnforceParams) -> Result<()> {
     let leaks = leaks(&d.t);
     let Some(first) = leaks.first() else { return Ok(()) };
+    let rows: Vec<(usize, f64)> = leaks.iter().map(|l| (l.0, l.1)).collect();
+    let hint = super::enforce::refusal_hint(p, &super::leak::rows_from_triangle(&d.t, &d.names, &rows));
     let names: Vec<String> =
         leaks.iter().take(WORST_ROWS).map(|l| format!("{} (row sum {:.6})", d.names[l.0], l.1)).collect();
     Err(InputError::surface(
-        source,
+        &p.source,
         d.names[first.0].clone(),
         format!(
             "the closed scene leaks: {} row(s) sum to less than 1 by more than the method's error \
-             ({:.1e}); worst: {}. Look for a gap, a flipped normal or a missing [ambient]; \
-             closure will not stretch a leaking row",
+             ({:.1e}); worst: {}. {hint}; closure will not stretch a leaking row",
             leaks.len(),
             first.2,
             names.join(", ")

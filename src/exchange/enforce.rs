@@ -84,6 +84,8 @@ pub struct EnforceParams {
     pub source: PathBuf,
     /// Closure target.
     pub tolerance: f64,
+    /// Geometry facts for the hint of a leak refusal (none: the generic hint).
+    pub facts: Option<std::sync::Arc<crate::scene::orientation::SceneFacts>>,
 }
 
 impl Default for EnforceParams {
@@ -94,6 +96,7 @@ impl Default for EnforceParams {
             open: false,
             source: PathBuf::new(),
             tolerance: CLOSURE_TOL,
+            facts: None,
         }
     }
 }
@@ -160,7 +163,7 @@ pub fn enforce(ex: &mut Exchange, p: &EnforceParams) -> Result<EnforceReport> {
             ("reciprocity average, over-full rows scaled", it)
         }
         (Enforce::Closure, false) => {
-            refuse_leaks(ex, &p.source)?;
+            refuse_leaks(ex, p)?;
             close(ex, p)?
         }
     };
@@ -210,25 +213,36 @@ fn close(ex: &mut Exchange, p: &EnforceParams) -> Result<(&'static str, usize)> 
 }
 
 /// SPEC: "never stretch a leaking row to 1" — a closed scene with leaking rows is bad input.
-fn refuse_leaks(ex: &Exchange, source: &std::path::Path) -> Result<()> {
+fn refuse_leaks(ex: &Exchange, p: &EnforceParams) -> Result<()> {
     let leaks = leaks(ex);
     let Some(first) = leaks.first() else { return Ok(()) };
+    let rows: Vec<(usize, f64)> = leaks.iter().map(|l| (l.node, l.row_sum)).collect();
+    let hint = refusal_hint(p, &super::leak::rows_from_exchange(ex, &rows));
     let names: Vec<String> = leaks
         .iter()
         .take(super::diagnostics::WORST_ROWS)
         .map(|l| format!("{} (row sum {:.6})", ex.names[l.node], l.row_sum))
         .collect();
     Err(InputError::surface(
-        source,
+        &p.source,
         ex.names[first.node].clone(),
         format!(
             "the closed scene leaks: {} row(s) sum to less than 1 by more than the method's error \
-             ({:.1e}); worst: {}. Look for a gap, a flipped normal or a missing [ambient]; \
-             closure will not stretch a leaking row",
+             ({:.1e}); worst: {}. {hint}; closure will not stretch a leaking row",
             leaks.len(),
             first.threshold,
             names.join(", ")
         ),
     )
     .into())
+}
+
+/// The cause named by the geometry facts, else the generic advice.
+pub fn refusal_hint(p: &EnforceParams, rows: &[super::leak::LeakRow]) -> String {
+    let hint = p.facts.as_ref().map(|f| super::leak::hint(f, rows)).unwrap_or_default();
+    if hint.is_empty() {
+        "Look for a gap, a flipped normal or a missing [ambient]".to_string()
+    } else {
+        hint
+    }
 }

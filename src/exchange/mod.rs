@@ -6,6 +6,7 @@
 //!   aggregation to surfaces and conversion back to [`ViewFactors`] for output;
 //! - [`diagnostics`]: row-sum, reciprocity and sign residuals, worst rows by name;
 //! - [`enforce`]: `--enforce none|reciprocity|closure`, the leak check and method dispatch;
+//! - [`leak`]: why a closed scene leaks, checked against the geometry facts;
 //! - [`scaling`]: symmetric diagonal scaling s_ij = s̄_ij g_i g_j (also capped, for open scenes);
 //! - [`lsq`]: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1;
 //! - [`ml`]: constrained maximum likelihood s_ij = M_ij/(λ_i + λ_j) (Daun, Morton & Howell 2005);
@@ -25,6 +26,7 @@ pub mod dense;
 pub mod diagnostics;
 pub mod enforce;
 pub mod hierarchy;
+pub mod leak;
 pub mod linalg;
 pub mod lsq;
 pub mod memory;

@@ -61,6 +61,10 @@ pub struct ModelEntry {
     pub model: Model,
     /// The `[[model]]` entry's properties.
     pub layer: Layer,
+    /// The mesh checks of a glTF, STL or OBJ file.
+    pub report: Option<super::hygiene::MeshReport>,
+    /// Notes from reading the file.
+    pub notes: Vec<String>,
 }
 
 /// Builds the scene; `defaults` is the `[defaults]` layer (empty when absent).
@@ -193,6 +197,14 @@ pub fn assemble(
     for f in std::iter::once(path).chain(files.map(PathBuf::as_path)) {
         if !scene.inputs.iter().any(|i| i == f) {
             scene.inputs.push(f.to_path_buf());
+        }
+    }
+    for entry in models {
+        scene.warnings.extend(entry.notes);
+        if let Some(r) = entry.report {
+            let lines = super::hygiene::warnings(&r, &scene);
+            scene.warnings.extend(lines);
+            scene.meshes.push(r);
         }
     }
     Ok(scene)

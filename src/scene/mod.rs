@@ -6,6 +6,9 @@
 //! - [`schema`]: the TOML format as serde types; [`toml_scene`]: the TOML loader;
 //!   [`toml_errors`]: TOML errors with line and surface;
 //! - [`gltf_scene`]: glTF 2.0 models as mesh surfaces;
+//! - [`stl_scene`], [`obj_scene`]: STL and OBJ files as triangle groups; [`mesh_model`]: their
+//!   surfaces (unit, welding, split) and the checks of every model file; [`mesh`]: indexed
+//!   meshes and welding; [`hygiene`]: the mesh checks, their warnings and `repair`;
 //! - [`props`]: property layers (surface → node extras → model → defaults) and their resolution;
 //! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
 //! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`];
@@ -26,10 +29,15 @@ pub mod bands;
 pub mod fingerprint;
 pub mod gltf_scene;
 pub mod hints;
+pub mod hygiene;
+pub mod mesh;
+pub mod mesh_model;
+pub mod obj_scene;
 pub mod orientation;
 pub mod patching;
 pub mod props;
 pub mod schema;
+pub mod stl_scene;
 pub mod toml_errors;
 pub mod toml_scene;
 pub mod validate;
@@ -150,6 +158,8 @@ pub struct Scene {
     /// Every file read to build the scene: the scene file first, then model files and their
     /// buffers (so that no output of a run overwrites one of them).
     pub inputs: Vec<PathBuf>,
+    /// The mesh checks of every glTF, STL and OBJ model file (leak hints read them).
+    pub meshes: Vec<hygiene::MeshReport>,
 }
 
 /// Run settings a scene file may suggest; command-line options win.
@@ -308,23 +318,37 @@ fn is_planar_set(polys: &[Polygon]) -> bool {
     })
 }
 
-/// Loads a scene file (.toml, .gltf, .glb) with strict validation. A bare glTF file makes
-/// every mesh node a surface with the built-in defaults (emissivity 1, no boundary condition),
-/// its node `extras` applied.
+/// Loads a scene file (.toml, .gltf, .glb, .stl, .obj, .vs3) with strict validation. A bare
+/// mesh file makes every mesh surface a surface with the built-in defaults (emissivity 1, no
+/// boundary condition), glTF node `extras` applied.
 pub fn load(path: &std::path::Path) -> crate::Result<Scene> {
-    let mut scene = load_file(path)?;
+    load_with(path, &mesh_model::MeshOptions::default())
+}
+
+/// As [`load`], with the unit and repair options of a bare STL, OBJ or glTF scene (the
+/// command line's `--unit` and `--repair`); a TOML scene sets them per `[[model]]` and refuses
+/// them here.
+pub fn load_with(path: &std::path::Path, bare: &mesh_model::MeshOptions) -> crate::Result<Scene> {
+    let mut scene = load_file(path, bare)?;
     let suspects = validate::celsius_suspects(&scene);
     scene.warnings.extend(suspects);
     Ok(scene)
 }
 
-fn load_file(path: &std::path::Path) -> crate::Result<Scene> {
+fn load_file(path: &std::path::Path, bare: &mesh_model::MeshOptions) -> crate::Result<Scene> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let is_mesh = matches!(ext.as_deref(), Some("gltf" | "glb" | "stl" | "obj"));
+    if !is_mesh && *bare != mesh_model::MeshOptions::default() {
+        return Err(crate::Error::Usage(format!(
+            "--unit and --repair apply to a bare .stl, .obj, .gltf or .glb scene; {} sets `unit` and `repair` \
+             per [[model]]",
+            path.display()
+        )));
+    }
     match ext.as_deref() {
         Some("toml") => toml_scene::load(path),
-        Some("gltf" | "glb") => {
-            let model = gltf_scene::load_model(path)?;
-            let entry = assemble::ModelEntry { model, layer: props::Layer::new("the glTF file", path, None) };
+        Some("gltf" | "glb" | "stl" | "obj") => {
+            let entry = mesh_model::load_entry(path, bare, props::Layer::new("the mesh file", path, None))?;
             assemble::assemble(path, None, None, &props::Layer::default(), Vec::new(), vec![entry])
         }
         Some("vs3") => {
@@ -335,6 +359,8 @@ fn load_file(path: &std::path::Path) -> crate::Result<Scene> {
             let entry = assemble::ModelEntry {
                 model: v.model,
                 layer: props::Layer::new("the View3D file", path, None),
+                report: None,
+                notes: Vec::new(),
             };
             let ambient = (!c.enclosure).then_some(0.0);
             let mut scene = assemble::assemble(
@@ -356,9 +382,10 @@ fn load_file(path: &std::path::Path) -> crate::Result<Scene> {
             scene.run_defaults = RunDefaults { tolerance: c.eps, closure: c.enclosure };
             Ok(scene)
         }
-        _ => {
-            Err(InputError::file(path, "unknown scene file type; expected a .toml, .gltf, .glb or .vs3 file")
-                .into())
-        }
+        _ => Err(InputError::file(
+            path,
+            "unknown scene file type; expected a .toml, .gltf, .glb, .stl, .obj or .vs3 file",
+        )
+        .into()),
     }
 }

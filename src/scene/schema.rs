@@ -120,8 +120,16 @@ pub struct RawDisk {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawModel {
-    /// glTF file, relative to the scene file.
+    /// glTF, STL, OBJ or View3D file, relative to the scene file.
     pub file: Spanned<String>,
+    /// Length unit of an STL or OBJ file's coordinates: m, mm, cm, in or ft.
+    pub unit: Option<Spanned<String>>,
+    /// Weld tolerance, m.
+    pub weld: Num,
+    /// Surfaces per `file`, `group` or `component`.
+    pub split: Option<Spanned<String>>,
+    /// Weld, orient and drop duplicates and slivers.
+    pub repair: Option<Spanned<bool>>,
     /// Default emissivity for its surfaces.
     pub emissivity: Num,
     /// Default temperature, K.

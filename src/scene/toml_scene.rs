@@ -1,9 +1,9 @@
 //! The TOML scene loader: read, deserialize strictly (schema.rs), validate every value with
 //! its line, load the `[[model]]` glTF files, then hand over to assemble.rs.
 use super::assemble::{self, ModelEntry, ShapeSpec, TomlSurface};
-use super::gltf_scene;
+use super::mesh_model::{self, MeshOptions, Split, Unit};
 use super::props::{Layer, Role};
-use super::schema::{Num, RawDisk, RawRectangle, RawScene, RawSurface};
+use super::schema::{Num, RawDisk, RawModel, RawRectangle, RawScene, RawSurface};
 use super::toml_errors::{from_toml, Lines};
 use super::validate::{self as v, DEFAULT_SEGMENTS, MAX_SEGMENTS, MAX_SUBDIVISION};
 use super::{Disk, Scene};
@@ -83,8 +83,27 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
             )
             .into());
         }
-        let is_vs3 = full.extension().is_some_and(|e| e.eq_ignore_ascii_case("vs3"));
-        let model = if is_vs3 {
+        let opts = mesh_options(m).map_err(|(o, p)| err(None, o, format!("{where_}: {p}")))?;
+        let ext = full.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let is_vs3 = ext.as_deref() == Some("vs3");
+        if matches!(ext.as_deref(), Some("gltf" | "glb")) {
+            let key = |k: &Option<Spanned<String>>| k.as_ref().map(|s| s.span().start);
+            if let (Some(at), true) = (key(&m.unit), opts.unit != Unit::M) {
+                return Err(err(None, at, format!("{where_}: glTF is in metres by its specification; unit applies to STL and OBJ models")).into());
+            }
+            if let Some(at) = key(&m.split) {
+                return Err(err(None, at, format!("{where_}: a glTF model is split by its nodes (one surface per mesh node); split applies to STL and OBJ models")).into());
+            }
+        }
+        if is_vs3 && opts != MeshOptions::default() {
+            return Err(err(
+                None,
+                start,
+                format!("{where_}: unit, weld, split and repair apply to glTF, STL and OBJ models, not .vs3"),
+            )
+            .into());
+        }
+        if is_vs3 {
             let v = super::vs3::load(&full)?;
             model_warnings.extend(v.warnings);
             if v.controls != super::vs3::Controls::default() {
@@ -94,11 +113,10 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
                     full.display()
                 ));
             }
-            v.model
+            models.push(ModelEntry { model: v.model, layer, report: None, notes: Vec::new() });
         } else {
-            gltf_scene::load_model(&full)?
-        };
-        models.push(ModelEntry { model, layer });
+            models.push(mesh_model::load_entry(&full, &opts, layer)?);
+        }
     }
 
     let mut surfaces = Vec::with_capacity(raw.surface.len());
@@ -124,6 +142,29 @@ fn fill(layer: &mut Layer, e: &Num, t: &Num, q: &Num, l: &Num) -> Located<()> {
     layer.heat_flux = check(q, &v::heat_flux)?;
     layer.max_patch_size = check(l, &|x| v::length(x, "max_patch_size"))?;
     Ok(())
+}
+
+/// The mesh keys of a `[[model]]`: unit, weld, split, repair.
+fn mesh_options(m: &RawModel) -> Located<MeshOptions> {
+    fn word(w: &Option<Spanned<String>>) -> Option<(usize, &str)> {
+        w.as_ref().map(|s| (s.span().start, s.get_ref().as_str()))
+    }
+    let mut o = MeshOptions::default();
+    if let Some((at, u)) = word(&m.unit) {
+        o.unit = Unit::parse(u).map_err(|p| (at, p))?;
+    }
+    if let Some((at, s)) = word(&m.split) {
+        o.split = Some(Split::parse(s).map_err(|p| (at, p))?);
+    }
+    if let Some(w) = &m.weld {
+        let x = *w.get_ref();
+        if !(x.is_finite() && (0.0..=v::MAX_COORD).contains(&x)) {
+            return Err((w.span().start, format!("weld is {x}; give a tolerance in metres, 0 or more")));
+        }
+        o.weld = Some(x);
+    }
+    o.repair = m.repair.as_ref().is_some_and(|r| *r.get_ref());
+    Ok(o)
 }
 
 fn role(r: &Option<Spanned<String>>) -> Located<Option<Role>> {

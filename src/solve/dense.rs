@@ -51,8 +51,14 @@ pub fn solve_scene(
     params: &Params,
 ) -> Result<Option<DenseRun>> {
     let Some(mut ex) = dense::build(scene, vf)? else { return Ok(None) };
-    let p =
-        EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
+    let facts = Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene)));
+    let p = EnforceParams {
+        mode,
+        open: !scene.is_closed(),
+        source: scene.source.clone(),
+        facts,
+        ..Default::default()
+    };
     let report = dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
     let solution = solve_gray(scene, &ex, params)?;
     let warnings = std::mem::take(&mut ex.t.warnings);

@@ -12,6 +12,7 @@
 pub mod analytic_scenes;
 pub mod exact_vf;
 pub mod hemicube;
+pub mod mesh_files;
 pub mod rect_exact;
 
 pub use exact_vf::{box_scene, multinomial, patch_vf, vf_from_s};

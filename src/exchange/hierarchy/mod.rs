@@ -650,13 +650,26 @@ impl Hierarchy {
             .take(5)
             .map(|(k, p)| format!("{} (row sum {p:.6})", scene.surfaces[*k].name))
             .collect();
+        let facts = crate::scene::orientation::SceneFacts::of(scene);
+        let rows: Vec<super::leak::LeakRow> = bad
+            .iter()
+            .map(|&(k, p)| super::leak::LeakRow {
+                name: scene.surfaces[k].name.clone(),
+                row_sum: p,
+                sampled: usize::from(s_var[k] > 0.0),
+                entries: usize::from(p > 0.0),
+                worst: None,
+            })
+            .collect();
+        let hint = super::leak::hint(&facts, &rows);
         Err(InputError::surface(
             &scene.source,
             scene.surfaces[bad[0].0].name.clone(),
             format!(
-                "closed scene leaks: {} surface rows fall short of 1 by more than the link errors allow: {}",
+                "closed scene leaks: {} surface rows fall short of 1 by more than the link errors allow: {}{}",
                 bad.len(),
-                names.join(", ")
+                names.join(", "),
+                if hint.is_empty() { String::new() } else { format!(". {hint}") }
             ),
         )
         .into())
