@@ -93,6 +93,7 @@ pub fn synthetic(n: usize, fill: f64, seed: u64) -> (Scene, ViewFactors) {
         patch_samples: vec![0; n],
         pairs: 0,
         wall: Duration::ZERO,
+        flags: Vec::new(),
     };
     (scene, vf)
 }

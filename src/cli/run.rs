@@ -60,12 +60,14 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     // Also keeps the per-patch row sums before enforcement (VTK `raw_row_sum`).
     let (vf, raw_sums) = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
+        warn_flags(&scene, &vf.flags);
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
         let sums = vf.patch_row_sums.clone();
         (vf, sums)
     } else {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
+        warn_flags(&scene, &raw.flags);
         let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
         let mut vf = at_level(&scene, &ex, level).to_viewfactors(raw.wall);
         vf.pairs = raw.pairs;
@@ -147,6 +149,7 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
     let start = std::time::Instant::now();
     let Some(mut ex) = exchange::dense::build(scene, &cfg.params)? else { return Ok(false) };
     let wall = start.elapsed();
+    warn_flags(scene, &ex.t.flags);
     let open = !scene.is_closed();
     if mode == Enforce::None {
         warn_dense_leaks(scene, &ex);
@@ -187,6 +190,29 @@ fn lean_viewfactors(scene: &Scene, cfg: &Config, level: Level, mode: Enforce) ->
         eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} (patch {})", scene.patch_name(at));
     }
     Ok(true)
+}
+
+/// Flagged entries listed on stderr shown at most this many at a time (the count is always given).
+const FLAGS_SHOWN: usize = 10;
+
+/// Warns about the entries a method flagged (error not bounded, receiver cut), naming the pairs.
+fn warn_flags(scene: &Scene, flags: &[viewfactor::Flag]) {
+    for f in flags.iter().take(FLAGS_SHOWN) {
+        // A surface of one patch is named as itself.
+        let name = |p: usize| {
+            let s = &scene.surfaces[scene.patches[p].surface];
+            if s.patches.len() == 1 {
+                s.name.clone()
+            } else {
+                scene.patch_name(p)
+            }
+        };
+        let (from, to) = (name(f.from), name(f.to));
+        eprintln!("lambert: warning: {} entry {from} -> {to}: {}", f.method, f.note);
+    }
+    if flags.len() > FLAGS_SHOWN {
+        eprintln!("lambert: warning: {} more flagged entries not shown", flags.len() - FLAGS_SHOWN);
+    }
 }
 
 /// The leak warning of [`warn_leaks`] on the packed store (the general thresholds).

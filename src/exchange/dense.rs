@@ -395,5 +395,6 @@ pub fn to_surface_viewfactors(
         patch_samples: vec![0; t.n],
         pairs: t.pairs,
         wall,
+        flags: t.flags.clone(),
     }
 }

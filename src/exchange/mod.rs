@@ -339,6 +339,7 @@ impl Exchange {
             patch_samples: self.samples.clone(),
             pairs: 0,
             wall,
+            flags: Vec::new(),
         }
     }
 }

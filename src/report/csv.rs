@@ -13,6 +13,7 @@ fn csv_err(path: &Path, e: csv::Error) -> Error {
 
 /// Writes `from,to,factor,std_error,method`; open scenes get a `to = ambient` row per source.
 pub fn write_viewfactors<W: Write>(out: W, vf: &ViewFactors, open: bool, path: &Path) -> Result<()> {
+    crate::viewfactor::range::check(vf)?;
     let mut w = csv::Writer::from_writer(out);
     let err = |e| csv_err(path, e);
     w.write_record(["from", "to", "factor", "std_error", "method"]).map_err(err)?;

@@ -30,6 +30,7 @@ pub fn write_triangle<W: Write>(
     open: bool,
     path: &Path,
 ) -> Result<()> {
+    crate::viewfactor::range::check_triangle(t, names)?;
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
     out.write_all(b"from,to,factor,std_error,method\n").map_err(io)?;
     let names: Vec<String> = names.iter().map(|s| encode(s)).collect::<Result<_>>()?;

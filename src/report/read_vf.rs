@@ -140,5 +140,6 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<ViewFactors> {
         patch_samples: vec![0; scene.patches.len()],
         pairs: 0,
         wall: Duration::ZERO,
+        flags: Vec::new(),
     })
 }

@@ -41,6 +41,10 @@ pub trait RowKernel: Sync {
     fn symmetric(&self) -> bool;
     /// Fills row `i`.
     fn row(&self, i: usize, out: &mut Row) -> Result<()>;
+    /// Entries flagged so far (error not bounded, receiver cut), sorted by pair.
+    fn flags(&self) -> Vec<super::Flag> {
+        Vec::new()
+    }
 }
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
@@ -94,5 +98,7 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
         fold(&mut sink, start, rows)?;
     }
     progress.finish();
-    Ok(sink.finish(start.elapsed()))
+    let mut vf = sink.finish(start.elapsed());
+    vf.flags = kernel.flags();
+    Ok(vf)
 }

@@ -48,6 +48,8 @@ pub struct ViewFactors {
     pub pairs: u64,
     /// Wall time of the computation.
     pub wall: Duration,
+    /// Patch pairs whose entry the method could not bound (reported on stderr).
+    pub flags: Vec<super::Flag>,
 }
 
 impl ViewFactors {
@@ -247,6 +249,7 @@ impl<'a> Sink<'a> {
             patch_samples: self.samples,
             pairs: self.pairs,
             wall,
+            flags: Vec::new(),
         }
     }
 }

@@ -50,6 +50,8 @@ pub struct Triangle {
     pub raw_asymmetry: f64,
     /// Patch pairs evaluated.
     pub pairs: u64,
+    /// Patch pairs whose entry the method could not bound (reported on stderr).
+    pub flags: Vec<super::Flag>,
 }
 
 /// Rows per task of the symmetric mat-vec: a fixed count, so sums never depend on threads.
@@ -71,6 +73,7 @@ impl Triangle {
             raw_row_methods: vec![MethodSet::default(); n],
             raw_asymmetry: 0.0,
             pairs: 0,
+            flags: Vec::new(),
         })
     }
 
@@ -252,6 +255,7 @@ pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress) -> Resul
     } else {
         fill_folded(&mut t, kernel, progress)?;
     }
+    t.flags = kernel.flags();
     Ok(t)
 }
 

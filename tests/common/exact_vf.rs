@@ -38,6 +38,7 @@ pub fn vf_from_s(
         patch_samples: vec![0; n],
         pairs: 0,
         wall: Duration::ZERO,
+        flags: Vec::new(),
     }
 }
 
