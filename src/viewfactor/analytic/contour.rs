@@ -12,9 +12,13 @@
 //!    Σ e_i·f_j = 0 over closed rings, and the terms that must cancel stay small;
 //! 4. every edge pair is evaluated exactly by [`super::edge::pair_term`].
 //!
+//! A pair where one polygon is more than [`split::SPLIT_RATIO`] times larger than the other
+//! and than their distance is evaluated by [`super::split`] instead (its terms would cancel).
+//!
 //! No vertex is nudged; shared vertices and edges are exact limits of the formulas.
 use super::edge::{pair_term, Edge};
 use super::ring::{classify, clip_into, Ring, Side, INLINE};
+use super::split;
 use crate::geometry::tolerance::{CONTOUR_CLIP_SNAP_REL, CONTOUR_COPLANAR_REL};
 use crate::geometry::Polygon;
 use glam::DVec3;
@@ -49,6 +53,23 @@ pub fn polygon_polygon_with_round_off(p: &Polygon, q: &Polygon) -> Exchange {
 /// Exchange area between two planar rings (counter-clockwise about unit normals `np`, `nq`),
 /// clipped to each other's front half-space; the rings are not validated.
 pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
+    if p.len() < 3 || q.len() < 3 {
+        return Exchange::default();
+    }
+    // Step: a polygon much larger than the other and than their distance goes to the split
+    // of [`super::split`], whose terms do not cancel.
+    let (cp, cq) = (mean(p), mean(q));
+    let (rp, rq) = (radius(p, cp), radius(q, cq));
+    let (hp, hq) = (nq.dot(cp - q[0]).abs(), np.dot(cq - p[0]).abs());
+    match split::small_side(rp, rq, hp, hq) {
+        Some(true) => split::exchange(p, np, cp, rp, q, nq),
+        Some(false) => split::exchange(q, nq, cq, rq, p, np),
+        None => ring_ring_unsplit(p, np, q, nq),
+    }
+}
+
+/// [`ring_ring`] by the double contour integral alone, whatever the pair's size ratio.
+pub fn ring_ring_unsplit(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     let none = Exchange::default();
     if p.len() < 3 || q.len() < 3 {
         return none;
@@ -58,7 +79,6 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     let cp = mean(p);
     let cq = mean(q);
     let origin = 0.5 * (cp + cq);
-    let radius = |v: &[DVec3], c: DVec3| v.iter().map(|x| x.distance_squared(c)).fold(0.0, f64::max).sqrt();
     let size = cp.distance(cq).max(radius(p, cp)).max(radius(q, cq));
     if !(size > 0.0 && size.is_finite()) {
         return none;
@@ -116,6 +136,11 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     });
     let unit = scale * scale / TAU;
     Exchange { value: (sum * unit).max(0.0), round_off: TERM_ROUND_OFF * f64::EPSILON * magnitude * unit }
+}
+
+/// Largest distance from `c` to a vertex of `v`.
+fn radius(v: &[DVec3], c: DVec3) -> f64 {
+    v.iter().map(|x| x.distance_squared(c)).fold(0.0, f64::max).sqrt()
 }
 
 /// Vertex average (a point of the ring's plane).

@@ -8,6 +8,8 @@
 //! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
 //! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
 //! - [`ring`]: stack-allocated vertex rings and half-space clipping;
+//! - [`split`]: pairs of very different size (near part by contour, far part by Gauss on
+//!   Lambert's point factor);
 //! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
 //!
 //! Shadows: obstructed pairs are the [`super::shadow`] module's; the kernel calls its
@@ -29,3 +31,4 @@ pub mod ladder;
 pub mod lambert;
 pub mod lattice;
 pub mod ring;
+pub mod split;
