@@ -18,12 +18,14 @@
 //! of F ≤ 1. When s is high above b (h ≥ [`HIGH`]·r_s) the whole point factor is analytic
 //! over s and the Gauss rule alone is used.
 //!
-//! The Gauss error is estimated by comparing two orders ([`LOW`], [`HIGH_ORDER`]); it and the
-//! round-off make the [`Exchange::round_off`] bound the kernel checks.
+//! The Gauss error is estimated by comparing two orders ([`super::cubature`]: at the slowest
+//! convergence here, singularity 3 r_s away, ρ ≥ 5.8, the higher order is 5.8⁻¹² ≈ 1e-9
+//! times closer, so the difference over-estimates the error); it and the round-off make the
+//! [`Exchange::round_off`] bound the kernel checks.
 use super::contour::{ring_ring_unsplit, Exchange};
+use super::cubature::{fan as integrate, POINT_ROUND_OFF};
 use super::lambert::point_to_ring;
 use super::ring::{classify, clip_into, Ring, Side};
-use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::tolerance::CONTOUR_CLIP_SNAP_REL;
 use glam::DVec3;
 
@@ -37,15 +39,6 @@ pub const NEAR_BOX: f64 = 8.0;
 /// Above this height over b's plane (in units of r_s) the whole point factor is analytic
 /// over s (nearest singularity 3 r_s away) and no contour part is needed.
 pub const HIGH: f64 = 4.0;
-/// Gauss–Legendre order (per direction, collapsed on each triangle of s) of the estimate.
-const HIGH_ORDER: usize = 14;
-/// Lower order whose difference from [`HIGH_ORDER`] bounds the quadrature error: at the
-/// slowest convergence above (singularity 3 r_s away, ρ ≥ 5.8) the higher order is 5.8⁻¹²
-/// ≈ 1e-9 times closer, so the difference over-estimates the error.
-const LOW: usize = 8;
-/// Round-off of one Lambert point factor per polygon vertex, in ε (an angle and a cosine
-/// ratio per edge, each a few ulps).
-const POINT_ROUND_OFF: f64 = 8.0;
 
 /// Which polygon is small, when a pair needs the split: `Some(true)` when p is the small one.
 pub fn small_side(rp: f64, rq: f64, hp: f64, hq: f64) -> Option<bool> {
@@ -139,39 +132,4 @@ fn front_of(ring: &[DVec3], point: DVec3, normal: DVec3, snap: f64) -> Option<Ri
 fn area(ring: &[DVec3], n: DVec3) -> f64 {
     let m = ring.len();
     (1..m.saturating_sub(1)).map(|k| 0.5 * (ring[k] - ring[0]).cross(ring[k + 1] - ring[0]).dot(n)).sum()
-}
-
-/// A Gauss estimate with the difference from a lower order.
-struct Estimate {
-    value: f64,
-    error: f64,
-}
-
-/// ∫ g dA over `ring` (planar, normal `n`): collapsed tensor Gauss rules on the fan triangles
-/// from vertex 0 with signed areas, so non-convex rings are covered too (g is analytic over the
-/// ring's hull wherever this is used).
-fn integrate(ring: &[DVec3], n: DVec3, g: impl Fn(DVec3) -> f64) -> Estimate {
-    let rule = |order: usize| -> f64 {
-        let (x, w) = gauss_legendre(order);
-        let mut sum = 0.0;
-        for k in 1..ring.len() - 1 {
-            let (a, b, c) = (ring[0], ring[k], ring[k + 1]);
-            let twice = (b - a).cross(c - a).dot(n);
-            if twice == 0.0 {
-                continue;
-            }
-            let mut tri = 0.0;
-            for (xi, wi) in x.iter().zip(&w) {
-                let mut inner = 0.0;
-                for (xj, wj) in x.iter().zip(&w) {
-                    inner += wj * g(a + xi * (b - a) + xj * (1.0 - xi) * (c - a));
-                }
-                tri += wi * (1.0 - xi) * inner;
-            }
-            sum += twice * tri;
-        }
-        sum
-    };
-    let (hi, lo) = (rule(HIGH_ORDER), rule(LOW));
-    Estimate { value: hi, error: (hi - lo).abs() }
 }
