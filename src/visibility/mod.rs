@@ -24,7 +24,9 @@
 //! A ray leaving the front of a patch never meets anything behind or in that patch's plane, so
 //! such triangles (coplanar neighbours, the far face of a two-sided thin plate, the other faces
 //! of a convex solid) are skipped, whatever f32 rounding of the origin says; occlusion queries
-//! do the same for both end planes.
+//! do the same for both end planes. "In the plane" means within the f32 band of the scene and,
+//! checked in f64, within [`NEAR_REL`] of the patch's own radius plus [`COPLANAR_SLOPE`] of
+//! the distance: a small patch 1 m over a ground 2e6 m wide still sees the ground.
 //! Sides are decided by the origin's distance to a triangle's plane, not by t: a point
 //! within [`NEAR_REL`] of the scene size behind a plane (the f32 rounding scale) counts as in
 //! front of it, because the true origin lies in front of every surface that meets its patch
