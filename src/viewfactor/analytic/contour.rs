@@ -64,22 +64,29 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     match split::small_side(rp, rq, hp, hq) {
         Some(true) => split::exchange(p, np, cp, rp, q, nq),
         Some(false) => split::exchange(q, nq, cq, rq, p, np),
-        None => ring_ring_unsplit(p, np, q, nq),
+        None => contour((p, np, cp, rp), (q, nq, cq, rq)),
     }
 }
 
 /// [`ring_ring`] by the double contour integral alone, whatever the pair's size ratio.
 pub fn ring_ring_unsplit(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
-    let none = Exchange::default();
     if p.len() < 3 || q.len() < 3 {
-        return none;
+        return Exchange::default();
     }
+    let (cp, cq) = (mean(p), mean(q));
+    contour((p, np, cp, radius(p, cp)), (q, nq, cq, radius(q, cq)))
+}
+
+/// The double contour integral of rings (vertices, normal, vertex mean, radius about it).
+fn contour(
+    (p, np, cp, rp): (&[DVec3], DVec3, DVec3, f64),
+    (q, nq, cq, rq): (&[DVec3], DVec3, DVec3, f64),
+) -> Exchange {
+    let none = Exchange::default();
     // Step: normalised frame centred on the pair, scaled by a power of two close to the pair's
     // separation (or size, when they are close), so that ln r ≈ 0 for typical distances.
-    let cp = mean(p);
-    let cq = mean(q);
     let origin = 0.5 * (cp + cq);
-    let size = cp.distance(cq).max(radius(p, cp)).max(radius(q, cq));
+    let size = cp.distance(cq).max(rp).max(rq);
     if !(size > 0.0 && size.is_finite()) {
         return none;
     }
