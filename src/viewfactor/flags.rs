@@ -32,7 +32,7 @@ impl FlagLog {
     /// The flags recorded so far, sorted by pair (the same on any thread count).
     pub fn sorted(&self) -> Vec<Flag> {
         let mut v = self.0.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        v.sort_by(|a, b| (a.from, a.to, a.method.bits()).cmp(&(b.from, b.to, b.method.bits())));
+        v.sort_by_key(|a| (a.from, a.to, a.method.bits()));
         v.dedup_by(|a, b| a.from == b.from && a.to == b.to && a.method == b.method);
         v
     }
