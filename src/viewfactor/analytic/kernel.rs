@@ -251,8 +251,10 @@ impl<'s> AnalyticKernel<'s> {
                         to: j,
                         method: MethodSet::ANALYTIC,
                         note: format!(
-                            "exchange area {:e} m² has a round-off bound of {:e} m², above {ANALYTIC_REL:e} relative",
-                            x.value, x.round_off
+                            "F = {} has a round-off bound of {:.1e} relative, above the method's {ANALYTIC_REL:e} \
+                             (both polygons long against their distance?)",
+                            x.value / pi.area(),
+                            x.round_off / x.value
                         ),
                     });
                 }
