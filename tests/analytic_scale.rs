@@ -98,13 +98,15 @@ fn long_strips_over_each_other_are_bounded_honestly() {
         [[surface]]\nname = \"bottom\"\npolygon = [[0,0,0],[1e9,0,0],[1e9,1,0],[0,1,0]]\ntemperature = 300.0\n\
         [[surface]]\nname = \"top\"\npolygon = [[0,0,1],[0,1,1],[1e9,1,1],[1e9,0,1]]\ntemperature = 300.0\n";
     let s = scene(dir.path(), "strips.toml", strips);
-    let out = run(&["viewfactors", s.to_str().unwrap(), "-m", "analytic"]);
-    assert!(out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("warning: analytic entry bottom -> top") && err.contains("round-off bound"),
-        "{err}"
-    );
+    for cmd in ["viewfactors", "solve"] {
+        let out = run(&[cmd, s.to_str().unwrap(), "-m", "analytic"]);
+        assert!(out.status.success(), "{cmd}: {}", String::from_utf8_lossy(&out.stderr));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("warning: analytic entry bottom -> top") && err.contains("round-off bound"),
+            "{cmd}: {err}"
+        );
+    }
 }
 
 /// Pairs of every kind: size ratios near 1 and up to 1e6, touching and apart.

@@ -407,7 +407,9 @@ fn solve(a: SolveArgs) -> Result<()> {
         Some(path) => report::read_vf::read_viewfactors(path, &scene)?,
         None => {
             exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
-            viewfactor::compute(&scene, &cfg.params, Level::Patch)?
+            let vf = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
+            warn_flags(&scene, &vf.flags);
+            vf
         }
     };
     if cfg.patches && vf.level == Level::Surface {
@@ -600,6 +602,7 @@ fn lean_solve(
     }
     let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_outward_hint(scene, e))?;
     let Some(run) = run else { return Ok(None) };
+    warn_flags(scene, &run.flags);
     print_enforcement(mode, &run.report);
     eprintln!(
         "lambert: {} patches, {} pairs, dense store {:.1} MB",

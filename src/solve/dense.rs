@@ -38,6 +38,8 @@ pub struct DenseRun {
     pub pairs: u64,
     /// Bytes of the packed store (triangle and exceptions).
     pub store_bytes: usize,
+    /// Entries the view-factor method flagged (reported on stderr).
+    pub flags: Vec<crate::viewfactor::Flag>,
 }
 
 /// View factors, enforcement (`mode`) and the gray solve on the lean path; `None` when the
@@ -53,7 +55,8 @@ pub fn solve_scene(
         EnforceParams { mode, open: !scene.is_closed(), source: scene.source.clone(), ..Default::default() };
     let report = dense::enforce(&mut ex, &p)?;
     let solution = solve_gray(scene, &ex, params)?;
-    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes() }))
+    let flags = std::mem::take(&mut ex.t.flags);
+    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes(), flags }))
 }
 
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for
