@@ -94,6 +94,7 @@ pub fn synthetic(n: usize, fill: f64, seed: u64) -> (Scene, ViewFactors) {
         pairs: 0,
         wall: Duration::ZERO,
         warnings: Vec::new(),
+        flags: Vec::new(),
     };
     (scene, vf)
 }

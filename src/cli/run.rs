@@ -78,6 +78,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let (vf, raw_sums) = if mode == Enforce::None {
         let vf = viewfactor::compute(&scene, &cfg.params, level)?;
         say_warnings(&vf.warnings);
+        warn_flags(&scene, &vf.flags);
         warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
         let sums = vf.patch_row_sums.clone();
         (vf, sums)
@@ -85,6 +86,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
         let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
         say_warnings(&raw.warnings);
+        warn_flags(&scene, &raw.flags);
         let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
         let mut vf = at_level(&scene, &ex, level).to_viewfactors(raw.wall);
         vf.pairs = raw.pairs;
@@ -189,6 +191,7 @@ fn lean_viewfactors(
     let Some(mut ex) = exchange::dense::build(scene, &cfg.params)? else { return Ok(false) };
     let wall = start.elapsed();
     say_warnings(&ex.t.warnings);
+    warn_flags(scene, &ex.t.flags);
     let open = !scene.is_closed();
     if mode == Enforce::None {
         warn_dense_leaks(scene, &ex);
@@ -236,6 +239,29 @@ fn lean_viewfactors(
         eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} (patch {})", scene.patch_name(at));
     }
     Ok(true)
+}
+
+/// Flagged entries listed on stderr shown at most this many at a time (the count is always given).
+const FLAGS_SHOWN: usize = 10;
+
+/// Warns about the entries a method flagged (error not bounded, receiver cut), naming the pairs.
+fn warn_flags(scene: &Scene, flags: &[viewfactor::Flag]) {
+    for f in flags.iter().take(FLAGS_SHOWN) {
+        // A surface of one patch is named as itself.
+        let name = |p: usize| {
+            let s = &scene.surfaces[scene.patches[p].surface];
+            if s.patches.len() == 1 {
+                s.name.clone()
+            } else {
+                scene.patch_name(p)
+            }
+        };
+        let (from, to) = (name(f.from), name(f.to));
+        eprintln!("lambert: warning: {} entry {from} -> {to}: {}", f.method, f.note);
+    }
+    if flags.len() > FLAGS_SHOWN {
+        eprintln!("lambert: warning: {} more flagged entries not shown", flags.len() - FLAGS_SHOWN);
+    }
 }
 
 /// The leak warning of [`warn_leaks`] on the packed store (the general thresholds).
@@ -469,6 +495,7 @@ fn solve(a: SolveArgs) -> Result<()> {
             exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
             let vf = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
             say_warnings(&vf.warnings);
+            warn_flags(&scene, &vf.flags);
             (vf, true)
         }
     };
@@ -698,6 +725,7 @@ fn lean_solve(
     let run = solve::dense::solve_scene(scene, vf, mode, params)?;
     let Some(run) = run else { return Ok(None) };
     say_warnings(&run.warnings);
+    warn_flags(scene, &run.flags);
     print_enforcement(mode, &run.report);
     eprintln!(
         "lambert: {} patches, {} pairs, dense store {:.1} MB",

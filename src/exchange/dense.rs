@@ -387,5 +387,6 @@ pub fn to_surface_viewfactors(
         pairs: t.pairs,
         wall,
         warnings: Vec::new(),
+        flags: t.flags.clone(),
     }
 }

@@ -344,6 +344,7 @@ impl Exchange {
             pairs: 0,
             wall,
             warnings: Vec::new(),
+            flags: Vec::new(),
         }
     }
 }

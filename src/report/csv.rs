@@ -33,6 +33,7 @@ pub fn write_viewfactors<W: Write>(
     geometry: &str,
     path: &Path,
 ) -> Result<()> {
+    crate::viewfactor::range::check(vf)?;
     let mut w = csv::Writer::from_writer(out);
     let err = |e| csv_err(path, e);
     w.write_record(HEADER).map_err(err)?;

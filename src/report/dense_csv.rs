@@ -32,6 +32,7 @@ pub fn write_triangle<W: Write>(
     geometry: &str,
     path: &Path,
 ) -> Result<()> {
+    crate::viewfactor::range::check_triangle(t, names)?;
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
     out.write_all(super::csv::HEADER.join(",").as_bytes()).map_err(io)?;
     out.write_all(b"\n").map_err(io)?;

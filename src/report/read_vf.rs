@@ -178,6 +178,7 @@ pub fn read_stamped(path: &Path, scene: &Scene) -> Result<(ViewFactors, bool)> {
         patch_samples: vec![0; scene.patches.len()],
         pairs: 0,
         wall: Duration::ZERO,
+        flags: Vec::new(),
         warnings: Vec::new(),
     };
     Ok((vf, stamp.is_some()))

@@ -40,6 +40,8 @@ pub struct DenseRun {
     pub store_bytes: usize,
     /// What the view-factor method reported about its own accuracy.
     pub warnings: Vec<String>,
+    /// Entries the view-factor method flagged (reported on stderr).
+    pub flags: Vec<crate::viewfactor::Flag>,
 }
 
 /// View factors, enforcement (`mode`) and the gray solve on the lean path; `None` when the
@@ -61,8 +63,9 @@ pub fn solve_scene(
     };
     let report = dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
     let solution = solve_gray(scene, &ex, params)?;
+    let flags = std::mem::take(&mut ex.t.flags);
     let warnings = std::mem::take(&mut ex.t.warnings);
-    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes(), warnings }))
+    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes(), warnings, flags }))
 }
 
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for

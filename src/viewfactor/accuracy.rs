@@ -38,7 +38,11 @@ pub const RASTER_COEFF: f64 = 2.0;
 /// Single plane: the hemisphere fraction outside its plane of half-width s at unit height,
 /// 1 − 4·F_corner(s, s, 1) (literature §4), the method's one-sided grazing bias.
 pub fn single_plane_missed() -> f64 {
-    let s = DEFAULT_HALF_WIDTH;
+    single_plane_missed_at(DEFAULT_HALF_WIDTH)
+}
+
+/// The same for a plane of half-width `s`.
+pub fn single_plane_missed_at(s: f64) -> f64 {
     1.0 - 4.0 * element_to_rectangle_corner(s, s, 1.0)
 }
 

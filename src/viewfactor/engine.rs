@@ -46,6 +46,10 @@ pub trait RowKernel: Sync {
     fn warnings(&self) -> Vec<String> {
         Vec::new()
     }
+    /// Entries flagged so far (error not bounded, receiver cut), sorted by pair.
+    fn flags(&self) -> Vec<super::Flag> {
+        Vec::new()
+    }
 }
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
@@ -102,5 +106,6 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
     progress.finish();
     let mut vf = sink.finish(start.elapsed());
     vf.warnings = kernel.warnings();
+    vf.flags = kernel.flags();
     Ok(vf)
 }

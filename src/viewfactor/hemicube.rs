@@ -47,8 +47,9 @@ use raster::{DepthPlane, ItemBuffer};
 /// Largest accepted resolution: one face buffer is 8R² bytes per thread (134 MB at 4096).
 pub const MAX_RESOLUTION: usize = 4096;
 
-/// Near plane w ≥ ε as a fraction of the scene size: only guards the perspective divide (the
-/// side planes of each face pyramid pass through the eye, so nothing else is cut).
+/// Near plane w ≥ ε as a fraction of the scene size (at most [`prepare::LOCAL_SPAN`] patch
+/// radii): only guards the perspective divide (the side planes of each face pyramid pass
+/// through the eye, so nothing else is cut).
 pub(crate) const NEAR_REL: f64 = 1e-9;
 
 /// Receivers' inverse depth is scaled by 1 + this, so a front face beats a coincident
@@ -114,7 +115,7 @@ impl<'a> HemicubeKernel<'a> {
     pub fn new(scene: &'a Scene, resolution: usize, positions: Positions) -> Result<Self> {
         let r = checked_resolution("hemicube", resolution)?;
         let prep = Prepared::new(scene);
-        let near = NEAR_REL * prep.scale;
+        let near = NEAR_REL * prep.near_scale;
         let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
         let faces = [
             Face::new(x, y, z, true, r, near),
@@ -138,9 +139,15 @@ impl<'a> HemicubeKernel<'a> {
         self.deltas.resolution
     }
 
-    /// Σ of the delta factors over the five faces (1 + O(h²)): the row sum of a closed scene.
+    /// Σ of the (normalised) delta factors over the five faces, 1 up to round-off: the row sum
+    /// of a closed scene.
     pub fn delta_total(&self) -> f64 {
         self.deltas.total()
+    }
+
+    /// Σ of the raw midpoint delta factors (1 + O(h²)), by which they are divided.
+    pub fn midpoint_total(&self) -> f64 {
+        self.deltas.midpoint_total()
     }
 
     /// Renders one face for the gathered scene and adds weight × its delta factors to `acc`.

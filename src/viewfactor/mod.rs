@@ -7,6 +7,8 @@
 //! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
+//! - [`range`]: the final check that every written factor lies in [0, 1];
+//! - [`flags`]: entries a method could not bound, reported on stderr;
 //! - [`accuracy`]: what each method knows about its own error (leak thresholds, error model,
 //!   accuracy knob), asked by the CLI, enforcement and validation;
 //! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
@@ -20,14 +22,17 @@ pub mod analytic;
 pub mod auto;
 pub mod closed_form;
 pub mod engine;
+pub mod flags;
 pub mod hemicube;
 pub mod monte_carlo;
 pub mod progress;
+pub mod range;
 pub mod shadow;
 pub mod single_plane;
 pub mod sink;
 pub mod triangle;
 
+pub use flags::Flag;
 pub use sink::{Entry, Level, ViewFactors};
 
 /// The view-factor methods of SPEC.md.

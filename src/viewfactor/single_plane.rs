@@ -23,6 +23,7 @@
 //! angles, so a wide plane costs no resolution near the zenith (π/R rad per pixel at most,
 //! a hemicube's top face has 2/R); uniform spacing is kept for comparison.
 use super::engine::{Row, RowKernel};
+use super::flags::{Flag, FlagLog};
 use super::hemicube::prepare::{Eye, Gathered, Prepared};
 use super::hemicube::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
 use super::MethodSet;
@@ -75,6 +76,8 @@ pub struct SinglePlaneKernel<'a> {
     grid: PlaneGrid,
     options: SinglePlaneOptions,
     pool: Mutex<Vec<Workspace>>,
+    /// Rows with receivers that reach past the plane's edge.
+    flags: FlagLog,
 }
 
 impl<'a> SinglePlaneKernel<'a> {
@@ -88,7 +91,8 @@ impl<'a> SinglePlaneKernel<'a> {
             )));
         }
         let grid = PlaneGrid::new(r, options.half_width, options.spacing);
-        Ok(Self { scene, prep: Prepared::new(scene), grid, options, pool: Mutex::new(Vec::new()) })
+        let flags = FlagLog::default();
+        Ok(Self { scene, prep: Prepared::new(scene), grid, options, pool: Mutex::new(Vec::new()), flags })
     }
 
     /// The fraction of the hemisphere the plane captures, 4·F_corner(s, s, 1); one minus it
@@ -103,19 +107,41 @@ impl RowKernel for SinglePlaneKernel<'_> {
         false
     }
 
+    fn flags(&self) -> Vec<Flag> {
+        self.flags.sorted()
+    }
+
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let mut ws = self.pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_default();
         ws.acc.resize(self.scene.patches.len(), 0.0);
         let poly = &self.scene.patches[i].polygon;
         let rule = positions::rule(poly, self.options.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
-        let near = NEAR_REL * self.prep.scale;
+        let near = NEAR_REL * self.prep.near_scale;
+        let mut cut: Vec<u32> = Vec::new();
         for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
             let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.options.positions.turn(k));
             ws.gathered.gather(&self.prep, &eye, i);
             ws.plane.project(&ws.gathered, self.options.half_width, near);
+            cut.extend_from_slice(&ws.plane.cut);
             let Workspace { plane, acc, touched, .. } = &mut ws;
             plane.resolve(&self.grid, &mut |id, f| credit(acc, touched, id, w * f));
+        }
+        cut.sort_unstable();
+        cut.dedup();
+        if let Some(&first) = cut.first() {
+            let missed = crate::viewfactor::accuracy::single_plane_missed_at(self.options.half_width);
+            self.flags.push(Flag {
+                from: i,
+                to: first as usize,
+                method: MethodSet::SINGLE_PLANE,
+                note: format!(
+                    "{} receiver(s) of this row, the first shown, reach past the projection plane \
+                     (half-width {}): the part beyond it is not counted, up to {missed:.2e} of the row",
+                    cut.len(),
+                    self.options.half_width
+                ),
+            });
         }
         let Workspace { acc, touched, .. } = &mut ws;
         emit(acc, touched, MethodSet::SINGLE_PLANE, out);

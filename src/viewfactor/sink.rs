@@ -50,6 +50,8 @@ pub struct ViewFactors {
     pub wall: Duration,
     /// What the method reported about its own accuracy (entries above their error goal).
     pub warnings: Vec<String>,
+    /// Patch pairs whose entry the method could not bound (reported on stderr).
+    pub flags: Vec<super::Flag>,
 }
 
 impl ViewFactors {
@@ -250,6 +252,7 @@ impl<'a> Sink<'a> {
             pairs: self.pairs,
             wall,
             warnings: Vec::new(),
+            flags: Vec::new(),
         }
     }
 }

@@ -52,6 +52,8 @@ pub struct Triangle {
     pub pairs: u64,
     /// What the method reported about its own accuracy (entries above their error goal).
     pub warnings: Vec<String>,
+    /// Patch pairs whose entry the method could not bound (reported on stderr).
+    pub flags: Vec<super::Flag>,
 }
 
 /// Rows per task of the symmetric mat-vec: a fixed count, so sums never depend on threads.
@@ -74,6 +76,7 @@ impl Triangle {
             raw_asymmetry: 0.0,
             pairs: 0,
             warnings: Vec::new(),
+            flags: Vec::new(),
         })
     }
 
@@ -256,6 +259,7 @@ pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress) -> Resul
         fill_folded(&mut t, kernel, progress)?;
     }
     t.warnings = kernel.warnings();
+    t.flags = kernel.flags();
     Ok(t)
 }
 

@@ -24,7 +24,9 @@
 //! A ray leaving the front of a patch never meets anything behind or in that patch's plane, so
 //! such triangles (coplanar neighbours, the far face of a two-sided thin plate, the other faces
 //! of a convex solid) are skipped, whatever f32 rounding of the origin says; occlusion queries
-//! do the same for both end planes.
+//! do the same for both end planes. "In the plane" means within the f32 band of the scene and,
+//! checked in f64, within [`NEAR_REL`] of the patch's own radius plus [`COPLANAR_SLOPE`] of
+//! the distance: a small patch 1 m over a ground 2e6 m wide still sees the ground.
 //! Sides are decided by the origin's distance to a triangle's plane, not by t: a point
 //! within [`NEAR_REL`] of the scene size behind a plane (the f32 rounding scale) counts as in
 //! front of it, because the true origin lies in front of every surface that meets its patch
@@ -54,6 +56,12 @@ pub const NEAR_REL: f64 = 4e-6;
 /// contact there, as a fraction of the half-diagonal: grazing rays from an origin that
 /// rounding put just behind a neighbour's plane cross it this far back.
 pub const FAR_REL: f64 = 1e-3;
+/// Planes meant to coincide (a coplanar neighbour, a face sharing an edge) deviate from the
+/// source patch's plane by at most this slope times their distance from its centre, on top of
+/// [`NEAR_REL`] of its own radius: f32 input coordinates and Newell normals agree to ~1e-7.
+/// A surface clearly off the plane at a distance counts as in front even where the f32 band
+/// of the whole scene would swallow it (a unit square 1 m over a 2e6 m ground).
+pub const COPLANAR_SLOPE: f64 = 1e-7;
 /// The normalised scene's half-diagonal lies in [TARGET/2, TARGET).
 const TARGET_HALF_EXTENT: f64 = 1024.0;
 /// obvhs's own node-interval floor (cwbvh::node::EPSILON); the padding must dwarf it.
@@ -117,6 +125,14 @@ pub struct Visibility {
     /// Per patch: padded box and plane (unit normal, offset n·x) in the normalised frame.
     pub(crate) patch_box: Vec<Aabb>,
     pub(crate) patch_plane: Vec<(Vec3A, f32)>,
+    /// Per patch, f64 in the normalised frame: unit normal, offset, centroid and the band of
+    /// the in-plane test ([`NEAR_REL`] of its radius).
+    pub(crate) patch_plane64: Vec<PlaneBand>,
+    /// Triangles in BVH leaf order, normalised frame, f64 (the in-plane test of rays that
+    /// leave a patch small against the scene).
+    pub(crate) tri64: Vec<[DVec3; 3]>,
+    /// Ray length covering the whole scene, normalised units.
+    pub(crate) ray_length: f32,
     center: DVec3,
     scale: f64,
     /// Rounding band in normalised units.
@@ -124,6 +140,15 @@ pub struct Visibility {
     /// Contact reach behind an origin in normalised units.
     pub(crate) far: f32,
     stats: BuildStats,
+}
+
+/// A patch's plane for the f64 in-plane test.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PlaneBand {
+    pub normal: DVec3,
+    pub offset: f64,
+    pub centre: DVec3,
+    pub band: f64,
 }
 
 /// Occluder id meaning "skip nothing".
@@ -147,12 +172,15 @@ impl Visibility {
             }
         }
         let (center, scale) = normalisation(polys.iter().flat_map(|(p, _)| p.vertices().iter().copied()));
-        let to_f32 = |x: DVec3| ((x - center) * scale).as_vec3a();
+        let to_f64 = |x: DVec3| (x - center) * scale;
+        let to_f32 = |x: DVec3| to_f64(x).as_vec3a();
         let mut tris = Vec::new();
+        let mut tris64 = Vec::new();
         let mut owner = Vec::new();
         for (id, (poly, _)) in polys.iter().enumerate() {
             for [a, b, c] in poly.triangulate() {
                 tris.push([to_f32(a), to_f32(b), to_f32(c)]);
+                tris64.push([to_f64(a), to_f64(b), to_f64(c)]);
                 owner.push(id as u32);
             }
         }
@@ -179,6 +207,20 @@ impl Visibility {
             .iter()
             .map(|&k| (triangle::transpose(&tris[k as usize]), owner[k as usize]))
             .unzip();
+        let tri64 = bvh.primitive_indices.iter().map(|&k| tris64[k as usize]).collect();
+        let patch_plane64 = scene
+            .patches
+            .iter()
+            .map(|p| {
+                let (n, c) = (p.polygon.normal(), to_f64(p.polygon.centroid()));
+                PlaneBand {
+                    normal: n,
+                    offset: n.dot(c),
+                    centre: c,
+                    band: NEAR_REL * p.polygon.bounding_radius() * scale,
+                }
+            })
+            .collect();
         let (patch_box, patch_plane) = scene
             .patches
             .iter()
@@ -197,6 +239,10 @@ impl Visibility {
             occluders: polys.into_iter().map(|(_, o)| o).collect(),
             patch_box,
             patch_plane,
+            patch_plane64,
+            tri64,
+            // The padded box's diagonal is below 2·half·(1 + 2·PAD_REL); twice that is ample.
+            ray_length: (4.0 * half) as f32,
             center,
             scale,
             near,
@@ -229,6 +275,10 @@ impl Visibility {
     /// World point → normalised frame (f64).
     pub(crate) fn to_frame(&self, x: DVec3) -> DVec3 {
         (x - self.center) * self.scale
+    }
+    /// Length of a ray that crosses the whole scene from any point in it, normalised units.
+    pub(crate) fn ray_length(&self) -> f32 {
+        self.ray_length
     }
     /// World distance → normalised distance.
     pub(crate) fn scale(&self) -> f64 {

@@ -5,7 +5,7 @@
 //! All take world coordinates; the near-origin sidedness rule is documented in the module
 //! above.
 use super::triangle::{ShearedRay, TriHit};
-use super::{tri_aabb, Hit, Visibility, NO_SKIP};
+use super::{tri_aabb, Hit, Visibility, COPLANAR_SLOPE, NO_SKIP};
 use crate::geometry::DVec3;
 use glam::{UVec2, Vec3A};
 use obvhs::ray::{Ray, RayHit};
@@ -41,7 +41,7 @@ impl Visibility {
         skip: u32,
     ) -> Option<(usize, TriHit)> {
         let (near, far) = (self.near, self.far);
-        let plane = self.patch_plane.get(skip as usize).copied();
+        let plane = self.patch_plane.get(skip as usize).copied().map(|pl| (pl, skip as usize));
         let sheared = ShearedRay::new(o, d);
         let mut best: Option<(usize, TriHit)> = None;
         let mut hit = RayHit::none();
@@ -85,12 +85,20 @@ impl Visibility {
         (b - a).cross(c - a).normalize_or_zero().dot(p - a)
     }
 
-    /// True when triangle `id` lies behind or in `plane` (unit normal, offset), to within the
-    /// near band: a ray leaving the front of a plane never meets such a triangle, whatever
-    /// rounding of its origin says.
+    /// True when triangle `id` lies behind or in the plane of patch `patch` (f32 unit normal,
+    /// offset), to within the near band: a ray leaving the front of a plane never meets such a
+    /// triangle, whatever rounding of its origin says. The band is the f32 rounding scale of
+    /// the whole scene, and also, in f64, [`super::NEAR_REL`] of the patch's radius plus
+    /// [`super::COPLANAR_SLOPE`] of the distance, so that a patch small against the scene does
+    /// not take a surface clearly in front of it for one in its plane.
     #[inline]
-    fn behind(&self, id: usize, (n, off): (Vec3A, f32)) -> bool {
-        self.vertices(id).iter().all(|v| n.dot(*v) - off <= self.near)
+    fn behind(&self, id: usize, ((n, off), patch): ((Vec3A, f32), usize)) -> bool {
+        self.vertices(id).iter().all(|v| n.dot(*v) - off <= self.near) && {
+            let pl = &self.patch_plane64[patch];
+            self.tri64[id]
+                .iter()
+                .all(|v| pl.normal.dot(*v) - pl.offset <= pl.band + COPLANAR_SLOPE * v.distance(pl.centre))
+        }
     }
 
     /// True when something other than patches `skip_i` and `skip_j` (and anything behind or in
@@ -112,7 +120,10 @@ impl Visibility {
     #[inline]
     pub(crate) fn occluded_frame(&self, o: Vec3A, d: Vec3A, len: f32, skip_i: u32, skip_j: u32) -> bool {
         let (near, far) = (self.near, self.far);
-        let planes = [self.patch_plane[skip_i as usize], self.patch_plane[skip_j as usize]];
+        let planes = [
+            (self.patch_plane[skip_i as usize], skip_i as usize),
+            (self.patch_plane[skip_j as usize], skip_j as usize),
+        ];
         let sheared = ShearedRay::new(o, d);
         let q = o + d * len;
         let ray = Ray::new(o, d, -far, len + far);
@@ -145,8 +156,7 @@ impl Visibility {
             return;
         }
         let query = self.patch_box[i].union(&self.patch_box[j]);
-        let planes = [self.patch_plane[i], self.patch_plane[j]];
-        let near = self.near;
+        let planes = [(self.patch_plane[i], i), (self.patch_plane[j], j)];
         let (skip_i, skip_j) = (i as u32, j as u32);
         let bvh = &self.bvh;
         let mut state = bvh.new_traversal(Vec3A::ONE);
@@ -158,7 +168,7 @@ impl Visibility {
             if who != skip_i
                 && who != skip_j
                 && tri_aabb(tri).intersect_aabb(&query)
-                && planes.iter().all(|(n, off)| tri.iter().any(|v| n.dot(*v) - off > near))
+                && planes.iter().all(|&pl| !self.behind(id, pl))
             {
                 out.push(who);
             }

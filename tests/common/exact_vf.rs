@@ -39,6 +39,7 @@ pub fn vf_from_s(
         pairs: 0,
         wall: Duration::ZERO,
         warnings: Vec::new(),
+        flags: Vec::new(),
     }
 }
 

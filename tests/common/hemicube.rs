@@ -154,8 +154,29 @@ pub fn visible_past_blocker(x: DVec3, ceiling: &Polygon) -> f64 {
 }
 
 /// The item-buffer model of a square target [−a, a]² on the top face: midpoint delta factors
-/// h²/[π(x² + y² + 1)²] of the pixels whose centre lies in it (half-open), at resolution r.
+/// h²/[π(x² + y² + 1)²] of the pixels whose centre lies in it (half-open), at resolution r,
+/// divided by the raw total of all five faces as the hemicube normalises them.
 pub fn top_face_pixel_model(r: usize, a: f64) -> f64 {
+    top_face_midpoint_sum(r, a) / midpoint_total(r)
+}
+
+/// Σ of the raw midpoint delta factors of all five faces (the hemicube's normalisation).
+fn midpoint_total(r: usize) -> f64 {
+    let h = 2.0 / r as f64;
+    let c = |k: usize| -1.0 + (k as f64 + 0.5) * h;
+    let mut sum = top_face_midpoint_sum(r, 2.0);
+    for row in 0..r / 2 {
+        let z = (row as f64 + 0.5) * h;
+        for col in 0..r {
+            let d = c(col) * c(col) + z * z + 1.0;
+            sum += 4.0 * z * h * h / (PI * d * d);
+        }
+    }
+    sum
+}
+
+/// Σ of the raw midpoint delta factors of the top-face pixels whose centres lie in (−a, a)².
+fn top_face_midpoint_sum(r: usize, a: f64) -> f64 {
     let h = 2.0 / r as f64;
     let centres: Vec<f64> =
         (0..r).map(|k| -1.0 + (k as f64 + 0.5) * h).filter(|c| (-a..a).contains(c)).collect();

@@ -12,9 +12,13 @@
 //!    Σ e_i·f_j = 0 over closed rings, and the terms that must cancel stay small;
 //! 4. every edge pair is evaluated exactly by [`super::edge::pair_term`].
 //!
+//! A pair where one polygon is more than [`split::SPLIT_RATIO`] times larger than the other
+//! and than their distance is evaluated by [`super::split`] instead (its terms would cancel).
+//!
 //! No vertex is nudged; shared vertices and edges are exact limits of the formulas.
 use super::edge::{pair_term, Edge};
 use super::ring::{classify, clip_into, Ring, Side, INLINE};
+use super::split;
 use crate::geometry::tolerance::{CONTOUR_CLIP_SNAP_REL, CONTOUR_COPLANAR_REL};
 use crate::geometry::Polygon;
 use glam::DVec3;
@@ -49,17 +53,40 @@ pub fn polygon_polygon_with_round_off(p: &Polygon, q: &Polygon) -> Exchange {
 /// Exchange area between two planar rings (counter-clockwise about unit normals `np`, `nq`),
 /// clipped to each other's front half-space; the rings are not validated.
 pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
-    let none = Exchange::default();
     if p.len() < 3 || q.len() < 3 {
-        return none;
+        return Exchange::default();
     }
+    // Step: a polygon much larger than the other and than their distance goes to the split
+    // of [`super::split`], whose terms do not cancel.
+    let (cp, cq) = (mean(p), mean(q));
+    let (rp, rq) = (radius(p, cp), radius(q, cq));
+    let (hp, hq) = (nq.dot(cp - q[0]).abs(), np.dot(cq - p[0]).abs());
+    match split::small_side(rp, rq, hp, hq) {
+        Some(true) => split::exchange(p, np, cp, rp, q, nq),
+        Some(false) => split::exchange(q, nq, cq, rq, p, np),
+        None => contour((p, np, cp, rp), (q, nq, cq, rq)),
+    }
+}
+
+/// [`ring_ring`] by the double contour integral alone, whatever the pair's size ratio.
+pub fn ring_ring_unsplit(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
+    if p.len() < 3 || q.len() < 3 {
+        return Exchange::default();
+    }
+    let (cp, cq) = (mean(p), mean(q));
+    contour((p, np, cp, radius(p, cp)), (q, nq, cq, radius(q, cq)))
+}
+
+/// The double contour integral of rings (vertices, normal, vertex mean, radius about it).
+fn contour(
+    (p, np, cp, rp): (&[DVec3], DVec3, DVec3, f64),
+    (q, nq, cq, rq): (&[DVec3], DVec3, DVec3, f64),
+) -> Exchange {
+    let none = Exchange::default();
     // Step: normalised frame centred on the pair, scaled by a power of two close to the pair's
     // separation (or size, when they are close), so that ln r ≈ 0 for typical distances.
-    let cp = mean(p);
-    let cq = mean(q);
     let origin = 0.5 * (cp + cq);
-    let radius = |v: &[DVec3], c: DVec3| v.iter().map(|x| x.distance_squared(c)).fold(0.0, f64::max).sqrt();
-    let size = cp.distance(cq).max(radius(p, cp)).max(radius(q, cq));
+    let size = cp.distance(cq).max(rp).max(rq);
     if !(size > 0.0 && size.is_finite()) {
         return none;
     }
@@ -116,6 +143,11 @@ pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     });
     let unit = scale * scale / TAU;
     Exchange { value: (sum * unit).max(0.0), round_off: TERM_ROUND_OFF * f64::EPSILON * magnitude * unit }
+}
+
+/// Largest distance from `c` to a vertex of `v`.
+fn radius(v: &[DVec3], c: DVec3) -> f64 {
+    v.iter().map(|x| x.distance_squared(c)).fold(0.0, f64::max).sqrt()
 }
 
 /// Vertex average (a point of the ring's plane).

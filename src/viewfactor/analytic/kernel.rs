@@ -17,13 +17,15 @@
 //!
 //! The unobstructed value of 1–5 between two gridded surfaces whose grid steps match comes
 //! from a table built once per lattice offset ([`super::lattice`]), not from the ladder.
-use super::contour::polygon_polygon;
+use super::contour::polygon_polygon_with_round_off;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
 use crate::geometry::planes::PlaneGroups;
 use crate::geometry::tolerance::PATCH_COPLANAR_REL;
 use crate::scene::Scene;
+use crate::viewfactor::accuracy::ANALYTIC_REL;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
+use crate::viewfactor::flags::{Flag, FlagLog};
 use crate::viewfactor::shadow::branch::PairWork;
 use crate::viewfactor::shadow::classify::Status;
 use crate::viewfactor::shadow::detect::Occlusion;
@@ -54,6 +56,11 @@ pub fn leaks(vf: &ViewFactors, tol: f64) -> Vec<(usize, f64)> {
 /// letting most pairs of a 36²-per-face cube use 3×3-point rules.
 pub const GAUSS_REL_TOL: f64 = 5e-8;
 
+/// An exact entry is flagged when its round-off bound exceeds the method's promise
+/// ([`ANALYTIC_REL`] relative) and this absolute error on F (the range check's slack), so
+/// that factors far below round-off of the row (grazing pairs at 1e-15) stay quiet.
+pub const FLAG_ABS: f64 = 1e-12;
+
 /// Per-patch data the pair loop reads, packed for locality.
 #[derive(Debug, Clone, Copy)]
 struct PatchInfo {
@@ -81,6 +88,8 @@ pub struct AnalyticKernel<'s> {
     shadows: Option<Shadows<'s>>,
     /// Unobstructed values shared by translated pairs of gridded surfaces.
     reuse: Reuse,
+    /// Exact entries whose round-off bound exceeds the method's promise.
+    flags: FlagLog,
 }
 
 thread_local! {
@@ -145,6 +154,7 @@ impl<'s> AnalyticKernel<'s> {
             occlusion: OnceLock::new(),
             shadows: Shadows::new(scene, policy),
             reuse: Reuse::default(),
+            flags: FlagLog::default(),
         }
     }
 
@@ -231,7 +241,25 @@ impl<'s> AnalyticKernel<'s> {
                 let pj = self.rules.points(j, mj, rule_j);
                 gauss_exchange(pi, a.normal, a.offset, pj, b.normal, b.offset, weights)
             }
-            Rung::Exact => polygon_polygon(&self.scene.patches[i].polygon, &self.scene.patches[j].polygon),
+            Rung::Exact => {
+                let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
+                let x = polygon_polygon_with_round_off(pi, pj);
+                let area = pi.area().min(pj.area());
+                if x.round_off > ANALYTIC_REL * x.value && x.round_off > FLAG_ABS * area {
+                    self.flags.push(Flag {
+                        from: i,
+                        to: j,
+                        method: MethodSet::ANALYTIC,
+                        note: format!(
+                            "F = {} has a round-off bound of {:.1e} relative, above the method's {ANALYTIC_REL:e} \
+                             (both polygons long against their distance?)",
+                            x.value / pi.area(),
+                            x.round_off / x.value
+                        ),
+                    });
+                }
+                x.value
+            }
         }
     }
 }
@@ -331,6 +359,10 @@ struct Scratch {
 impl RowKernel for AnalyticKernel<'_> {
     fn symmetric(&self) -> bool {
         true
+    }
+
+    fn flags(&self) -> Vec<Flag> {
+        self.flags.sorted()
     }
 
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {

@@ -8,6 +8,9 @@
 //! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
 //! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
 //! - [`ring`]: stack-allocated vertex rings and half-space clipping;
+//! - [`cubature`]: area cubature of Lambert's point factor (fixed and adaptive);
+//! - [`split`]: pairs of very different size (near part by contour, far part by Gauss on
+//!   Lambert's point factor);
 //! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
 //!
 //! Shadows: obstructed pairs are the [`super::shadow`] module's; the kernel calls its
@@ -21,6 +24,7 @@
 //! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
 pub mod angle;
 pub mod contour;
+pub mod cubature;
 pub mod disk;
 pub mod edge;
 pub mod gauss;
@@ -29,3 +33,4 @@ pub mod ladder;
 pub mod lambert;
 pub mod lattice;
 pub mod ring;
+pub mod split;

@@ -2,8 +2,10 @@
 //! resolution: ΔF = ΔA/[π(x² + y² + 1)²] on the top face (z = 1) and
 //! ΔF = z·ΔA/[π(u² + z² + 1)²] on the four half side faces, at the pixel centres.
 //!
-//! They are the midpoint rule of the exact pixel factors, so their total is 1 + O(h²)
-//! (1 + 8e-6 at R = 256, literature.md §4).
+//! They are the midpoint rule of the exact pixel factors, so their raw total is 1 + O(h²)
+//! (1 + 8e-6 at R = 256, 1.0154 at R = 6; literature.md §4). They are divided by that total,
+//! so the five faces sum to 1 up to round-off: a receiver that fills the whole hemisphere gets
+//! F = 1, never more, and a closed row sums to 1.
 use std::f64::consts::PI;
 
 /// Delta factors for one resolution, shared by every eye.
@@ -16,8 +18,10 @@ pub(crate) struct DeltaTables {
     pub top_prefix: Vec<f64>,
     /// One side face (R columns × R/2 rows from z = 0; all four sides share it), likewise.
     pub side_prefix: Vec<f64>,
-    /// Σ of all five faces' delta factors.
+    /// Σ of all five faces' delta factors after normalisation (1 up to round-off).
     total: f64,
+    /// Σ of the raw midpoint delta factors (1 + O(h²)), by which they were divided.
+    midpoint_total: f64,
 }
 
 impl DeltaTables {
@@ -44,13 +48,26 @@ impl DeltaTables {
                 side.push(z * h * h / (PI * d * d));
             }
         }
+        let midpoint_total = top.iter().sum::<f64>() + 4.0 * side.iter().sum::<f64>();
+        top.iter_mut().chain(side.iter_mut()).for_each(|d| *d /= midpoint_total);
         let total = top.iter().sum::<f64>() + 4.0 * side.iter().sum::<f64>();
-        Self { resolution: r, top_prefix: row_prefix(&top, r), side_prefix: row_prefix(&side, r), total }
+        Self {
+            resolution: r,
+            top_prefix: row_prefix(&top, r),
+            side_prefix: row_prefix(&side, r),
+            total,
+            midpoint_total,
+        }
     }
 
-    /// Σ of all five faces' delta factors (1 + O(h²)).
+    /// Σ of all five faces' delta factors (1 up to round-off).
     pub fn total(&self) -> f64 {
         self.total
+    }
+
+    /// Σ of the raw midpoint delta factors (1 + O(h²)), the normalisation divisor.
+    pub fn midpoint_total(&self) -> f64 {
+        self.midpoint_total
     }
 }
 
@@ -75,10 +92,21 @@ mod tests {
     #[test]
     fn delta_factors_sum_to_one_with_midpoint_error() {
         // literature.md §4: 1 + 8e-6 at 256²; the midpoint error scales as h².
-        let e256 = DeltaTables::new(256).total() - 1.0;
-        let e128 = DeltaTables::new(128).total() - 1.0;
+        let e256 = DeltaTables::new(256).midpoint_total() - 1.0;
+        let e128 = DeltaTables::new(128).midpoint_total() - 1.0;
         assert!(e256 > 0.0 && e256 < 1e-5, "256: {e256:e}");
         let order = (e128 / e256).log2();
         assert!((order - 2.0).abs() < 0.05, "order {order}");
+    }
+
+    #[test]
+    fn normalised_delta_factors_sum_to_one_at_any_resolution() {
+        // R = 6 (the evened --resolution 5) has a raw total of 1.0154.
+        let coarse = DeltaTables::new(6);
+        assert!((coarse.midpoint_total() - 1.0154).abs() < 1e-4, "{}", coarse.midpoint_total());
+        for r in [2, 6, 64, 256, 4096] {
+            let t = DeltaTables::new(r).total();
+            assert!((t - 1.0).abs() < 1e-13, "R = {r}: {t}");
+        }
     }
 }

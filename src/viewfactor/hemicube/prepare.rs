@@ -13,6 +13,11 @@ use crate::geometry::tolerance::EYE_IN_PLANE_REL;
 use crate::scene::Scene;
 use glam::DVec3;
 
+/// The in-plane and near-plane tolerances are relative to the scene's size, but never to more
+/// than this many times the local size (the eye's patch, or its distance to the polygon): a
+/// small patch 0.5 m from a polygon 1e9 m long must see it, not take itself for in its plane.
+pub(crate) const LOCAL_SPAN: f64 = 1e3;
+
 /// Item-buffer id of a blocker: occludes, receives nothing.
 pub(crate) const NO_RECEIVER: u32 = u32::MAX;
 
@@ -42,6 +47,9 @@ pub(crate) struct Prepared {
     pub verts: Vec<DVec3>,
     /// Length scale of the scene (half its bounding-box diagonal), m.
     pub scale: f64,
+    /// Scale of the near plane: `scale`, or [`LOCAL_SPAN`] times the smallest patch radius
+    /// when that is smaller.
+    pub near_scale: f64,
 }
 
 impl Prepared {
@@ -71,7 +79,17 @@ impl Prepared {
         let (lo, hi) =
             verts.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
         let scale = if verts.is_empty() { 1.0 } else { (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE) };
-        Self { polys, verts, scale }
+        let smallest = polys.iter().map(|p| p.radius).fold(f64::INFINITY, f64::min);
+        let near_scale = scale.min(LOCAL_SPAN * smallest).max(f64::MIN_POSITIVE);
+        Self { polys, verts, scale, near_scale }
+    }
+
+    /// The in-plane tolerance between an eye (on a patch of radius `own`) and polygon `p`:
+    /// `global` (relative to the scene), unless the local scale is much smaller.
+    #[inline]
+    fn local_tol(&self, global: f64, own: f64, eye: DVec3, p: &PolyRec) -> f64 {
+        let local = own.max((p.centroid - eye).length() - p.radius);
+        global.min(EYE_IN_PLANE_REL * LOCAL_SPAN * local)
     }
 
     /// Vertices of polygon `k`.
@@ -84,10 +102,18 @@ impl Prepared {
     /// (`eye`, `n`) other than `skip`; infinity when there is none.
     pub fn nearest_in_front(&self, eye: DVec3, n: DVec3, skip: usize) -> f64 {
         let tol = EYE_IN_PLANE_REL * self.scale;
+        let own = self.polys.get(skip).map_or(0.0, |p| p.radius);
         let mut best = f64::INFINITY;
         for (k, p) in self.polys.iter().enumerate() {
+            if k == skip {
+                continue;
+            }
             let ahead = (p.centroid - eye).dot(n);
-            if k == skip || ahead + p.radius <= tol || p.normal.dot(eye - p.centroid).abs() <= tol {
+            let facing = p.normal.dot(eye - p.centroid).abs();
+            if (ahead + p.radius <= tol || facing <= tol) && {
+                let tol = self.local_tol(tol, own, eye, p);
+                ahead + p.radius <= tol || facing <= tol
+            } {
                 continue;
             }
             // Sphere and plane bounds: both are below the true point–polygon distance.
@@ -178,16 +204,18 @@ impl Gathered {
         self.polys.clear();
         self.verts.clear();
         let tol = EYE_IN_PLANE_REL * prep.scale;
+        let own_radius = prep.polys[own].radius;
         for (k, p) in prep.polys.iter().enumerate() {
             if k == own {
                 continue;
             }
+            // The scene-relative tests first; the local tolerance only when they would skip.
             let ahead = (p.centroid - eye.origin).dot(eye.n);
-            if ahead + p.radius <= tol {
+            if ahead + p.radius <= tol && ahead + p.radius <= prep.local_tol(tol, own_radius, eye.origin, p) {
                 continue; // entirely behind (or in) the eye's plane
             }
             let facing = p.normal.dot(eye.origin - p.centroid);
-            if facing.abs() <= tol {
+            if facing.abs() <= tol && facing.abs() <= prep.local_tol(tol, own_radius, eye.origin, p) {
                 continue; // the eye lies in this polygon's plane: zero projected area
             }
             let id = if facing > 0.0 { p.patch } else { NO_RECEIVER };

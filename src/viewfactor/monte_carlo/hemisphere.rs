@@ -61,7 +61,8 @@ impl RowKernel for HemisphereKernel<'_> {
             Warp::Cosine => 3,
         };
         let skip = i as u32;
-        let inf = f32::INFINITY;
+        // Rays as long as the scene is wide: every surface in reach, no infinite interval.
+        let reach = vis.ray_length();
         let mut tally = self.pool.tally(reps);
         for r in 0..reps {
             let n = replicate_len(c.samples, reps, r);
@@ -79,7 +80,7 @@ impl RowKernel for HemisphereKernel<'_> {
                 }
                 let d = frame.to_world(local).normalize();
                 let o = vis.to_frame(x).as_vec3a();
-                if let Some((slot, hit)) = vis.first_hit_frame(o, d.as_vec3a(), inf, skip) {
+                if let Some((slot, hit)) = vis.first_hit_frame(o, d.as_vec3a(), reach, skip) {
                     let j = vis.owner[slot];
                     if hit.front && (j as usize) < c.scene.patches.len() {
                         let w = match self.warp {

@@ -37,6 +37,8 @@ pub mod tally;
 /// Independently scrambled Sobol replicates per row; 16 gives a standard error good to about
 /// ±18 % (χ² with 15 degrees of freedom) for a (16/1)^0.3 ≈ 2.3× variance cost at RQMC rates.
 pub const SOBOL_REPLICATES: u32 = 16;
+/// Fewest samples per patch: the sample variance behind every standard error needs two.
+pub const MIN_SAMPLES: usize = 2;
 /// Fewest samples per replicate for Sobol; below this a row falls back to random sampling.
 const MIN_PER_REPLICATE: usize = 4;
 /// sobol_burley sequences hold 2¹⁶ points per seed; longer replicates chain new seeds.
@@ -69,8 +71,12 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 
 /// Runs a Monte Carlo method with explicit options.
 pub fn compute_with(scene: &Scene, params: &Params, level: Level, options: McOptions) -> Result<ViewFactors> {
-    if params.samples == 0 {
-        return Err(Error::Usage("Monte Carlo needs at least 1 sample per patch".into()));
+    if params.samples < MIN_SAMPLES {
+        return Err(Error::Usage(format!(
+            "Monte Carlo needs at least {MIN_SAMPLES} samples per patch (--samples {}): a standard error \
+             from fewer is undefined",
+            params.samples
+        )));
     }
     let samples = u32::try_from(params.samples)
         .map_err(|_| Error::Usage(format!("--samples {} exceeds 2^32 - 1 per patch", params.samples)))?;

@@ -56,6 +56,9 @@ pub(crate) struct PlaneScene {
     /// Scan scratch: row crossings and the (depth, id) of a block's pixels.
     xs: Vec<f64>,
     block: Vec<(f64, u32)>,
+    /// Receivers of the last projection that reach past the plane's edge (partly or wholly
+    /// unseen), in gather order.
+    pub cut: Vec<u32>,
 }
 
 /// Largest cell side, in pixels, resolved by scanning pixel rows rather than subdividing:
@@ -75,7 +78,17 @@ impl PlaneScene {
         ];
         self.polys.clear();
         self.pts.clear();
+        self.cut.clear();
         for p in &gathered.polys {
+            // A receiver with a point in front of the eye beyond |x|, |y| = s·z is partly missed.
+            if p.id != NO_RECEIVER
+                && gathered
+                    .vertices(p)
+                    .iter()
+                    .any(|q| q.z > near && (q.x.abs() > s * q.z || q.y.abs() > s * q.z))
+            {
+                self.cut.push(p.id);
+            }
             if clip::sphere_outside(&planes, p.centre, p.radius) {
                 continue;
             }
