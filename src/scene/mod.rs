@@ -301,22 +301,35 @@ fn is_planar_set(polys: &[Polygon]) -> bool {
     })
 }
 
+/// How a scene file may reach other files.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder
+    /// (`--allow-outside-paths`).
+    pub allow_outside_paths: bool,
+}
+
 /// Loads a scene file (.toml, .gltf, .glb) with strict validation. A bare glTF file makes
 /// every mesh node a surface with the built-in defaults (emissivity 1, no boundary condition),
 /// its node `extras` applied.
 pub fn load(path: &std::path::Path) -> crate::Result<Scene> {
-    let mut scene = load_file(path)?;
+    load_with(path, &LoadOptions::default())
+}
+
+/// [`load`] with explicit [`LoadOptions`].
+pub fn load_with(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
+    let mut scene = load_file(path, options)?;
     let suspects = validate::celsius_suspects(&scene);
     scene.warnings.extend(suspects);
     Ok(scene)
 }
 
-fn load_file(path: &std::path::Path) -> crate::Result<Scene> {
+fn load_file(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("toml") => toml_scene::load(path),
+        Some("toml") => toml_scene::load_with(path, options),
         Some("gltf" | "glb") => {
-            let model = gltf_scene::load_model(path)?;
+            let model = gltf_scene::load_model_with(path, options)?;
             let entry = assemble::ModelEntry { model, layer: props::Layer::new("the glTF file", path, None) };
             assemble::assemble(path, None, None, &props::Layer::default(), Vec::new(), vec![entry])
         }

@@ -6,7 +6,7 @@ use super::props::{Layer, Role};
 use super::schema::{Num, RawDisk, RawRectangle, RawScene, RawSurface};
 use super::toml_errors::{from_toml, Lines};
 use super::validate::{self as v, DEFAULT_SEGMENTS, MAX_SEGMENTS, MAX_SUBDIVISION};
-use super::{Disk, Scene};
+use super::{Disk, LoadOptions, Scene};
 use crate::error::InputError;
 use crate::geometry::subdivide::regular_polygon;
 use crate::geometry::{Polygon, DEGENERACY_TOL};
@@ -28,11 +28,21 @@ pub fn read_text(path: &Path) -> Result<String, InputError> {
 
 /// Loads and validates a TOML scene.
 pub fn load(path: &Path) -> Result<Scene> {
-    from_str(path, &read_text(path)?)
+    load_with(path, &LoadOptions::default())
+}
+
+/// [`load`] with explicit [`LoadOptions`] (passed on to the glTF models).
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
+    from_str_with(path, &read_text(path)?, options)
 }
 
 /// Validates TOML scene `text` as if read from `path` (model files resolve beside `path`).
 pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
+    from_str_with(path, text, &LoadOptions::default())
+}
+
+/// [`from_str`] with explicit [`LoadOptions`].
+pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<Scene> {
     let text = text.to_string();
     let raw: RawScene = toml::from_str(&text).map_err(|e| from_toml(path, &text, &e))?;
     let lines = Lines::new(&text);
@@ -96,7 +106,7 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
             }
             v.model
         } else {
-            gltf_scene::load_model(&full)?
+            gltf_scene::load_model_with(&full, options)?
         };
         models.push(ModelEntry { model, layer });
     }
