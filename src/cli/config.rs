@@ -29,6 +29,8 @@ pub struct Config {
     pub output: Output,
     /// `--tolerance` as given (`None`: the default, or the scene file's).
     pub tolerance_given: Option<f64>,
+    /// How the scene may reach other files (`--allow-outside-paths`).
+    pub load: lambert::scene::LoadOptions,
 }
 
 impl Config {
@@ -89,6 +91,7 @@ impl Config {
             enforce: a.enforce.clone(),
             output,
             tolerance_given: a.tolerance,
+            load: lambert::scene::LoadOptions { allow_outside_paths: a.allow_outside_paths },
         })
     }
 }

@@ -46,7 +46,7 @@ pub fn write_output(output: &Output, f: impl FnOnce(&mut dyn Write, &Path) -> Re
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
     check_vtk(&a.common.vtk)?;
-    let scene = scene::load(&cfg.scene)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
@@ -348,7 +348,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         (None, Some(path)) => DeckFormat::from_path(path)?,
         (None, None) => DeckFormat::Csv,
     };
-    let scene = scene::load(&cfg.scene)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
     }
@@ -633,7 +633,8 @@ fn render(a: RenderArgs) -> Result<()> {
     }
     let size = parse_size(&a.size)?;
     let range = a.range.as_deref().map(parse_range).transpose()?;
-    let scene = scene::load(&a.scene)?;
+    let scene =
+        scene::load_with(&a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })?;
     let camera = match &a.camera {
         Some(spec) => Camera::frame(&scene).with_spec(spec)?,
         None => Camera::frame(&scene),

@@ -304,7 +304,7 @@ fn mesh_triangles(
         for (key, v) in attributes {
             let a = json::index_value(v, n_acc, "accessors", &format!("{what}: {key} accessor"))?;
             let count = json::object(&doc.arrays.accessors[a], "the accessor")
-                .and_then(|o| json::uint(o, "count", "the accessor"))
+                .and_then(|o| json::uint(o, "count", ""))
                 .map_err(at(key.clone(), a))?;
             if count != vertices.len() as u64 {
                 return Err(format!(

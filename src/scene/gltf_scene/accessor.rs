@@ -135,12 +135,12 @@ impl Accessor {
 
 /// Checks the declaration of accessor `i` (< `arrays.accessors.len()`) for `role`.
 pub fn parse(arrays: &Arrays, i: usize, role: Use) -> Result<Accessor, String> {
-    let what = "the accessor";
-    let o = json::object(&arrays.accessors[i], what)?;
+    let what = "";
+    let o = json::object(&arrays.accessors[i], "the accessor")?;
     let code = json::uint(o, "componentType", what)?;
     let component = Component::from_code(code)
         .ok_or_else(|| format!("`componentType` {code} is not a glTF component type"))?;
-    let ty = json::opt_str(o, "type", what)?.ok_or("the accessor has no `type`, which glTF requires")?;
+    let ty = json::opt_str(o, "type", what)?.ok_or("`type` is missing, and glTF requires it")?;
     let components = TYPES
         .iter()
         .find(|(n, _)| *n == ty)
@@ -165,10 +165,12 @@ pub fn parse(arrays: &Arrays, i: usize, role: Use) -> Result<Accessor, String> {
                 component.name()
             ))
         }
-        Use::Indices if ty != "SCALAR" || !component.is_unsigned_int() => return Err(format!(
+        Use::Indices if ty != "SCALAR" || !component.is_unsigned_int() => {
+            return Err(format!(
             "indices are {ty} of {}; glTF requires SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
             component.name()
-        )),
+        ))
+        }
         _ => {}
     }
     let view = json::opt_index(o, "bufferView", arrays.views.len(), "buffer views", what)?;

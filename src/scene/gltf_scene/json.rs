@@ -16,7 +16,7 @@ pub fn array<'a>(o: &'a Obj, key: &str, what: &str) -> Result<&'a [Value], Strin
     match o.get(key) {
         None | Some(Value::Null) => Ok(&[]),
         Some(Value::Array(a)) => Ok(a),
-        Some(v) => Err(format!("{what}: `{key}` must be an array, got {}", short(v))),
+        Some(v) => Err(lead(what, format!("`{key}` must be an array, got {}", short(v)))),
     }
 }
 
@@ -27,32 +27,50 @@ pub fn opt_uint(o: &Obj, key: &str, what: &str) -> Result<Option<u64>, String> {
         Some(v) => v
             .as_u64()
             .map(Some)
-            .ok_or_else(|| format!("{what}: `{key}` must be a non-negative integer, got {}", short(v))),
+            .ok_or_else(|| lead(what, format!("`{key}` must be a non-negative integer, got {}", short(v)))),
     }
 }
 
 /// A required non-negative integer at `key`.
 pub fn uint(o: &Obj, key: &str, what: &str) -> Result<u64, String> {
-    opt_uint(o, key, what)?.ok_or_else(|| format!("{what} has no `{key}`, which glTF requires"))
+    opt_uint(o, key, what)?.ok_or_else(|| missing(what, key))
 }
 
 /// An optional index at `key` into an array of `len` `things`.
 pub fn opt_index(o: &Obj, key: &str, len: usize, things: &str, what: &str) -> Result<Option<usize>, String> {
     match opt_uint(o, key, what)? {
         None => Ok(None),
-        Some(i) => in_range(i, len, things).map(Some).map_err(|e| format!("{what}: `{key}` {e}")),
+        Some(i) => in_range(i, len, things).map(Some).map_err(|e| lead(what, format!("`{key}` {e}"))),
     }
 }
 
 /// A required index at `key` into an array of `len` `things`.
 pub fn index(o: &Obj, key: &str, len: usize, things: &str, what: &str) -> Result<usize, String> {
-    opt_index(o, key, len, things, what)?.ok_or_else(|| format!("{what} has no `{key}`, which glTF requires"))
+    opt_index(o, key, len, things, what)?.ok_or_else(|| missing(what, key))
 }
 
 /// Checks an index value `v` against an array of `len` `things`.
 pub fn index_value(v: &Value, len: usize, things: &str, what: &str) -> Result<usize, String> {
     let i = v.as_u64().ok_or_else(|| format!("{what} must be a non-negative integer, got {}", short(v)))?;
     in_range(i, len, things).map_err(|e| format!("{what} {e}"))
+}
+
+/// `problem` about a field of `what` (nothing to prefix when `what` is empty: the caller's
+/// context already names the object).
+fn lead(what: &str, problem: String) -> String {
+    if what.is_empty() {
+        problem
+    } else {
+        format!("{what}: {problem}")
+    }
+}
+
+fn missing(what: &str, key: &str) -> String {
+    if what.is_empty() {
+        format!("`{key}` is missing, and glTF requires it")
+    } else {
+        format!("{what} has no `{key}`, which glTF requires")
+    }
 }
 
 fn in_range(i: u64, len: usize, things: &str) -> Result<usize, String> {
@@ -68,7 +86,7 @@ pub fn opt_str<'a>(o: &'a Obj, key: &str, what: &str) -> Result<Option<&'a str>,
     match o.get(key) {
         None | Some(Value::Null) => Ok(None),
         Some(Value::String(s)) => Ok(Some(s)),
-        Some(v) => Err(format!("{what}: `{key}` must be a string, got {}", short(v))),
+        Some(v) => Err(lead(what, format!("`{key}` must be a string, got {}", short(v)))),
     }
 }
 
@@ -77,7 +95,7 @@ pub fn opt_bool(o: &Obj, key: &str, what: &str) -> Result<Option<bool>, String> 
     match o.get(key) {
         None | Some(Value::Null) => Ok(None),
         Some(Value::Bool(b)) => Ok(Some(*b)),
-        Some(v) => Err(format!("{what}: `{key}` must be true or false, got {}", short(v))),
+        Some(v) => Err(lead(what, format!("`{key}` must be true or false, got {}", short(v)))),
     }
 }
 
@@ -87,7 +105,7 @@ pub fn opt_floats<const N: usize>(o: &Obj, key: &str, what: &str) -> Result<Opti
         None | Some(Value::Null) => return Ok(None),
         Some(v) => v,
     };
-    let bad = || format!("{what}: `{key}` must be an array of {N} numbers, got {}", short(v));
+    let bad = || lead(what, format!("`{key}` must be an array of {N} numbers, got {}", short(v)));
     let a = v.as_array().filter(|a| a.len() == N).ok_or_else(bad)?;
     let mut out = [0.0; N];
     for (x, e) in out.iter_mut().zip(a) {
