@@ -597,10 +597,13 @@ fn finish_solve(scene: &Scene, cfg: &Config, sol: solve::Solution, vtk: Option<&
     );
     let out = if cfg.patches { sol } else { sol.by_surface(scene) };
     let (sum, max) = out.heat_balance();
-    let ok = sum.abs() <= solve::BALANCE_TOL * max;
+    let scale = out.balance_scale();
+    let ok = sum.abs() <= solve::BALANCE_TOL * scale;
     eprintln!(
-        "lambert: energy balance: sum of heat_rate = {sum:e} W ({:.1e} of max |heat_rate| = {max} W){}",
-        if max > 0.0 { sum.abs() / max } else { 0.0 },
+        "lambert: energy balance: sum of heat_rate = {} W ({:.1e} of the {} W exchanged; max |heat_rate| = {max} W){}",
+        report::fmt_f64(sum),
+        if scale > 0.0 { sum.abs() / scale } else { 0.0 },
+        report::fmt_f64(scale),
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     );
     write_output(&cfg.output, |w, p| report::solve_csv::write_solution(w, &out, p))?;

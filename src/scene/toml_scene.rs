@@ -3,7 +3,7 @@
 use super::assemble::{self, ModelEntry, ShapeSpec, TomlSurface};
 use super::gltf_scene;
 use super::props::{Layer, Role};
-use super::schema::{Num, RawDisk, RawRectangle, RawScene, RawSurface};
+use super::schema::{Num, RawDisk, RawRectangle, RawScene, RawSurface, Vec3};
 use super::toml_errors::{from_toml, Lines};
 use super::validate::{self as v, DEFAULT_SEGMENTS, MAX_SEGMENTS, MAX_SUBDIVISION};
 use super::{Disk, LoadOptions, Scene};
@@ -229,7 +229,7 @@ fn surface(path: &Path, lines: &Lines, k: usize, s: &Spanned<RawSurface>) -> Res
     Ok(TomlSurface { name, line, shape, layer, subdivide })
 }
 
-fn polygon(pts: &[[f64; 3]]) -> Result<ShapeSpec, String> {
+fn polygon(pts: &[Vec3]) -> Result<ShapeSpec, String> {
     if pts.len() > v::MAX_POLYGON_VERTICES {
         return Err(format!(
             "the polygon has {} vertices, more than the limit of {}; bring large outlines in as a glTF mesh",
@@ -240,15 +240,15 @@ fn polygon(pts: &[[f64; 3]]) -> Result<ShapeSpec, String> {
     let vs = pts
         .iter()
         .enumerate()
-        .map(|(k, p)| v::vector(*p, &format!("polygon vertex {k}")))
+        .map(|(k, p)| v::vector(p.0, &format!("polygon vertex {k}")))
         .collect::<Result<Vec<_>, _>>()?;
     Polygon::new(vs).map(ShapeSpec::Polygon).map_err(|e| v::polygon_problem(&e))
 }
 
 fn rectangle(r: &RawRectangle) -> Result<ShapeSpec, String> {
-    let o = v::vector(r.origin, "rectangle origin")?;
-    let u = v::vector(r.u, "rectangle u")?;
-    let w = v::vector(r.v, "rectangle v")?;
+    let o = v::vector(r.origin.0, "rectangle origin")?;
+    let u = v::vector(r.u.0, "rectangle u")?;
+    let w = v::vector(r.v.0, "rectangle v")?;
     if !(u.cross(w).length() > DEGENERACY_TOL * u.length() * w.length())
         || u.length() == 0.0
         || w.length() == 0.0
@@ -260,8 +260,8 @@ fn rectangle(r: &RawRectangle) -> Result<ShapeSpec, String> {
 }
 
 fn disk(d: &RawDisk) -> Result<ShapeSpec, String> {
-    let center = v::vector(d.center, "disk center")?;
-    let normal = v::vector(d.normal, "disk normal")?;
+    let center = v::vector(d.center.0, "disk center")?;
+    let normal = v::vector(d.normal.0, "disk normal")?;
     if !(normal.length() > 0.0) {
         return Err("disk normal is zero; give the direction the emitting side faces".into());
     }
