@@ -12,8 +12,9 @@
 //!
 //! Budget: `LAMBERT_FUZZ_CASES` inputs per target (default [`DEFAULT_CASES`], a few seconds),
 //! `LAMBERT_FUZZ_SEED` picks the campaign (default 0), `LAMBERT_FUZZ_TIMEOUT_S` the per-input
-//! bound. A long campaign: `LAMBERT_FUZZ_CASES=20000 cargo test --test fuzz` (see
-//! validation/reliability.md).
+//! bound, `LAMBERT_FUZZ_KEEP_GOING=1` reports every failing input instead of stopping at the
+//! first. A long campaign: `LAMBERT_FUZZ_CASES=20000 LAMBERT_FUZZ_SEED=1
+//! LAMBERT_FUZZ_KEEP_GOING=1 cargo test --test fuzz -- --nocapture` (validation/reliability.md).
 use lambert::scene::{self, toml_scene, Scene};
 use lambert::viewfactor::{self, Level, Method, Params};
 use lambert::Error;
@@ -93,9 +94,11 @@ fn judge(
             if env_or("LAMBERT_FUZZ_STRICT_RANGE", 0u8) == 1 {
                 fail(target, k, name, bytes, &format!("factor outside [0, 1]: {first}"));
             }
+            let path = save(target, k, name, bytes);
             eprintln!(
-                "open finding: {target} input {k} ({name}): {} factor(s) outside [0, 1], first {first}",
-                findings.len()
+                "open finding: {target} input {k} ({name}): {} factor(s) outside [0, 1], first {first}; saved to {}",
+                findings.len(),
+                path.display()
             );
         }
         Ok(Ok(_)) => {}
@@ -111,9 +114,24 @@ fn save(target: &str, k: usize, name: &str, bytes: &[u8]) -> PathBuf {
     path
 }
 
-/// Saves a failing input and fails the test with its path.
-fn fail(target: &str, k: usize, name: &str, bytes: &[u8], problem: &str) -> ! {
+/// The targets of the failing inputs so far, in `LAMBERT_FUZZ_KEEP_GOING=1` campaigns.
+static FAILURES: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+/// In a keep-going campaign, fails the target at its end if any of its inputs failed.
+fn finish(target: &str) {
+    let n = FAILURES.lock().unwrap_or_else(|e| e.into_inner()).iter().filter(|t| *t == target).count();
+    assert_eq!(n, 0, "{target}: {n} failing input(s) in this campaign (see the `FAILURE:` lines)");
+}
+
+/// Saves a failing input and fails the test with its path (in a keep-going campaign: reports
+/// it, counts it and goes on).
+fn fail(target: &str, k: usize, name: &str, bytes: &[u8], problem: &str) {
     let path = save(target, k, name, bytes);
+    if env_or("LAMBERT_FUZZ_KEEP_GOING", 0u8) == 1 {
+        FAILURES.lock().unwrap_or_else(|e| e.into_inner()).push(target.to_string());
+        eprintln!("FAILURE: {target} input {k} ({name}) failed: {problem}; saved to {}", path.display());
+        return;
+    }
     panic!("{target} input {k} ({name}) failed: {problem}\n  input saved to {}", path.display());
 }
 
@@ -451,6 +469,7 @@ fn fuzz_toml_scenes() {
         let outcome = bounded("toml", move || check_load(toml_scene::from_str(&path, &input)));
         judge("toml", k, seed.file_name().unwrap().to_str().unwrap(), &text, outcome);
     }
+    finish("toml");
 }
 
 /// GLB: JSON chunk and BIN chunk.
@@ -522,6 +541,7 @@ fn fuzz_gltf_and_glb() {
         let outcome = bounded("gltf", move || check_load(scene::load(&path)));
         judge("gltf", k, seed.file_name().unwrap().to_str().unwrap(), &out, outcome);
     }
+    finish("gltf");
 }
 
 const VS3_LINES: [&str; 12] = [
@@ -553,6 +573,7 @@ fn fuzz_vs3_files() {
         let outcome = bounded("vs3", move || check_load(scene::load(&path)));
         judge("vs3", k, seed.file_name().unwrap().to_str().unwrap(), &text, outcome);
     }
+    finish("vs3");
 }
 
 /// Option values for the command line: valid, out of range and malformed.
@@ -705,4 +726,98 @@ fn fuzz_command_line() {
             fail("cli", k, "args.txt", line.as_bytes(), &p);
         }
     }
+    finish("cli");
+}
+
+// ---------------------------------------------------------------- open findings
+
+/// Factors of `scene` at patch level by `method`, all in [0, 1].
+fn assert_in_range(path: &Path, method: Method, samples: usize) {
+    let s = scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let params = Params { method, samples, progress: false, ..Params::default() };
+    let vf = viewfactor::compute(&s, &params, Level::Patch).unwrap();
+    for (i, row) in vf.rows.iter().enumerate() {
+        for e in row {
+            assert!(
+                (0.0..=1.0).contains(&e.factor),
+                "F({} → {}) = {}",
+                vf.names[i],
+                vf.names[e.to as usize],
+                e.factor
+            );
+        }
+    }
+}
+
+fn finding(name: &str) -> PathBuf {
+    root().join("tests/data/fuzz_findings").join(name)
+}
+
+/// A unit square under a 1 m wide strip at gap 0.5: F(square → strip) is 0.5166436… for any
+/// length past 1e4 m (the rest of the strip adds < 1e-12), but the analytic kernel's round-off
+/// grows with the length: 2e-7 off at 1e5 m, 1e-6 at 1e6 m, 8e-4 at 1e7 m, 13 % at 1e8 m and
+/// 22 (not a fraction) at 1e9 m, each with standard error 0 from the default method, where
+/// the README promises analytic factors to 1e-9·F.
+#[test]
+#[ignore = "open finding: analytic kernel round-off on long rectangles, reported with zero error"]
+fn open_finding_analytic_round_off_on_long_strips() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = |length: f64| {
+        let path = dir.path().join("strip.toml");
+        let text = format!(
+            "[[surface]]\nname = \"square\"\nrectangle = {{ origin = [0,0,0], u = [1,0,0], v = [0,1,0] }}\n\
+             [[surface]]\nname = \"strip\"\nrectangle = {{ origin = [0,0,0.5], u = [0,{length:e},0], v = [1,0,0] }}\n"
+        );
+        std::fs::write(&path, text).unwrap();
+        let s = scene::load(&path).unwrap();
+        let params = Params { progress: false, ..Params::default() };
+        viewfactor::compute(&s, &params, Level::Surface).unwrap().get(0, 1)
+    };
+    let reference = f(1e4);
+    for length in [1e5, 1e6, 1e7, 1e8, 1e9] {
+        let got = f(length);
+        assert!((got - reference).abs() <= 1e-9 * reference, "length {length:e}: F = {got}, not {reference}");
+    }
+}
+
+/// Two .vs3 inputs of the campaigns (a vertex moved to z ≈ 4.3e9 makes a 1 × 4.3e9 m
+/// triangle): the default method gives F = 4.0 and 8.2 (analytic contour integral, round-off).
+#[test]
+#[ignore = "open finding: analytic view factors above 1 on extremely elongated triangles"]
+fn open_finding_analytic_factors_above_one_on_elongated_triangles() {
+    for f in ["elongated_triangle.vs3", "elongated_triangle_blocked.vs3"] {
+        assert_in_range(&finding(f), Method::Auto, MC_SAMPLES);
+    }
+}
+
+/// The shipped V19 case with 64 rays per patch: mc-area estimates F = 1.145 ± 1.145 for a
+/// pair of neighbouring facets (the point-to-area kernel is unbounded).
+#[test]
+#[ignore = "open finding: mc-area estimates above 1 with few samples"]
+fn open_finding_mc_area_estimates_above_one() {
+    assert_in_range(&root().join("cases/v19_coaxial_cylinders/scene.toml"), Method::McArea, MC_SAMPLES);
+}
+
+/// A .vs3 input of the campaigns: the shadow integration's shaded part comes out negative
+/// (−8e-27 against an unobstructed 3.3e-38), tripping the debug assertion in
+/// src/viewfactor/shadow/pair.rs (release builds return 8e-27).
+#[test]
+#[ignore = "open finding: debug assertion 'obstructed above unobstructed' in shadow/pair.rs"]
+fn open_finding_shadow_debug_assertion() {
+    assert_in_range(&finding("shadow_assert.vs3"), Method::Analytic, MC_SAMPLES);
+}
+
+/// A .vs3 input of the campaigns (one vertex moved to y ≈ 4.3e9 in the L-shaped room with
+/// obstructions): `-m analytic` at patch level takes 132 s in a release build (then refuses the
+/// scene as leaking, as the default method does in 0.07 s), past the harness's 60 s bound.
+#[test]
+#[ignore = "open finding: analytic shadow integration takes minutes on extreme geometry"]
+fn open_finding_analytic_shadow_runs_long_on_extreme_geometry() {
+    let path = finding("slow_shadow.vs3");
+    let outcome = bounded("slow_shadow", move || {
+        let s = scene::load(&path).unwrap();
+        let params = Params { method: Method::Analytic, progress: false, ..Params::default() };
+        viewfactor::compute(&s, &params, Level::Patch).map(|_| ()).map_err(|e| e.to_string())
+    });
+    assert!(outcome.is_ok(), "{outcome:?}");
 }

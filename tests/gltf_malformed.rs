@@ -23,7 +23,7 @@ fn lambert(args: &[&std::ffi::OsStr], env: &[(&str, &str)]) -> Output {
 fn viewfactors(scene: &Path, extra: &[&str]) -> (Option<i32>, String, String) {
     let mut args: Vec<&std::ffi::OsStr> = vec!["viewfactors".as_ref(), scene.as_os_str()];
     args.extend(["-m", "mc-area", "--samples", "8", "-q"].iter().map(std::ffi::OsStr::new));
-    args.extend(extra.iter().map(|s| std::ffi::OsStr::new(s)));
+    args.extend(extra.iter().map(std::ffi::OsStr::new));
     let o = lambert(&args, &[]);
     (
         o.status.code(),

@@ -185,7 +185,7 @@ fn check_asset(root: &json::Obj) -> Result<(), String> {
     if !version.starts_with("2.") {
         return Err(format!("unsupported glTF version \"{version}\"; lambert reads glTF 2.0"));
     }
-    for ext in json::array(root, "extensionsRequired", "malformed glTF")? {
+    if let Some(ext) = json::array(root, "extensionsRequired", "malformed glTF")?.first() {
         return Err(format!(
             "the file requires the glTF extension {}, which lambert does not read (the geometry \
              could not be read correctly without it)",
@@ -320,12 +320,12 @@ fn mesh_triangles(
             validate::vector(p.to_array(), "a vertex position")
                 .map_err(|e| format!("{what}, vertex {i}: {e}"))?;
         }
-        let indices: Vec<u32> = match json::opt_index(prim, "indices", n_acc, "accessors", &what)? {
+        let indices: Vec<u32> = match json::opt_index(prim, "indices", n_acc, "accessors", what)? {
             Some(a) => accessor::indices(&doc.arrays, buffers, a, positions.len())
                 .map_err(at("indices".into(), a))?,
             None => (0..positions.len() as u32).collect(),
         };
-        if mode == TRIANGLES && indices.len() % 3 != 0 {
+        if mode == TRIANGLES && !indices.len().is_multiple_of(3) {
             return Err(format!(
                 "{what} has {} vertex indices, not a multiple of 3 as TRIANGLES requires",
                 indices.len()

@@ -218,7 +218,7 @@ fn parse_view(arrays: &Arrays, buffers: &Buffers, v: usize) -> Result<View, Stri
     }
     let stride = json::opt_uint(o, "byteStride", &what)?;
     if let Some(s) = stride {
-        if !STRIDE_RANGE.contains(&s) || s % 4 != 0 {
+        if !STRIDE_RANGE.contains(&s) || !s.is_multiple_of(4) {
             return Err(format!("{what}: `byteStride` is {s}; glTF requires a multiple of 4 from 4 to 252"));
         }
     }
@@ -257,7 +257,7 @@ fn fit(
 }
 
 fn aligned(x: u64, to: u64, what: &str, rule: &str) -> Result<(), String> {
-    if x % to == 0 {
+    if x.is_multiple_of(to) {
         Ok(())
     } else {
         Err(format!("{what} {x} is not a multiple of {to}; glTF requires {rule}"))

@@ -68,7 +68,7 @@ impl<'a> Buffers<'a> {
                 return Err("only buffer 0 of a GLB file may omit `uri` (the BIN chunk)".into())
             }
             None => return Err("it has no `uri`; a .gltf file's buffers need one".into()),
-            Some(uri) => self.from_uri(uri, n)?,
+            Some(uri) => self.read_uri(uri, n)?,
         };
         if (data.len() as u64) < n {
             return Err(format!("it holds {} bytes, fewer than its `byteLength` {n}", data.len()));
@@ -82,7 +82,7 @@ impl<'a> Buffers<'a> {
         })
     }
 
-    fn from_uri(&self, uri: &str, n: u64) -> Result<Cow<'a, [u8]>, String> {
+    fn read_uri(&self, uri: &str, n: u64) -> Result<Cow<'a, [u8]>, String> {
         match scheme(uri) {
             Some(s) if s.eq_ignore_ascii_case("data") => data_uri(uri).map(Cow::Owned),
             Some(s) if s.eq_ignore_ascii_case("file") => Err(format!(
