@@ -52,9 +52,11 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// One RNG per (target, input): any input can be replayed alone.
+/// One RNG per (campaign seed, target, input): any input can be replayed alone, and campaigns
+/// of different seeds draw unrelated inputs.
 fn rng(target: u64, k: usize) -> Pcg64 {
-    Pcg64::seed_from_u64(env_or("LAMBERT_FUZZ_SEED", 0u64) ^ (target << 48) ^ k as u64)
+    let base: u64 = Pcg64::seed_from_u64(env_or("LAMBERT_FUZZ_SEED", 0u64)).random();
+    Pcg64::seed_from_u64(base ^ (target << 48) ^ k as u64)
 }
 
 /// Runs `f` on its own thread with the per-input bound; a panic or a timeout is a failure.
