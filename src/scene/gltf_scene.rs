@@ -17,10 +17,13 @@
 //! - Node `extras` may set `emissivity`, `temperature`, `heat_flux` and `role`; other extras keys
 //!   belong to other tools and are ignored.
 //! - The reader is strict (glTF 2.0): every accessor, buffer view and buffer a surface uses is
-//!   checked before a byte is read ([`accessor`]), buffers are loaded under the rules of
-//!   [`buffers`], and a GLB file is split by [`container`]. Each violation names the node, the
-//!   mesh, the primitive, the accessor and the rule. The `gltf` crate's own validation then runs
-//!   on the whole document, so malformed parts lambert does not read are refused as before.
+//!   checked before a byte is read (`accessor`), buffers are loaded under the rules of
+//!   `buffers` (files under the glTF file's folder, read up to `byteLength`), a GLB file is split
+//!   by `container`, and JSON fields are read with type and index checks by `json`. Each
+//!   violation names the node, the mesh, the primitive, the accessor and the rule. A node with
+//!   both `matrix` and TRS, and any required extension, are errors. The `gltf` crate's own
+//!   validation then runs on the whole document, so malformed parts lambert does not read are
+//!   refused as before.
 use super::props::{Layer, Role};
 use super::{validate, LoadOptions};
 use crate::error::InputError;
