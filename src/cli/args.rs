@@ -79,6 +79,9 @@ pub struct CommonArgs {
     /// No progress report (a bar on a terminal, else a line every 10 s of a long run).
     #[arg(short, long)]
     pub quiet: bool,
+    /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder (`..`).
+    #[arg(long)]
+    pub allow_outside_paths: bool,
 }
 
 /// `lambert viewfactors`.
@@ -159,4 +162,7 @@ pub struct RenderArgs {
     /// Show back faces in grey instead of hiding them.
     #[arg(long)]
     pub two_sided: bool,
+    /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder (`..`).
+    #[arg(long)]
+    pub allow_outside_paths: bool,
 }

@@ -25,6 +25,8 @@ pub struct Config {
     pub tolerance_given: Option<f64>,
     /// `--unit` and `--repair` of a bare mesh scene.
     pub mesh: MeshOptions,
+    /// How the scene may reach other files (`--allow-outside-paths`).
+    pub load: lambert::scene::LoadOptions,
 }
 
 /// `--unit` and `--repair` as mesh options.
@@ -76,6 +78,10 @@ impl Config {
             output,
             tolerance_given: a.tolerance,
             mesh: mesh_options(&a.mesh)?,
+            load: lambert::scene::LoadOptions {
+                allow_outside_paths: a.allow_outside_paths,
+                bare: mesh_options(&a.mesh)?,
+            },
         })
     }
 }

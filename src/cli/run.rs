@@ -56,7 +56,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let mut cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
     let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;
-    let scene = scene::load_with(&cfg.scene, &cfg.mesh)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
@@ -456,7 +456,7 @@ fn solve(a: SolveArgs) -> Result<()> {
     let saved: Vec<Input> = a.viewfactors.iter().map(|p| Input::new("the --viewfactors input", p)).collect();
     let mut outs =
         plan_outputs(&cfg, "results CSV", a.common.vtk.as_deref(), a.conductances.as_deref(), &saved)?;
-    let scene = scene::load_with(&cfg.scene, &cfg.mesh)?;
+    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
         eprintln!("lambert: warning: {w}");
@@ -756,10 +756,13 @@ fn finish_solve(
     );
     let out = if cfg.patches { sol } else { sol.by_surface(scene) };
     let (sum, max) = out.heat_balance();
-    let ok = sum.abs() <= solve::BALANCE_TOL * max;
+    let scale = out.balance_scale();
+    let ok = sum.abs() <= solve::BALANCE_TOL * scale;
     eprintln!(
-        "lambert: energy balance: sum of heat_rate = {sum:e} W ({:.1e} of max |heat_rate| = {max} W){}",
-        if max > 0.0 { sum.abs() / max } else { 0.0 },
+        "lambert: energy balance: sum of heat_rate = {} W ({:.1e} of the {} W exchanged; max |heat_rate| = {max} W){}",
+        report::fmt_f64(sum),
+        if scale > 0.0 { sum.abs() / scale } else { 0.0 },
+        report::fmt_f64(scale),
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     );
     if let Some(kind) = vtk {
@@ -802,7 +805,13 @@ fn render(a: RenderArgs) -> Result<()> {
     let range = a.range.as_deref().map(parse_range).transpose()?;
     let mut outs = OutputSet::plan(vec![Output::new("output", "-o", "PNG picture", &a.output)])?;
     outs.check_inputs(&[Input::new("the scene file", &a.scene), Input::new("the result CSV", &a.result)])?;
-    let scene = scene::load_with(&a.scene, &super::config::mesh_options(&a.mesh)?)?;
+    let scene = scene::load_with(
+        &a.scene,
+        &scene::LoadOptions {
+            allow_outside_paths: a.allow_outside_paths,
+            bare: super::config::mesh_options(&a.mesh)?,
+        },
+    )?;
     outs.check_inputs(&scene_inputs(&scene))?;
     let camera = match &a.camera {
         Some(spec) => Camera::frame(&scene).with_spec(spec)?,

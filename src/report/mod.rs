@@ -25,7 +25,11 @@ const EXPONENT_MIN_SAVING: usize = 3;
 
 /// Full-precision text for an f64 (SPEC.md): the shortest round-trip digits, in plain form unless
 /// the exponent form is clearly shorter (tiny or huge magnitudes); both forms round-trip exactly.
+/// Negative zero is written `0`: the sign of a zero is round-off, never a result.
 pub fn fmt_f64(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
     let plain = x.to_string();
     let sci = format!("{x:e}");
     if sci.len() + EXPONENT_MIN_SAVING <= plain.len() {
@@ -40,8 +44,8 @@ pub fn fmt_f64(x: f64) -> String {
 pub fn push_f64(out: &mut String, x: f64) {
     use std::fmt::Write;
     if x == 0.0 {
-        // The standard error of every deterministic entry: no formatting machinery.
-        out.push_str(if x.is_sign_negative() { "-0" } else { "0" });
+        // The standard error of every deterministic entry: no formatting machinery; -0 is 0.
+        out.push('0');
         return;
     }
     if !x.is_finite() {
@@ -147,5 +151,14 @@ mod tests {
         assert_eq!(fmt_f64(7.275957614183426e-12), "7.275957614183426e-12");
         assert_eq!(fmt_f64(1000.0), "1000");
         assert_eq!(fmt_f64(1e300), "1e300");
+    }
+
+    #[test]
+    fn negative_zero_is_written_as_zero() {
+        assert_eq!(fmt_f64(-0.0), "0");
+        let mut s = String::new();
+        push_f64(&mut s, -0.0);
+        assert_eq!(s, "0");
+        assert_eq!(fmt_f64(-1e-300), "-1e-300", "a negative number keeps its sign");
     }
 }

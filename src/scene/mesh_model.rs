@@ -121,7 +121,12 @@ pub struct Checked {
 }
 
 /// Loads a glTF, STL or OBJ model file with its checks, as a model entry with `layer`.
-pub fn load_entry(path: &Path, opts: &MeshOptions, layer: Layer) -> Result<ModelEntry, InputError> {
+pub fn load_entry(
+    path: &Path,
+    opts: &MeshOptions,
+    layer: Layer,
+    load: &super::LoadOptions,
+) -> Result<ModelEntry, InputError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let checked = match ext.as_deref() {
         Some("stl") => build(path, super::stl_scene::read(path)?, opts, Split::File)?,
@@ -140,7 +145,7 @@ pub fn load_entry(path: &Path, opts: &MeshOptions, layer: Layer) -> Result<Model
                      OBJ files",
                 ));
             }
-            let mut model = super::gltf_scene::load_model(path)?;
+            let mut model = super::gltf_scene::load_model_with(path, load)?;
             let report = check_model(&mut model, opts)?;
             Checked { model, report, notes: Vec::new() }
         }

@@ -318,24 +318,35 @@ fn is_planar_set(polys: &[Polygon]) -> bool {
     })
 }
 
+/// How a scene file is read: how it may reach other files, and the unit and repair options of
+/// a bare STL, OBJ or glTF scene.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct LoadOptions {
+    /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder
+    /// (`--allow-outside-paths`).
+    pub allow_outside_paths: bool,
+    /// `--unit` and `--repair` of a bare mesh scene; a TOML scene sets them per `[[model]]`
+    /// and refuses them here.
+    pub bare: mesh_model::MeshOptions,
+}
+
 /// Loads a scene file (.toml, .gltf, .glb, .stl, .obj, .vs3) with strict validation. A bare
 /// mesh file makes every mesh surface a surface with the built-in defaults (emissivity 1, no
 /// boundary condition), glTF node `extras` applied.
 pub fn load(path: &std::path::Path) -> crate::Result<Scene> {
-    load_with(path, &mesh_model::MeshOptions::default())
+    load_with(path, &LoadOptions::default())
 }
 
-/// As [`load`], with the unit and repair options of a bare STL, OBJ or glTF scene (the
-/// command line's `--unit` and `--repair`); a TOML scene sets them per `[[model]]` and refuses
-/// them here.
-pub fn load_with(path: &std::path::Path, bare: &mesh_model::MeshOptions) -> crate::Result<Scene> {
-    let mut scene = load_file(path, bare)?;
+/// [`load`] with explicit [`LoadOptions`].
+pub fn load_with(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
+    let mut scene = load_file(path, options)?;
     let suspects = validate::celsius_suspects(&scene);
     scene.warnings.extend(suspects);
     Ok(scene)
 }
 
-fn load_file(path: &std::path::Path, bare: &mesh_model::MeshOptions) -> crate::Result<Scene> {
+fn load_file(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
+    let bare = &options.bare;
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let is_mesh = matches!(ext.as_deref(), Some("gltf" | "glb" | "stl" | "obj"));
     if !is_mesh && *bare != mesh_model::MeshOptions::default() {
@@ -346,9 +357,10 @@ fn load_file(path: &std::path::Path, bare: &mesh_model::MeshOptions) -> crate::R
         )));
     }
     match ext.as_deref() {
-        Some("toml") => toml_scene::load(path),
+        Some("toml") => toml_scene::load_with(path, options),
         Some("gltf" | "glb" | "stl" | "obj") => {
-            let entry = mesh_model::load_entry(path, bare, props::Layer::new("the mesh file", path, None))?;
+            let layer = props::Layer::new("the mesh file", path, None);
+            let entry = mesh_model::load_entry(path, bare, layer, options)?;
             assemble::assemble(path, None, None, &props::Layer::default(), Vec::new(), vec![entry])
         }
         Some("vs3") => {

@@ -7,6 +7,20 @@ use toml::Spanned;
 /// A number with its span.
 pub type Num = Option<Spanned<f64>>;
 
+/// A point or vector `[x, y, z]`: exactly three numbers (serde's `[f64; 3]` would drop a
+/// fourth or fifth one silently).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Vec3(pub [f64; 3]);
+
+impl<'de> Deserialize<'de> for Vec3 {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        <[f64; 3]>::try_from(v.as_slice())
+            .map(Vec3)
+            .map_err(|_| serde::de::Error::invalid_length(v.len(), &"3 numbers [x, y, z]"))
+    }
+}
+
 /// The whole file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -69,7 +83,7 @@ pub struct RawSurface {
     /// Unique, non-empty name.
     pub name: Option<Spanned<String>>,
     /// Planar simple polygon, ≥ 3 vertices.
-    pub polygon: Option<Spanned<Vec<[f64; 3]>>>,
+    pub polygon: Option<Spanned<Vec<Vec3>>>,
     /// Parallelogram o, o+u, o+u+v, o+v.
     pub rectangle: Option<Spanned<RawRectangle>>,
     /// Disk.
@@ -95,11 +109,11 @@ pub struct RawSurface {
 #[serde(deny_unknown_fields)]
 pub struct RawRectangle {
     /// Corner.
-    pub origin: [f64; 3],
+    pub origin: Vec3,
     /// First edge.
-    pub u: [f64; 3],
+    pub u: Vec3,
     /// Second edge.
-    pub v: [f64; 3],
+    pub v: Vec3,
 }
 
 /// `disk = { center, normal, radius, segments }`.
@@ -107,9 +121,9 @@ pub struct RawRectangle {
 #[serde(deny_unknown_fields)]
 pub struct RawDisk {
     /// Centre.
-    pub center: [f64; 3],
+    pub center: Vec3,
     /// Normal of the emitting side (any length > 0).
-    pub normal: [f64; 3],
+    pub normal: Vec3,
     /// Radius, m.
     pub radius: f64,
     /// Polygon segments (default 64).

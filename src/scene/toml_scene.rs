@@ -3,10 +3,10 @@
 use super::assemble::{self, ModelEntry, ShapeSpec, TomlSurface};
 use super::mesh_model::{self, MeshOptions, Split, Unit};
 use super::props::{Layer, Role};
-use super::schema::{Num, RawDisk, RawModel, RawRectangle, RawScene, RawSurface};
+use super::schema::{Num, RawDisk, RawModel, RawRectangle, RawScene, RawSurface, Vec3};
 use super::toml_errors::{from_toml, Lines};
 use super::validate::{self as v, DEFAULT_SEGMENTS, MAX_SEGMENTS, MAX_SUBDIVISION};
-use super::{Disk, Scene};
+use super::{Disk, LoadOptions, Scene};
 use crate::error::InputError;
 use crate::geometry::subdivide::regular_polygon;
 use crate::geometry::{Polygon, DEGENERACY_TOL};
@@ -28,11 +28,21 @@ pub fn read_text(path: &Path) -> Result<String, InputError> {
 
 /// Loads and validates a TOML scene.
 pub fn load(path: &Path) -> Result<Scene> {
-    from_str(path, &read_text(path)?)
+    load_with(path, &LoadOptions::default())
+}
+
+/// [`load`] with explicit [`LoadOptions`] (passed on to the glTF models).
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
+    from_str_with(path, &read_text(path)?, options)
 }
 
 /// Validates TOML scene `text` as if read from `path` (model files resolve beside `path`).
 pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
+    from_str_with(path, text, &LoadOptions::default())
+}
+
+/// [`from_str`] with explicit [`LoadOptions`].
+pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<Scene> {
     let text = text.to_string();
     let raw: RawScene = toml::from_str(&text).map_err(|e| from_toml(path, &text, &e))?;
     let lines = Lines::new(&text);
@@ -115,7 +125,7 @@ pub fn from_str(path: &Path, text: &str) -> Result<Scene> {
             }
             models.push(ModelEntry { model: v.model, layer, report: None, notes: Vec::new() });
         } else {
-            models.push(mesh_model::load_entry(&full, &opts, layer)?);
+            models.push(mesh_model::load_entry(&full, &opts, layer, options)?);
         }
     }
 
@@ -260,7 +270,7 @@ fn surface(path: &Path, lines: &Lines, k: usize, s: &Spanned<RawSurface>) -> Res
     Ok(TomlSurface { name, line, shape, layer, subdivide })
 }
 
-fn polygon(pts: &[[f64; 3]]) -> Result<ShapeSpec, String> {
+fn polygon(pts: &[Vec3]) -> Result<ShapeSpec, String> {
     if pts.len() > v::MAX_POLYGON_VERTICES {
         return Err(format!(
             "the polygon has {} vertices, more than the limit of {}; bring large outlines in as a glTF mesh",
@@ -271,15 +281,15 @@ fn polygon(pts: &[[f64; 3]]) -> Result<ShapeSpec, String> {
     let vs = pts
         .iter()
         .enumerate()
-        .map(|(k, p)| v::vector(*p, &format!("polygon vertex {k}")))
+        .map(|(k, p)| v::vector(p.0, &format!("polygon vertex {k}")))
         .collect::<Result<Vec<_>, _>>()?;
     Polygon::new(vs).map(ShapeSpec::Polygon).map_err(|e| v::polygon_problem(&e))
 }
 
 fn rectangle(r: &RawRectangle) -> Result<ShapeSpec, String> {
-    let o = v::vector(r.origin, "rectangle origin")?;
-    let u = v::vector(r.u, "rectangle u")?;
-    let w = v::vector(r.v, "rectangle v")?;
+    let o = v::vector(r.origin.0, "rectangle origin")?;
+    let u = v::vector(r.u.0, "rectangle u")?;
+    let w = v::vector(r.v.0, "rectangle v")?;
     if !(u.cross(w).length() > DEGENERACY_TOL * u.length() * w.length())
         || u.length() == 0.0
         || w.length() == 0.0
@@ -291,8 +301,8 @@ fn rectangle(r: &RawRectangle) -> Result<ShapeSpec, String> {
 }
 
 fn disk(d: &RawDisk) -> Result<ShapeSpec, String> {
-    let center = v::vector(d.center, "disk center")?;
-    let normal = v::vector(d.normal, "disk normal")?;
+    let center = v::vector(d.center.0, "disk center")?;
+    let normal = v::vector(d.normal.0, "disk normal")?;
     if !(normal.length() > 0.0) {
         return Err("disk normal is zero; give the direction the emitting side faces".into());
     }

@@ -114,7 +114,7 @@ pub fn solve_operator(
             b[i] += sk[i];
         }
     }
-    check_anchored(scene, t, names, unknown, &sys.d, &sys.diag)?;
+    check_anchored(scene, t, names, unknown, rows, &sys.d, &sys.diag)?;
     for i in (0..n).filter(|&i| !unknown[i]) {
         b[i] = 0.0;
     }
@@ -296,20 +296,24 @@ pub fn propagate_shift(scene: &Scene, t: &dyn Operator, c: &[f64]) -> Result<Vec
 const ERROR_CG_TOL: f64 = 1e-6;
 
 /// Refuses a group of unknowns without a temperature anchor (as
-/// [`super::system::check_anchored`]): rows whose dominance margin D_i − Σ_{j unknown} s̄_ij is
-/// at round-off level, connected only to such rows.
+/// [`super::system::check_anchored`]): heat-flux rows whose dominance margin
+/// D_i − Σ_{j unknown} s̄_ij is at round-off level, connected only to such rows. A given
+/// temperature anchors its group whatever its emissivity.
 fn check_anchored(
     scene: &Scene,
     t: &dyn Operator,
     names: &[String],
     unknown: &[bool],
+    rows: &[RowKind],
     d: &[f64],
     diag: &[f64],
 ) -> Result<()> {
     let n = t.len();
     let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
     let su = t.matvec_scaled(None, &mask);
-    let anchored: Vec<bool> = (0..n).map(|i| d[i] - su[i] > ANCHOR_TOL * diag[i].abs()).collect();
+    let anchored: Vec<bool> = (0..n)
+        .map(|i| matches!(rows[i], RowKind::Temperature(_)) || d[i] - su[i] > ANCHOR_TOL * diag[i].abs())
+        .collect();
     if (0..n).all(|i| !unknown[i] || anchored[i]) {
         return Ok(());
     }

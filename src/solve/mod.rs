@@ -33,8 +33,8 @@ pub use system::Node;
 /// Name of the ambient node in results.
 pub const AMBIENT: &str = "ambient";
 
-/// Energy-balance acceptance: |Σ heat_rate| ≤ this × max |heat_rate| (SPEC-level check of a
-/// conservative, converged solve; round-off of a direct solve is ~1e-14).
+/// Energy-balance acceptance: |Σ heat_rate| ≤ this × [`Solution::balance_scale`] (SPEC-level
+/// check of a conservative, converged solve; round-off of a direct solve is ~1e-14).
 pub const BALANCE_TOL: f64 = 1e-9;
 /// Default relative residual goal of the iterative solvers (well below the 1e-9 balance).
 pub const ITERATIVE_TOL: f64 = 1e-12;
@@ -159,6 +159,17 @@ impl Solution {
         let sum = self.results.iter().map(|r| r.heat_rate).sum::<f64>() + amb;
         let max = self.results.iter().map(|r| r.heat_rate.abs()).fold(amb.abs(), f64::max);
         (sum, max)
+    }
+
+    /// The scale the energy balance is judged against, W: the larger of max |heat_rate| and the
+    /// power the nodes exchange, Σ A_i max(J_i, H_i). Each heat rate A_i (J_i − H_i) carries
+    /// round-off of the order of A_i J_i, so an isothermal enclosure, whose heat rates are all
+    /// round-off, is judged against what it exchanges rather than against that round-off.
+    pub fn balance_scale(&self) -> f64 {
+        let (_, max) = self.heat_balance();
+        let exchanged: f64 =
+            self.results.iter().zip(&self.areas).map(|(r, a)| a * r.radiosity.max(r.irradiation)).sum();
+        max.max(exchanged)
     }
 
     /// Per-surface results: areas and heat rates add; T, J and H are area-weighted means.

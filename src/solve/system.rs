@@ -12,9 +12,9 @@ use crate::viewfactor::Level;
 use crate::{Error, Result, SIGMA};
 use rayon::prelude::*;
 
-/// A group of unknowns is anchored when some row's diagonal dominance margin
-/// Σ_j K_ij exceeds this fraction of K_ii; closure leaves ~1e-12, so 1e-9 separates a true
-/// anchor from round-off.
+/// A group of unknowns is anchored when it holds a given temperature, or when some heat-flux
+/// row's diagonal dominance margin Σ_j K_ij exceeds this fraction of K_ii; closure leaves
+/// ~1e-12, so 1e-9 separates a true anchor from round-off.
 pub const ANCHOR_TOL: f64 = 1e-9;
 
 /// One radiosity node with its surface's properties.
@@ -238,7 +238,9 @@ pub fn assemble(ex: &Exchange, eps: &[f64], rows: &[RowKind], e_amb: f64) -> Sys
 }
 
 /// Refuses a system with a group of unknowns that has no temperature anchor (all-flux closed
-/// enclosure): K is singular there. Exit 2: a missing temperature is bad input.
+/// enclosure): K is singular there. Exit 2: a missing temperature is bad input. A given
+/// temperature anchors its group whatever its emissivity; a heat-flux row anchors only through
+/// a dominance margin (what it loses to the ambient or to black temperature nodes).
 pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System) -> Result<()> {
     let m = sys.node.len();
     let mut parent: Vec<usize> = (0..m).collect();
@@ -265,7 +267,8 @@ pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System
                 parent[a] = b;
             }
         }
-        anchored[u] = margin > ANCHOR_TOL * diag.abs();
+        let given_t = matches!(nodes[sys.node[u]].condition, BoundaryCondition::Temperature(_));
+        anchored[u] = given_t || margin > ANCHOR_TOL * diag.abs();
     }
     let mut root_ok = vec![false; m];
     for (u, &a) in anchored.iter().enumerate() {

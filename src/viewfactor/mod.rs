@@ -137,8 +137,15 @@ impl MethodSet {
     }
 }
 
+/// How the empty method set is written: a row no method found anything in (every pair culled
+/// or zero), such as the ambient row of a surface that sees no other surface.
+pub const NO_METHOD: &str = "none";
+
 impl fmt::Display for MethodSet {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0 == 0 {
+            return f.write_str(NO_METHOD);
+        }
         let mut first = true;
         for (bit, name) in Self::NAMES.iter().enumerate() {
             if self.0 & (1 << bit) != 0 {
