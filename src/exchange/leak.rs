@@ -403,6 +403,8 @@ mod tests {
             patch_samples: vec![0; 3],
             pairs: 3,
             wall: std::time::Duration::ZERO,
+            flags: Vec::new(),
+            warnings: Vec::new(),
         };
         let mut t = Triangle::zeros(3, vec![2.0; 3]).unwrap();
         let (k01, k12) = (t.offset(0) + 1, t.offset(1) + 1);

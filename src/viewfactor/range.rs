@@ -90,6 +90,7 @@ mod tests {
             pairs: 1,
             wall: Duration::ZERO,
             flags: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 

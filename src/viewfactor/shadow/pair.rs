@@ -148,7 +148,7 @@ pub fn shadowed(
     geo.set_neighbours(&neighbours, &closed);
     let info = integrator.shaded_within(&geo, tol, max_work, &mut s.adapt);
     let value = (s_unobs - info.shaded).max(0.0);
-    debug_assert!(value <= s_unobs, "obstructed {value} above unobstructed {s_unobs}");
+    debug_assert!(value <= s_unobs.max(0.0), "obstructed {value} above unobstructed {s_unobs}");
     Shadowed { s: value, error: info.error, info, swapped }
 }
 
