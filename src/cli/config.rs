@@ -23,9 +23,8 @@ pub struct Config {
     pub output: Output,
     /// `--tolerance` as given (`None`: the default, or the scene file's).
     pub tolerance_given: Option<f64>,
-    /// `--unit` and `--repair` of a bare mesh scene.
-    pub mesh: MeshOptions,
-    /// How the scene may reach other files (`--allow-outside-paths`).
+    /// How the scene may reach other files (`--allow-outside-paths`), and `--unit` and
+    /// `--repair` of a bare mesh scene.
     pub load: lambert::scene::LoadOptions,
 }
 
@@ -77,7 +76,6 @@ impl Config {
             enforce: a.enforce.clone(),
             output,
             tolerance_given: a.tolerance,
-            mesh: mesh_options(&a.mesh)?,
             load: lambert::scene::LoadOptions {
                 allow_outside_paths: a.allow_outside_paths,
                 bare: mesh_options(&a.mesh)?,

@@ -203,7 +203,7 @@ fn lean_viewfactors(
             facts: facts(scene),
             ..Default::default()
         };
-        let rep = exchange::dense::enforce(&mut ex, &p)?;
+        let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
         print_enforcement(mode, &rep);
     }
     let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
@@ -371,7 +371,7 @@ fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>)
         facts: facts(scene),
         ..Default::default()
     };
-    let rep = exchange::enforce(&mut ex, &p)?;
+    let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
     print_enforcement(mode, &rep);
     Ok(ex)
 }
@@ -722,7 +722,7 @@ fn lean_solve(
     if !lean_served(scene, vf, a, mode, params) {
         return Ok(None);
     }
-    let run = solve::dense::solve_scene(scene, vf, mode, params)?;
+    let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_obstruction_note(scene, e))?;
     let Some(run) = run else { return Ok(None) };
     say_warnings(&run.warnings);
     warn_flags(scene, &run.flags);
