@@ -722,7 +722,8 @@ fn lean_solve(
     if !lean_served(scene, vf, a, mode, params) {
         return Ok(None);
     }
-    let run = solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_obstruction_note(scene, e))?;
+    let run =
+        solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_obstruction_note(scene, e))?;
     let Some(run) = run else { return Ok(None) };
     say_warnings(&run.warnings);
     warn_flags(scene, &run.flags);
