@@ -141,7 +141,18 @@ fn a_missing_folder_is_refused_before_any_work_and_earlier_outputs_stay() {
 fn a_killed_run_leaves_the_earlier_outputs_and_the_next_run_cleans_up() {
     let dir = setup();
     let d = dir.path();
-    let args = ["solve", "s.toml", "-o", "good.csv", "--vtk", "good.vtu", "--conductances", "radk.csv", "-q"];
+    let args = [
+        "solve",
+        "s.toml",
+        "-o",
+        "good.csv",
+        "--vtk",
+        "good.vtu",
+        "--conductances",
+        "radk.csv",
+        "--patches",
+        "-q",
+    ];
     for key in ["conductances", "vtk", "output"] {
         let o =
             Command::new(BIN).current_dir(d).args(args).env("LAMBERT_TEST_ABORT_AT", key).output().unwrap();
@@ -179,7 +190,7 @@ fn stdout_is_written_after_the_files() {
     let d = dir.path();
     std::fs::create_dir(d.join("radk.csv.partial")).unwrap();
     std::fs::write(d.join("radk.csv.partial/keep"), "x").unwrap();
-    let o = run(d, &["solve", "s.toml", "--conductances", "radk.csv"]);
+    let o = run(d, &["solve", "s.toml", "--conductances", "radk.csv", "--patches"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(

@@ -152,7 +152,7 @@ fn parse(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<Model, Inpu
     for &(_, m, _) in &mesh_nodes {
         uses[m] += 1;
     }
-    let folder = path.parent().unwrap_or(Path::new("."));
+    let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let mut buffers = buffers::Buffers::new(buffer_list, c.bin, c.glb, folder, options.allow_outside_paths);
     let mut surfaces: Vec<MeshSurface> = Vec::with_capacity(mesh_nodes.len());
     for (n, m, world) in &mesh_nodes {

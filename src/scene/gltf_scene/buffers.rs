@@ -40,7 +40,7 @@ impl<'a> Buffers<'a> {
             .filter_map(|b| b.get("uri").and_then(Value::as_str))
             .filter(|uri| scheme(uri).is_none_or(|s| s.len() == 1))
             .filter_map(|uri| percent_decode(uri).ok())
-            .map(|rel| self.folder.join(rel))
+            .map(|rel| if self.folder == Path::new(".") { PathBuf::from(rel) } else { self.folder.join(rel) })
             .collect()
     }
 
