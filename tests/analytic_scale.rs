@@ -107,6 +107,13 @@ fn long_strips_over_each_other_are_bounded_honestly() {
             "{cmd}: {err}"
         );
     }
+    // `auto` promises --tolerance on F, which a bound of ~1e-7 relative keeps: no flag there,
+    // until the goal is finer than the bound.
+    let quiet = run(&["viewfactors", s.to_str().unwrap()]);
+    assert!(quiet.status.success());
+    assert!(!String::from_utf8_lossy(&quiet.stderr).contains("round-off bound"));
+    let fine = run(&["viewfactors", s.to_str().unwrap(), "--tolerance", "1e-12"]);
+    assert!(String::from_utf8_lossy(&fine.stderr).contains("round-off bound"));
 }
 
 /// Pairs of every kind: size ratios near 1 and up to 1e6, touching and apart.

@@ -90,6 +90,9 @@ pub struct AnalyticKernel<'s> {
     reuse: Reuse,
     /// Exact entries whose round-off bound exceeds the method's promise.
     flags: FlagLog,
+    /// The absolute goal on F of `auto` (its `--tolerance`), 0 for `analytic`: a round-off
+    /// bound below it breaks no promise and is not flagged.
+    abs_goal: f64,
 }
 
 thread_local! {
@@ -155,6 +158,10 @@ impl<'s> AnalyticKernel<'s> {
             shadows: Shadows::new(scene, policy),
             reuse: Reuse::default(),
             flags: FlagLog::default(),
+            abs_goal: match policy {
+                Policy::Auto { tol, .. } => tol,
+                Policy::Exact { .. } => 0.0,
+            },
         }
     }
 
@@ -245,7 +252,8 @@ impl<'s> AnalyticKernel<'s> {
                 let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
                 let x = polygon_polygon_with_round_off(pi, pj);
                 let area = pi.area().min(pj.area());
-                if x.round_off > ANALYTIC_REL * x.value && x.round_off > FLAG_ABS * area {
+                let promise = (ANALYTIC_REL * x.value).max(FLAG_ABS.max(self.abs_goal) * area);
+                if x.round_off > promise {
                     self.flags.push(Flag {
                         from: i,
                         to: j,
