@@ -222,23 +222,32 @@ fn edge_findings(r: &mut MeshReport, mesh: &TriMesh, edges: &[Edge], covered: &[
 }
 
 fn duplicate_faces(r: &mut MeshReport, mesh: &TriMesh) {
-    let mut keys: Vec<([u32; 3], u32)> = mesh
+    for group in duplicate_groups(mesh) {
+        let first = mesh.tags[group[0]];
+        for &t in &group[1..] {
+            r.duplicates.add(mesh.tags[t], group.len() as f64, Some(first));
+        }
+    }
+}
+
+/// Triangles on the same three vertices (whatever their order), as groups of two or more
+/// indices, ascending within a group.
+pub fn duplicate_groups(mesh: &TriMesh) -> Vec<Vec<usize>> {
+    let mut keys: Vec<([u32; 3], usize)> = mesh
         .triangles
         .iter()
         .enumerate()
         .map(|(t, tri)| {
             let mut k = *tri;
             k.sort_unstable();
-            (k, t as u32)
+            (k, t)
         })
         .collect();
     keys.sort_unstable();
-    for group in keys.chunk_by(|a, b| a.0 == b.0) {
-        let first = mesh.tags[group[0].1 as usize];
-        for &(_, t) in &group[1..] {
-            r.duplicates.add(mesh.tags[t as usize], group.len() as f64, Some(first));
-        }
-    }
+    keys.chunk_by(|a, b| a.0 == b.0)
+        .filter(|g| g.len() > 1)
+        .map(|g| g.iter().map(|&(_, t)| t).collect())
+        .collect()
 }
 
 /// Orientation patches: triangles joined through edges shared by exactly two triangles (and

@@ -8,7 +8,7 @@
 //!    stays as it is. A lone inward shell (an empty room) is turned, and the log says so.
 //!
 //! Self-intersections and non-manifold edges are reported, never changed.
-use super::{aspect, majority_flips, SLIVER_ASPECT};
+use super::{aspect, duplicate_groups, majority_flips, SLIVER_ASPECT};
 use crate::scene::mesh::TriMesh;
 use glam::DVec3;
 
@@ -46,20 +46,9 @@ pub fn repair(mesh: &mut TriMesh) -> RepairLog {
     let mut log = RepairLog { boundary_before: boundary(mesh), ..RepairLog::default() };
 
     // 1. Duplicates: the first triangle of each sorted vertex triple stays.
-    let mut keys: Vec<([u32; 3], usize)> = mesh
-        .triangles
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| {
-            let mut k = *tri;
-            k.sort_unstable();
-            (k, t)
-        })
-        .collect();
-    keys.sort_unstable();
     let mut keep = vec![true; mesh.triangles.len()];
-    for g in keys.chunk_by(|a, b| a.0 == b.0) {
-        for &(_, t) in &g[1..] {
+    for g in duplicate_groups(mesh) {
+        for &t in &g[1..] {
             keep[t] = false;
             log.duplicates += 1;
         }
