@@ -61,23 +61,23 @@ ENTRY_TOL = 1e-4  # lambert's default goal on each F: entries further apart are 
 # (case, part, wall n, copies, runs, in the quick set); runs: auto, analytic, solve, v3d; a run
 # marked + is left out with --quick.
 CASES = [
-    ("u_channel_n4", "u_channel", 4, 1, "auto analytic v3d", True),
+    ("u_channel_n4", "u_channel", 4, 1, "auto analytic v3d solve solve_tight", True),
     ("heat_sink_n1", "heat_sink", 1, 1, "auto analytic v3d", True),
     ("heat_sink_n4", "heat_sink", 4, 1, "auto v3d", True),
     ("boards_n4", "boards", 4, 1, "auto v3d", True),
     ("finger_n1", "finger", 1, 1, "auto analytic+ v3d", True),
     ("finger_n4", "finger", 4, 1, "auto v3d", True),
     ("finger_x2_n4", "finger", 4, 2, "auto v3d", False),
-    ("gripper_finger_n1", "gripper_finger", 1, 1, "auto v3d solve", False),
+    ("gripper_finger_n1", "gripper_finger", 1, 1, "auto v3d solve solve_tight", False),
     ("gripper_finger_n4", "gripper_finger", 4, 1, "auto v3d", False),
     ("l_bracket_n4", "l_bracket", 4, 1, "auto v3d", False),
     ("boards_n16", "boards", 16, 1, "auto v3d", False),
     ("arm_link_n10", "arm_link", 10, 1, "auto analytic v3d", False),
-    ("arm_link_n40", "arm_link", 40, 1, "auto solve", False),
+    ("arm_link_n40", "arm_link", 40, 1, "auto solve solve_tight", False),
     ("arm_link_n70", "arm_link", 70, 1, "solve", False),
     ("arm_link_n128", "arm_link", 128, 1, "solve", False),
     ("channel_n4", "channel", 4, 1, "auto analytic v3d", False),
-    ("channel_n40", "channel", 40, 1, "solve", False),
+    ("channel_n40", "channel", 40, 1, "solve solve_tight", False),
     ("channel_n70", "channel", 70, 1, "solve", False),
     ("channel_n128", "channel", 128, 1, "solve", False),
     ("shelf_pod_n4", "shelf_pod", 4, 1, "auto v3d", False),
@@ -148,6 +148,12 @@ def view3d_matrix(path, n):
     return np.array([[float(x) for x in lines[2 + i].split()] for i in range(n)])
 
 
+def heat_rates(path):
+    """surface -> heat_rate of a `solve` CSV."""
+    with open(path) as fh:
+        return {r["surface"]: float(r["heat_rate"]) for r in csv.DictReader(fh)}
+
+
 def row_stats(f):
     """(rows off by more than ROW_TOL, worst |row sum - 1|)."""
     off = np.abs(f.sum(1) - 1)
@@ -178,7 +184,7 @@ def run_case(case, args, pb_dir, v3d, rows):
             if args.quick:
                 continue
             run = run[:-1]
-        rec = dict(base)
+        rec = dict(base, run=run)
         log = os.path.join(d, f"{run}.log")
         if run == "v3d":
             rec.update(code="View3D", method="eps 1e-4, encl=0")
@@ -189,10 +195,13 @@ def run_case(case, args, pb_dir, v3d, rows):
             st, wall, cpu, rss = timed([v3d, "scene.vs3", "v3d.out"], d, log, args.v3d_timeout)
             if st == "ok":
                 mats["v3d"] = view3d_matrix(os.path.join(d, "v3d.out"), npatch)
-        elif run == "solve":
-            rec.update(code="lambert", method="solve 1e-2")
-            st, wall, cpu, rss = timed([os.path.abspath(args.lambert), "solve", "scene.toml", "--tolerance", "1e-2",
-                                        "-o", "solve.csv"], d, log, args.timeout)
+        elif run in ("solve", "solve_tight"):
+            tol = "1e-2" if run == "solve" else "1e-3"
+            rec.update(code="lambert", method=f"solve {tol}")
+            st, wall, cpu, rss = timed([os.path.abspath(args.lambert), "solve", "scene.toml", "--tolerance", tol,
+                                        "-o", f"{run}.csv"], d, log, args.timeout)
+            if st == "ok":
+                mats[run] = heat_rates(os.path.join(d, f"{run}.csv"))
         else:
             rec.update(code="lambert", method=f"viewfactors {run}")
             st, wall, cpu, rss = timed([os.path.abspath(args.lambert), "viewfactors", "scene.toml", "--patches", "-m",
@@ -207,9 +216,8 @@ def run_case(case, args, pb_dir, v3d, rows):
             if goal:
                 rec["goal_warning"] = goal[0].strip()[:120]
         rec.update(status=st, wall_s=round(wall, 2), cpu_s=round(cpu, 2), rss_mb=round(rss, 1))
-        key = "v3d" if run == "v3d" else run
-        if key in mats:
-            rec["rows_off"], rec["worst_row"] = row_stats(mats[key])
+        if run in mats and not run.startswith("solve"):
+            rec["rows_off"], rec["worst_row"] = row_stats(mats[run])
         rows.append(rec)
         print(f"{name:20s} {rec['code']:8s} {rec['method']:22s} {st:10s} wall {wall:8.1f} s  CPU {cpu:8.1f} s  "
               f"RSS {rss:7.1f} MB  rows off {rec.get('rows_off', '-')}, worst {rec.get('worst_row', '-')}", flush=True)
@@ -217,18 +225,21 @@ def run_case(case, args, pb_dir, v3d, rows):
     for rec in rows:
         if rec["case"] != name:
             continue
-        key = {"View3D": "v3d"}.get(rec["code"], rec["method"].split()[-1])
+        key = rec["run"]
         if key not in mats:
             continue
-        if key != "analytic" and "analytic" in mats:
+        if key in ("auto", "v3d") and "analytic" in mats:
             rec["vs_analytic_max"], rec["vs_analytic_over_1e-4"] = diff_stats(mats[key], mats["analytic"])
+        if key == "solve" and "solve_tight" in mats:
+            q, qt = mats["solve"], mats["solve_tight"]
+            rec["solve_vs_tight"] = max(abs(q[k] - qt[k]) for k in qt) / max(abs(x) for x in qt.values())
         if key == "v3d" and "auto" in mats:
             rec["v3d_vs_auto_max"], rec["v3d_vs_auto_over_1e-4"] = diff_stats(mats["v3d"], mats["auto"])
 
 
 COLUMNS = ["case", "part", "triangles", "wall_n", "patches", "code", "method", "status", "wall_s", "cpu_s",
            "rss_mb", "rows_off", "worst_row", "max_std_error", "vs_analytic_max", "vs_analytic_over_1e-4",
-           "v3d_vs_auto_max", "v3d_vs_auto_over_1e-4", "goal_warning"]
+           "v3d_vs_auto_max", "v3d_vs_auto_over_1e-4", "solve_vs_tight", "goal_warning"]
 
 
 def fmt(x):
@@ -244,23 +255,25 @@ def write_outputs(rows, out):
         w.writerows(rows)
     hdr = ["case", "triangles", "patches", "code", "method", "status", "wall_s", "cpu_s", "rss_mb", "rows_off",
            "worst_row", "max_std_error", "vs_analytic_max", "vs_analytic_over_1e-4", "v3d_vs_auto_max",
-           "v3d_vs_auto_over_1e-4"]
+           "v3d_vs_auto_over_1e-4", "solve_vs_tight"]
     with open(os.path.join(out, "results.md"), "w") as f:
         f.write("| " + " | ".join(hdr) + " |\n|" + "---|" * len(hdr) + "\n")
         for r in rows:
             f.write("| " + " | ".join(fmt(r.get(h)) for h in hdr) + " |\n")
         # speed: lambert auto against View3D per case
-        f.write("\n| case | triangles | patches | lambert auto wall (CPU) | View3D wall | View3D / lambert |\n"
-                "|---|---|---|---|---|---|\n")
+        f.write("\n| case | triangles | patches | lambert auto wall (CPU) | View3D wall (CPU) | View3D / lambert, wall |"
+                " View3D / lambert, CPU |\n|---|---|---|---|---|---|---|\n")
         for case in dict.fromkeys(r["case"] for r in rows):
             a = next((r for r in rows if r["case"] == case and r["method"] == "viewfactors auto"), None)
             v = next((r for r in rows if r["case"] == case and r["code"] == "View3D"), None)
             if not a or not v:
                 continue
-            ratio = v["wall_s"] / a["wall_s"] if a.get("status") == "ok" and v.get("status") == "ok" else float("nan")
-            f.write(f"| {case} | {a['triangles']} | {a['patches']} | {fmt(a.get('wall_s'))} s ({fmt(a.get('cpu_s'))}) "
-                    f"{'' if a['status'] == 'ok' else a['status']} | {fmt(v.get('wall_s'))} s "
-                    f"{'' if v.get('status') == 'ok' else v.get('status')} | {fmt(ratio)} |\n")
+            both = a.get("status") == "ok" and v.get("status") == "ok"
+            ratio = v["wall_s"] / a["wall_s"] if both else float("nan")
+            cpu_ratio = v["cpu_s"] / a["cpu_s"] if both and a["cpu_s"] > 0 else float("nan")
+            f.write(f"| {case} | {a['triangles']} | {a['patches']} | {fmt(a.get('wall_s'))} s ({fmt(a.get('cpu_s'))} s) "
+                    f"{'' if a['status'] == 'ok' else a['status']} | {fmt(v.get('wall_s'))} s ({fmt(v.get('cpu_s'))} s) "
+                    f"{'' if v.get('status') == 'ok' else v.get('status')} | {fmt(ratio)} | {fmt(cpu_ratio)} |\n")
     try:
         import matplotlib
 

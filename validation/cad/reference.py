@@ -17,6 +17,7 @@ part0.stl and reference.csv for l_bracket, u_channel and heat_sink, coarse meshe
 import os
 import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -120,7 +121,7 @@ def main():
     out = sys.argv[1]
     rays = int(float(sys.argv[2])) if len(sys.argv) > 2 else 4_000_000
     here = os.path.dirname(os.path.abspath(__file__))
-    coarse = os.path.join(out, "_coarse")
+    coarse = tempfile.mkdtemp(prefix="lambert-coarse-parts-")
     subprocess.run([sys.executable, os.path.join(here, "parts.py"), coarse, "--coarse"], check=True)
     for seed, name in enumerate(["l_bracket", "u_channel", "heat_sink"]):
         t0 = time.time()
