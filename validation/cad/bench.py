@@ -242,6 +242,16 @@ COLUMNS = ["case", "part", "triangles", "wall_n", "patches", "code", "method", "
            "v3d_vs_auto_max", "v3d_vs_auto_over_1e-4", "solve_vs_tight", "goal_warning"]
 
 
+def parse(v):
+    """A results.csv cell back to int, float or text."""
+    for t in (int, float):
+        try:
+            return t(v)
+        except ValueError:
+            pass
+    return v
+
+
 def fmt(x):
     if isinstance(x, float):
         return "—" if x != x else (f"{x:.3g}" if abs(x) < 1e4 else f"{x:.0f}")
@@ -317,7 +327,13 @@ def main():
     ap.add_argument("--cases", default="", help="comma-separated case names (default: all)")
     ap.add_argument("--timeout", type=float, default=1800, help="seconds per lambert run")
     ap.add_argument("--v3d-timeout", type=float, default=1800, help="seconds per View3D run")
+    ap.add_argument("--report-only", action="store_true", help="rewrite the tables and chart from OUT/results.csv")
     args = ap.parse_args()
+    if args.report_only:
+        with open(os.path.join(args.out, "results.csv")) as fh:
+            rows = [{k: parse(v) for k, v in r.items() if v != ""} for r in csv.DictReader(fh)]
+        write_outputs(rows, args.out)
+        return
     if not os.path.exists(args.lambert):
         sys.exit(f"no lambert binary at {args.lambert} (cargo build --release, or --lambert PATH)")
     v3d = os.environ.get("VIEW3D")
