@@ -32,6 +32,7 @@ import argparse
 import csv
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -117,11 +118,14 @@ def timed(cmd, cwd, log, timeout):
     tfile = log + ".time"
     t0 = time.time()
     with open(log, "w") as f:
+        # a session of its own, so that a timeout ends /usr/bin/time and the program it runs
+        p = subprocess.Popen(["/usr/bin/time", "-f", "%e %U %S %M", "-o", tfile] + cmd, cwd=cwd, stdout=f,
+                             stderr=subprocess.STDOUT, start_new_session=True)
         try:
-            p = subprocess.run(["/usr/bin/time", "-f", "%e %U %S %M", "-o", tfile] + cmd, cwd=cwd,
-                               stdout=f, stderr=subprocess.STDOUT, timeout=timeout)
-            status = "ok" if p.returncode == 0 else f"exit {p.returncode}"
+            status = "ok" if p.wait(timeout=timeout) == 0 else f"exit {p.returncode}"
         except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
             return f"timeout {timeout:.0f} s", time.time() - t0, float("nan"), float("nan")
     try:
         e, u, s, m = open(tfile).read().split()[-4:]

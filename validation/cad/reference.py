@@ -11,7 +11,7 @@ rays are cast in B independent batches of equal size; the standard error of an e
 standard deviation of its batch means over sqrt(B). The seed is fixed, so a rerun gives the same
 numbers.
 
-usage: reference.py OUT_DIR [RAYS_PER_SURFACE]  (default 4,000,000; writes OUT_DIR/<part>/scene.toml,
+usage: reference.py OUT_DIR [RAYS_PER_SURFACE [PART,...]]  (default 4,000,000; writes OUT_DIR/<part>/scene.toml,
 part0.stl and reference.csv for l_bracket, u_channel and heat_sink, coarse meshes from parts.py)
 """
 import os
@@ -123,7 +123,10 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     coarse = tempfile.mkdtemp(prefix="lambert-coarse-parts-")
     subprocess.run([sys.executable, os.path.join(here, "parts.py"), coarse, "--coarse"], check=True)
+    only = sys.argv[3].split(",") if len(sys.argv) > 3 else None
     for seed, name in enumerate(["l_bracket", "u_channel", "heat_sink"]):
+        if only and name not in only:
+            continue
         t0 = time.time()
         part = scenes.place(scenes.read_stl(os.path.join(coarse, f"{name}.stl")), SIZE_M, 1)
         d = os.path.join(out, name)
