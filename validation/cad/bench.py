@@ -296,28 +296,26 @@ def write_outputs(rows, out):
     except ImportError:
         print("matplotlib not installed: no chart (pip install matplotlib)")
         return
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
     series = [("lambert", "viewfactors auto", "o", "lambert auto"), ("lambert", "viewfactors analytic", "s",
               "lambert analytic"), ("lambert", "solve 1e-2", "^", "lambert solve 1e-2"), ("View3D", None, "x", "View3D 1 core")]
-    for code, method, marker, label in series:
-        pts = [(r["triangles"], r["wall_s"], r["status"] == "ok") for r in rows
-               if r["code"] == code and (method is None or r["method"] == method) and "wall_s" in r]
-        if not pts:
-            continue
-        ok = [(x, y) for x, y, good in pts if good]
-        bad = [(x, y) for x, y, good in pts if not good]
-        if ok:
-            ax.scatter(*zip(*ok), marker=marker, label=label)
-        if bad:
-            ax.scatter(*zip(*bad), marker=marker, color="red", alpha=0.5,
-                       label=f"{label}: no result (time of the cut)")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("triangles of the part(s)")
-    ax.set_ylabel("wall time (s)")
-    ax.set_title("Real parts in gridded rooms: wall time against triangles")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    for ax, col, what in zip(axes, ("wall_s", "cpu_s"), ("wall time (s)", "CPU time, user + system (s)")):
+        for code, method, marker, label in series:
+            pts = [(r["triangles"], r.get(col), r["status"] == "ok") for r in rows
+                   if r["code"] == code and (method is None or r["method"] == method) and "wall_s" in r]
+            ok = [(x, y) for x, y, good in pts if good and y == y]
+            if ok:
+                ax.scatter(*zip(*ok), marker=marker, label=label)
+            bad = [(x, y) for x, y, good in pts if not good and y == y]
+            if bad and col == "wall_s":
+                ax.scatter(*zip(*bad), marker=marker, color="red", alpha=0.5, label=f"{label}: no result (time of the cut)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("triangles of the part(s)")
+        ax.set_ylabel(what)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Real parts in gridded rooms: time against triangles (lambert on 2 cores, View3D on 1)")
     fig.tight_layout()
     for ext in ("png", "svg"):
         fig.savefig(os.path.join(out, f"time_vs_triangles.{ext}"), dpi=120)
