@@ -88,8 +88,23 @@ def place(tris_mm, size_m, count):
             t[..., 0] *= -1
             t[..., 1] *= -1
         t[..., 0] += (p - (count - 1) / 2) * spacing
-        copies.append(t.astype(np.float32).astype(np.float64))
+        copies.append(drop_degenerate(t.astype(np.float32).astype(np.float64)))
     return copies
+
+
+# Corners closer than this fraction of the bounding-box diagonal are one point (lambert's default
+# weld tolerance), so a triangle with such an edge, or with zero area, is left out of both files.
+WELD_FRACTION = 1e-6
+
+
+def drop_degenerate(tris):
+    """The triangles without a welded-together edge or zero area, so both codes see the same list."""
+    pts = tris.reshape(-1, 3)
+    tol = WELD_FRACTION * np.linalg.norm(pts.max(0) - pts.min(0))
+    edges = np.stack([tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 1], tris[:, 0] - tris[:, 2]], axis=1)
+    short = (np.linalg.norm(edges, axis=2) <= tol).any(axis=1)
+    flat = np.linalg.norm(np.cross(edges[:, 0], edges[:, 1]), axis=1) == 0
+    return tris[~(short | flat)]
 
 
 def write_scene(d, parts_mm, half, n, title, part_eps=0.85, part_t=400.0):
