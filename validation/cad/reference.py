@@ -7,8 +7,10 @@ rectangle split in two), directions cosine-weighted about the triangle's normal 
 nearest hit among all triangles of the scene (Moller-Trumbore, both sides, t > 1e-9 m). F(i -> j)
 is the fraction of rays from i whose first hit is a front face of j. A ray that hits a back face
 first, or nothing, is counted as lost (a leak; 0 for a closed, outward part in the room). The
-rays are cast in B independent batches of equal size; the standard error of an entry is the
-standard deviation of its batch means over sqrt(B). The seed is fixed, so a rerun gives the same
+rays are independent, so the count is binomial and the standard error of an entry is
+sqrt(F (1 - F) / N) for N rays. (The rays are cast in B batches; the spread of the batch means
+is printed as a check, but its estimate of the error is itself uncertain by about 1/sqrt(2 (B - 1)),
+18 % for B = 16, so it is not the one stored.) The seed is fixed, so a rerun gives the same
 numbers.
 
 usage: reference.py OUT_DIR [RAYS_PER_SURFACE [PART,...]]  (default 4,000,000; writes OUT_DIR/<part>/scene.toml,
@@ -112,7 +114,10 @@ def view_factors(tris, sid, nsurf, rays, seed):
                 counts += np.bincount(target, minlength=nsurf + 1)
             means[b] = counts / per_batch
         f[i] = means[:, :nsurf].mean(0)
-        se[i] = means[:, :nsurf].std(0, ddof=1) / np.sqrt(BATCHES)
+        se[i] = np.sqrt(f[i] * (1 - f[i]) / (per_batch * BATCHES))
+        spread = means[:, :nsurf].std(0, ddof=1) / np.sqrt(BATCHES)
+        ratio = spread[se[i] > 0] / se[i][se[i] > 0]
+        print(f"  row {i}: batch spread / binomial error {ratio.min():.2f} to {ratio.max():.2f}")
         lost[i] = means[:, nsurf].mean()
     return f, se, lost
 
