@@ -26,7 +26,11 @@ Writes OUT/results.csv (one line per run), OUT/results.md (the tables of validat
 OUT/time_vs_triangles.{png,svg}. One command, unattended:
 
   VIEW3D=/path/to/View3D python3 validation/cad/bench.py --lambert target/release/lambert \
-      --out /tmp/real-parts [--quick] [--cases finger_n1,heat_sink_n4] [--timeout 1800]
+      --out /tmp/real-parts [--quick] [--cases finger_n1,heat_sink_n4] [--timeout 900]
+
+The default cut (900 s) is above every time target of issue 18 (at most 10 minutes), so a cut
+run has missed its target; the full list has 46 runs, so it takes at most about 11.5 hours and
+much less where the runs finish.
 """
 import argparse
 import csv
@@ -334,8 +338,8 @@ def main():
     ap.add_argument("--out", default="/tmp/real-parts", help="scenes, logs, outputs")
     ap.add_argument("--quick", action="store_true", help="only the small cases (minutes)")
     ap.add_argument("--cases", default="", help="comma-separated case names (default: all)")
-    ap.add_argument("--timeout", type=float, default=1800, help="seconds per lambert run")
-    ap.add_argument("--v3d-timeout", type=float, default=1800, help="seconds per View3D run")
+    ap.add_argument("--timeout", type=float, default=900, help="seconds per lambert run")
+    ap.add_argument("--v3d-timeout", type=float, default=900, help="seconds per View3D run")
     ap.add_argument("--report-only", action="store_true", help="rewrite the tables and chart from OUT/results.csv")
     args = ap.parse_args()
     if args.report_only:
