@@ -213,8 +213,9 @@ fn fitting_size<DB: DrawingBackend>(
     width: u32,
     sizes: &[u32],
 ) -> u32 {
-    let fits =
-        |s: u32| area.estimate_text_size(text, &("sans-serif", s).into_text_style(area)).is_ok_and(|(w, _)| w <= width);
+    let fits = |s: u32| {
+        area.estimate_text_size(text, &("sans-serif", s).into_text_style(area)).is_ok_and(|(w, _)| w <= width)
+    };
     sizes.iter().copied().find(|&s| fits(s)).unwrap_or(*sizes.last().expect("sizes given"))
 }
 
