@@ -15,7 +15,19 @@ fn num(r: &Row, key: &str) -> Option<f64> {
     r.get(key).and_then(|v| v.parse().ok())
 }
 
-/// Series in first-seen order of their names, coloured from the Okabe–Ito palette.
+/// The seven Okabe–Ito colours, then grey: eight distinct colours for the eight scaling series.
+const PALETTE: [(u8, u8, u8); 8] = [
+    okabe_ito::ALL[0],
+    okabe_ito::ALL[1],
+    okabe_ito::ALL[2],
+    okabe_ito::ALL[3],
+    okabe_ito::ALL[4],
+    okabe_ito::ALL[5],
+    okabe_ito::ALL[6],
+    okabe_ito::GREY,
+];
+
+/// Series in first-seen order of their names, coloured from [`PALETTE`].
 fn series(groups: Vec<(String, Vec<(f64, f64)>)>) -> Vec<Series> {
     groups
         .into_iter()
@@ -24,7 +36,7 @@ fn series(groups: Vec<(String, Vec<(f64, f64)>)>) -> Vec<Series> {
         .map(|(k, (name, points))| Series {
             name,
             points,
-            color: okabe_ito::ALL[k % okabe_ito::ALL.len()],
+            color: PALETTE[k % PALETTE.len()],
             style: Style::LinePoints,
         })
         .collect()

@@ -128,6 +128,12 @@ fn log_label(v: f64) -> String {
             _ => format!("1e{e}"),
         };
     }
+    // Between decades only 2 and 5 × 10^k are labelled: plotters ticks every integer
+    // multiple, and on a short axis their labels run into each other.
+    let m = v / 10f64.powf(e.floor());
+    if !((m - 2.0).abs() < 1e-6 || (m - 5.0).abs() < 1e-6) {
+        return String::new();
+    }
     if (1e-2..1e4).contains(&v) {
         format!("{}", (v * 1e3).round() / 1e3)
     } else {
@@ -361,6 +367,10 @@ mod tests {
         assert_eq!(log_label(1e-6), "1e-6");
         assert_eq!(log_label(0.01), "0.01");
         assert_eq!(log_label(100.0), "100");
+        assert_eq!(
+            (log_label(0.02), log_label(5e-3), log_label(3e-3), log_label(70.0)),
+            ("0.02".into(), "5e-3".into(), String::new(), String::new())
+        );
         // Fitted to the data with a small margin, zeros and negatives ignored.
         let (lo, hi) = fitted_range([0.03, 7.0, 0.0, -1.0].into_iter());
         let pad = 10f64.powf(PAD_DECADES);

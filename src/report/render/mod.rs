@@ -303,6 +303,9 @@ fn annotate(
     root.draw(&Text::new(title, (x0 - 14, top - 34), ("sans-serif", 17).into_font().color(&BLACK)))
         .map_err(e)?;
     let (size, lines) = caption;
+    // A white band keeps the caption readable when a fixed fov lets the scene run under it.
+    let band = [(0, 0), ((w - BAR_PANEL) as i32 - 1, caption_height(caption))];
+    root.draw(&Rectangle::new(band, WHITE.filled())).map_err(e)?;
     for (k, line) in lines.iter().enumerate() {
         let style = ("sans-serif", *size).into_font().color(&BLACK);
         root.draw(&Text::new(line.as_str(), (12, 10 + k as i32 * (*size as i32 + 5)), style)).map_err(e)?;
@@ -458,7 +461,9 @@ mod tests {
         // value, so the bar falls back to all of them.
         let mut r2 = Raster::new(600, 600);
         r2.draw_framed(&opts.camera, frame(&opts.camera, &tris, &opts, 30), &tris, true);
-        assert!(r2.frag.contains(&Fragment::Neutral) && !r2.frag.iter().any(|f| matches!(f, Fragment::Value(_))));
+        assert!(
+            r2.frag.contains(&Fragment::Neutral) && !r2.frag.iter().any(|f| matches!(f, Fragment::Value(_)))
+        );
         assert_eq!(visible_range(&scene, &values, &r2), (0.0, 5.0));
     }
 
