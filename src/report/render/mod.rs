@@ -544,8 +544,8 @@ mod tests {
         let f = frame(&opts.camera, &tris, &opts, 40);
         for p in tris.iter().flat_map(|t| t.p) {
             let (x, y) = f.project(&opts.camera, p);
-            assert!(x >= FRAME_PAD - 1e-6 && x <= (800 - BAR_PANEL) as f64 - FRAME_PAD + 1e-6, "x {x}");
-            assert!(y >= 40.0 && y <= 600.0 - FRAME_PAD + 1e-6, "y {y}");
+            assert!((FRAME_PAD - 1e-6..=(800 - BAR_PANEL) as f64 - FRAME_PAD + 1e-6).contains(&x), "x {x}");
+            assert!((40.0..=600.0 - FRAME_PAD + 1e-6).contains(&y), "y {y}");
         }
     }
 
