@@ -60,6 +60,8 @@ fn main() {
         field: "temperature".into(),
         unit: "K".into(),
         caption: "scaling room".into(),
+        flat: false,
+        fit: true,
     };
     let t = Instant::now();
     if mode == "render" || mode == "both" {

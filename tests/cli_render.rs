@@ -145,3 +145,83 @@ fn result_file_errors_name_the_file_and_line() {
     let e = refused(ROOM, &write("furnace.csv", &good), &[]);
     assert!(e.contains("no row for") || e.contains("neither a surface"), "{e}");
 }
+
+/// Runs render with `extra` args on `scene` and `csv`, returning the decoded picture and stderr.
+fn picture(scene: &str, csv: &Path, extra: &[&str]) -> (image::RgbImage, String) {
+    let png = csv.with_extension(format!("{}.png", extra.len()));
+    let mut args =
+        vec!["render", scene, csv.to_str().unwrap(), "-o", png.to_str().unwrap(), "--size", "800x600"];
+    args.extend_from_slice(extra);
+    let o = run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    (image::open(&png).unwrap().to_rgb8(), stderr(&o))
+}
+
+/// The 1,280-facet sphere in its room, sphere at 500 K and walls at 300 K: shaded, the
+/// sphere's yellow varies in brightness from its centre to its rim; `--flat`, it is one
+/// colour. The axis triad's red, green and blue are in the lower-left corner.
+#[test]
+fn a_sphere_is_shaded_and_flat_is_exact() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("sphere.csv");
+    let mut rows = String::from("surface,temperature\n");
+    for s in ["floor", "ceiling", "wall_x0", "wall_x1", "wall_y0", "wall_y1"] {
+        rows.push_str(&format!("{s},300\n"));
+    }
+    rows.push_str("sphere,500\n");
+    std::fs::write(&csv, rows).unwrap();
+    let scene = "cases/o8_sphere_in_room/scene.toml";
+    // Yellow-ish pixels (the top of viridis, darkened or not) left of the colour bar.
+    let sphere = |img: &image::RgbImage| -> Vec<[u8; 3]> {
+        img.enumerate_pixels()
+            .filter(|(x, _, _)| *x < 800 - 190)
+            .map(|(_, _, p)| p.0)
+            .filter(|c| {
+                c[0] > 40 && (c[2] as u32) * 3 < c[0] as u32 && (c[1] as u32) * 10 > (c[0] as u32) * 8
+            })
+            .collect()
+    };
+    let (img, err) = picture(scene, &csv, &[]);
+    assert!(err.contains("colour range 300..500"), "{err}");
+    let s = sphere(&img);
+    assert!(s.len() > 5000, "sphere covers {} pixels", s.len());
+    let (lo, hi) = s.iter().fold((255, 0), |(l, h), c| (l.min(c[0]), h.max(c[0])));
+    assert!(hi >= 240 && (lo as f64) < 0.75 * hi as f64, "sphere red channel spans {lo}..{hi}: not shaded");
+    for c in [[213u8, 40, 40], [30, 150, 30], [40, 80, 210]] {
+        let n = img.enumerate_pixels().filter(|(x, y, p)| *x < 120 && *y > 480 && p.0 == c).count();
+        assert!(n > 20, "triad colour {c:?}: {n} pixels");
+    }
+    let (flat, _) = picture(scene, &csv, &["--flat"]);
+    let s = sphere(&flat);
+    assert!(s.len() > 5000 && s.iter().all(|c| *c == [253, 231, 37]), "flat sphere is not one colour");
+}
+
+/// The furnace from its default eye: the ceiling is hidden, so the colour bar spans the other
+/// surfaces' temperatures; `--range` overrides it. With `--two-sided` the backs of the near
+/// walls and the ceiling hide every value, and the bar spans them all.
+#[test]
+fn colour_bar_spans_the_visible_surfaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = furnace_result(dir.path(), false);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut rd = text.lines();
+    let head: Vec<&str> = rd.next().unwrap().split(',').collect();
+    let (sc, tc) = (
+        head.iter().position(|h| *h == "surface").unwrap(),
+        head.iter().position(|h| *h == "temperature").unwrap(),
+    );
+    let temps: Vec<(String, f64)> = rd
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .map(|f| (f[sc].to_string(), f[tc].parse().unwrap()))
+        .collect();
+    let shown = temps.iter().filter(|(n, _)| n != "ceiling").map(|t| t.1);
+    let (lo, hi) = shown.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), t| (l.min(t), h.max(t)));
+    let ceiling = temps.iter().find(|t| t.0 == "ceiling").unwrap().1;
+    assert!(ceiling < lo, "the test needs the hidden ceiling coldest: {temps:?}");
+    let (_, err) = picture(FURNACE, &csv, &[]);
+    assert!(err.contains(&format!("colour range {lo}..{hi}")), "{err}");
+    let (_, err) = picture(FURNACE, &csv, &["--two-sided"]);
+    assert!(err.contains(&format!("colour range {ceiling}..{hi}")), "{err}");
+    let (_, err) = picture(FURNACE, &csv, &["--range", "0,2000"]);
+    assert!(err.contains("colour range 0..2000"), "{err}");
+}

@@ -149,19 +149,22 @@ pub struct RenderArgs {
     /// PNG picture to write.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Camera, any of "eye=x,y,z target=x,y,z up=x,y,z fov=degrees" (default: framed
-    /// diagonal view, z up, fov 35).
+    /// Camera, any of "eye=x,y,z target=x,y,z up=x,y,z fov=degrees" (default: diagonal view,
+    /// z up). The picture is zoomed to fit the scene unless fov= is given.
     #[arg(long)]
     pub camera: Option<String>,
     /// Picture size WIDTHxHEIGHT in pixels, colour bar included.
     #[arg(long, default_value = "1000x720")]
     pub size: String,
-    /// Colour range MIN,MAX (default: the values' range).
+    /// Colour range MIN,MAX (default: the range of the surfaces that show).
     #[arg(long, allow_hyphen_values = true)]
     pub range: Option<String>,
     /// Show back faces in grey instead of hiding them.
     #[arg(long)]
     pub two_sided: bool,
+    /// Plain false colour, without the headlight shading (exact colour reading).
+    #[arg(long)]
+    pub flat: bool,
     /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder (`..`).
     #[arg(long)]
     pub allow_outside_paths: bool,
