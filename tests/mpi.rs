@@ -29,7 +29,9 @@ fn room(dir: &Path) -> String {
 
 /// The cube furnace with 6×6 patches per face (216 patches).
 fn furnace(dir: &Path) -> String {
-    let text = std::fs::read_to_string(case("cube_furnace")).unwrap().replace("subdivide = [4, 4]", "subdivide = [6, 6]");
+    let text = std::fs::read_to_string(case("cube_furnace"))
+        .unwrap()
+        .replace("subdivide = [4, 4]", "subdivide = [6, 6]");
     let p = dir.join("furnace.toml");
     std::fs::write(&p, text).unwrap();
     p.to_str().unwrap().to_string()
@@ -61,7 +63,8 @@ fn assert_same_on_any_rank_count(dir: &Path, what: &str, cmd: &str, scene: &str,
         all.extend(args.iter().map(|s| s.to_string()));
         let o = run(np, &all);
         assert!(o.status.success(), "{what}, np {np:?}: {}", String::from_utf8_lossy(&o.stderr));
-        let bytes = std::fs::read(&out).unwrap_or_else(|e| panic!("{what}, np {np:?}: {}: {e}", out.display()));
+        let bytes =
+            std::fs::read(&out).unwrap_or_else(|e| panic!("{what}, np {np:?}: {}: {e}", out.display()));
         assert!(bytes.len() > 100, "{what}: the output is nearly empty");
         match &reference {
             None => reference = Some(bytes),
@@ -102,7 +105,7 @@ fn solves_are_the_same_on_any_rank_count() {
     for (what, args) in [
         ("solve packed", vec!["--patches"]),
         ("solve surfaces", vec![]),
-        ("solve mc-area", vec!["--patches", "-m", "mc-area", "--samples", "2000"]),
+        ("solve mc-area", vec!["--patches", "-m", "mc-area", "--samples", "20000"]),
         ("solve jacobi", vec!["--solver", "jacobi"]),
         ("solve hierarchical", vec!["--exchange", "hierarchical"]),
     ] {
@@ -110,24 +113,38 @@ fn solves_are_the_same_on_any_rank_count() {
     }
 }
 
+/// Runs `viewfactors` under MPMD `mpiexec`: rank 0 on `a`, rank 1 on `b`, one output name.
+fn two_scenes(a: &str, b: &str, out: &Path) -> Output {
+    Command::new("mpiexec")
+        .args(["-np", "1", BIN, "viewfactors", a, "-o", out.to_str().unwrap(), ":"])
+        .args(["-np", "1", BIN, "viewfactors", b, "-o", out.to_str().unwrap()])
+        .output()
+        .expect("run mpiexec")
+}
+
 #[test]
 fn ranks_with_different_geometry_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let room = room(d);
-    let moved = d.join("moved.toml");
-    std::fs::write(&moved, std::fs::read_to_string(&room).unwrap().replacen("origin = [0", "origin = [0.001", 1))
-        .unwrap();
+    let text = std::fs::read_to_string(&room).unwrap();
+    // Rank 1 splits the floor into 3×3 patches instead of 4×4: a valid scene, another hash.
+    let finer = d.join("finer.toml");
+    std::fs::write(&finer, text.replacen("subdivide = [4, 4]", "subdivide = [3, 3]", 1)).unwrap();
     let out = d.join("vf.csv");
-    // MPMD: rank 0 loads the room, rank 1 the room with one surface moved by 1 mm.
-    let o = Command::new("mpiexec")
-        .args(["-np", "1", BIN, "viewfactors", &room, "-o", out.to_str().unwrap(), ":"])
-        .args(["-np", "1", BIN, "viewfactors", moved.to_str().unwrap(), "-o", out.to_str().unwrap()])
-        .output()
-        .expect("run mpiexec");
+    let o = two_scenes(&room, finer.to_str().unwrap(), &out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("do not hold the same scene geometry") && err.contains("rank 1 has hash"), "{err}");
+    assert!(!out.exists(), "a refused run wrote its output");
+    // Rank 1's floor moved by 1 mm: its scene no longer loads, so it finishes while rank 0
+    // waits for rows; the run is refused all the same.
+    let moved = d.join("moved.toml");
+    std::fs::write(&moved, text.replacen("origin = [0", "origin = [0.001", 1)).unwrap();
+    let o = two_scenes(&room, moved.to_str().unwrap(), &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("rank 1 is finishing while rank 0 is about to compute"), "{err}");
     assert!(!out.exists(), "a refused run wrote its output");
 }
 

@@ -35,7 +35,9 @@ static WORKERS_GONE: AtomicBool = AtomicBool::new(false);
 
 /// True when a process manager (`mpirun`/`mpiexec` of MPICH or Open MPI) started this process.
 fn under_mpirun() -> bool {
-    ["PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_RANK", "PMIX_RANK"].iter().any(|v| std::env::var_os(v).is_some())
+    ["PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_RANK", "PMIX_RANK"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
 }
 
 /// Initialises MPI under `mpirun` (nothing otherwise) and silences the stdout and stderr of
@@ -184,7 +186,8 @@ pub fn gather_bytes(mine: &[u8]) -> Option<Vec<Vec<u8>>> {
             world.abort(1);
         }
         let counts: Vec<i32> = lens.iter().map(|&l| l as i32).collect();
-        let displs: Vec<i32> = counts.iter().scan(0i32, |acc, &c| Some(std::mem::replace(acc, *acc + c))).collect();
+        let displs: Vec<i32> =
+            counts.iter().scan(0i32, |acc, &c| Some(std::mem::replace(acc, *acc + c))).collect();
         let mut buf = vec![0u8; lens.iter().sum::<u64>() as usize];
         {
             let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);

@@ -153,8 +153,9 @@ pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Resu
         let stats = std::env::var_os(crate::distributed::STATS_VAR).is_some();
         let mut all = mine;
         for (r, bytes) in parts.iter().enumerate().skip(1) {
-            let share = decode(bytes)
-                .ok_or_else(|| Error::Compute(format!("the view-factor rows from MPI rank {r} arrived damaged")))?;
+            let share = decode(bytes).ok_or_else(|| {
+                Error::Compute(format!("the view-factor rows from MPI rank {r} arrived damaged"))
+            })?;
             if stats {
                 eprintln!(
                     "lambert: mpi: rank {r}: rows {}..{}, {:.3} s, {} bytes sent",
@@ -178,7 +179,12 @@ pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Resu
                 blocks[0].start, blocks[0].end
             );
         }
-        Ok(Some(Gathered { inner: kernel, first: all.first, rows: all.rows, failure: Mutex::new(all.failure) }))
+        Ok(Some(Gathered {
+            inner: kernel,
+            first: all.first,
+            rows: all.rows,
+            failure: Mutex::new(all.failure),
+        }))
     }
     #[cfg(not(feature = "mpi"))]
     {
@@ -400,7 +406,12 @@ mod tests {
         let row = |i: u32| Row {
             entries: vec![
                 RawEntry { j: i + 1, method: MethodSet::ANALYTIC, s: 0.1 + f64::from(i), var: 0.0 },
-                RawEntry { j: i + 2, method: MethodSet::MC_AREA.union(MethodSet::SHADOWED), s: 1e-300, var: 3e-7 },
+                RawEntry {
+                    j: i + 2,
+                    method: MethodSet::MC_AREA.union(MethodSet::SHADOWED),
+                    s: 1e-300,
+                    var: 3e-7,
+                },
             ],
             shared_samples: 7 * i,
             pairs: u64::from(i) * 1_000_000_007,
@@ -408,10 +419,7 @@ mod tests {
         Share {
             first: 5,
             rows: vec![row(5), row(6), Row::default()],
-            failure: Some((
-                8,
-                Error::Input(InputError::surface("a b.toml", "wall", "broken").at_line(3)),
-            )),
+            failure: Some((8, Error::Input(InputError::surface("a b.toml", "wall", "broken").at_line(3)))),
             flags: vec![Flag { from: 5, to: 9, method: MethodSet::SINGLE_PLANE, note: "cut ∅".into() }],
             misses: (4, Some(Miss { i: 6, j: 7, error: 2.5e-9, goal: 1e-9 })),
             seconds: 1.25,
@@ -456,7 +464,8 @@ mod tests {
             }
         }
         let s = share();
-        let g = Gathered { inner: &Never, first: s.first, rows: s.rows.clone(), failure: Mutex::new(s.failure) };
+        let g =
+            Gathered { inner: &Never, first: s.first, rows: s.rows.clone(), failure: Mutex::new(s.failure) };
         let mut out = Row::default();
         g.row(6, &mut out).unwrap();
         assert_eq!(out, s.rows[1]);
