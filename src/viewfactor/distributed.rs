@@ -75,11 +75,13 @@ impl RowKernel for Gathered<'_> {
 }
 
 /// Estimated cost of each row: the pairs it evaluates.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 fn row_costs(n: usize, symmetric: bool) -> Vec<f64> {
     (0..n).map(|i| if symmetric { (n - i) as f64 } else { n as f64 }).collect()
 }
 
 /// Computes rows `block` of `kernel` with rayon, cut at the first failure.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share {
     use rayon::prelude::*;
     let start = std::time::Instant::now();
