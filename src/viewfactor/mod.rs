@@ -9,6 +9,7 @@
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
 //! - [`range`]: the final check that every written factor lies in [0, 1];
 //! - [`flags`]: entries a method could not bound, reported on stderr;
+//! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
 //! - [`accuracy`]: what each method knows about its own error (leak thresholds, error model,
 //!   accuracy knob), asked by the CLI, enforcement and validation;
 //! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
@@ -21,6 +22,7 @@ pub mod accuracy;
 pub mod analytic;
 pub mod auto;
 pub mod closed_form;
+pub mod distributed;
 pub mod engine;
 pub mod flags;
 pub mod hemicube;
@@ -236,7 +238,13 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
     let n = scene.patches.len() as u64;
     let total = if kernel.symmetric() { n * (n + 1) / 2 } else { n * n };
     let progress = progress::Progress::start(total, "pairs", progress::Mode::for_stderr(params.progress));
-    let t = triangle::fill(scene, kernel.as_ref(), &progress)?;
+    // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
+    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {params:?}"))?;
+    let kernel: &dyn engine::RowKernel = match &gathered {
+        Some(g) => g,
+        None => kernel.as_ref(),
+    };
+    let t = triangle::fill(scene, kernel, &progress)?;
     progress.finish();
     Ok(Some(t))
 }

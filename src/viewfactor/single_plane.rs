@@ -111,6 +111,12 @@ impl RowKernel for SinglePlaneKernel<'_> {
         self.flags.sorted()
     }
 
+    fn absorb(&self, flags: Vec<Flag>, _misses: (u64, Option<super::shadow::misses::Miss>)) {
+        for f in flags {
+            self.flags.push(f);
+        }
+    }
+
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let mut ws = self.pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_default();
         ws.acc.resize(self.scene.patches.len(), 0.0);
