@@ -39,7 +39,9 @@ pub fn build(a: Input) -> Result<Scene> {
     let file = |problem: String| InputError::file(src, problem);
     let m = a.names.len();
     let n = a.vertices.nrows();
-    if let Some((k, _)) = a.vertices.rows().into_iter().enumerate().find(|(_, r)| !r.iter().all(|x| x.is_finite())) {
+    if let Some((k, _)) =
+        a.vertices.rows().into_iter().enumerate().find(|(_, r)| !r.iter().all(|x| x.is_finite()))
+    {
         return Err(file(format!("vertices[{k}] has a NaN or infinite coordinate")).into());
     }
     let nf = a.offsets.len().saturating_sub(1);
@@ -53,7 +55,9 @@ pub fn build(a: Input) -> Result<Scene> {
         let mut ring = Vec::with_capacity(hi - lo);
         for &v in &a.faces[lo..hi] {
             if v < 0 || v as usize >= n {
-                return Err(file(format!("faces[{k}] refers to vertex {v}, but there are {n} vertices")).into());
+                return Err(
+                    file(format!("faces[{k}] refers to vertex {v}, but there are {n} vertices")).into()
+                );
             }
             let r = a.vertices.row(v as usize);
             ring.push(DVec3::new(r[0], r[1], r[2]));
@@ -80,7 +84,9 @@ pub fn build(a: Input) -> Result<Scene> {
         let eps = validate::emissivity(a.emissivity[s]).map_err(bad)?;
         let condition = match (a.temperature[s], a.heat_flux[s]) {
             (Some(_), Some(_)) => return Err(bad("give temperature or heat_flux, not both".into()).into()),
-            (Some(t), None) => Some(BoundaryCondition::Temperature(validate::temperature(t, "temperature").map_err(bad)?)),
+            (Some(t), None) => {
+                Some(BoundaryCondition::Temperature(validate::temperature(t, "temperature").map_err(bad)?))
+            }
             (None, Some(q)) => Some(BoundaryCondition::HeatFlux(validate::heat_flux(q).map_err(bad)?)),
             (None, None) => None,
         };

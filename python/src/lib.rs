@@ -32,7 +32,11 @@ fn to_py(e: lambert::Error) -> PyErr {
     };
     let message = e.to_string();
     Python::attach(|py| {
-        match py.import("lambert.errors").and_then(|m| m.getattr(kind)).and_then(|c| c.call1((message.clone(),))) {
+        match py
+            .import("lambert.errors")
+            .and_then(|m| m.getattr(kind))
+            .and_then(|c| c.call1((message.clone(),)))
+        {
             Ok(exc) => PyErr::from_value(exc),
             Err(err) => err,
         }
@@ -40,7 +44,11 @@ fn to_py(e: lambert::Error) -> PyErr {
 }
 
 /// Runs `f` on a pool of `threads` workers (the global pool when `None`), with the GIL released.
-fn run<T: Send>(py: Python<'_>, threads: Option<usize>, f: impl FnOnce() -> lambert::Result<T> + Send) -> PyResult<T> {
+fn run<T: Send>(
+    py: Python<'_>,
+    threads: Option<usize>,
+    f: impl FnOnce() -> lambert::Result<T> + Send,
+) -> PyResult<T> {
     let out = py.detach(move || match threads {
         None => f(),
         Some(n) => {
@@ -67,10 +75,17 @@ impl PyScene {
     /// Loads a scene file (.toml, .gltf, .glb, .stl, .obj, .vs3) as the CLI does.
     #[staticmethod]
     #[pyo3(signature = (path, unit=None, repair=false, allow_outside_paths=false))]
-    fn load(py: Python<'_>, path: PathBuf, unit: Option<String>, repair: bool, allow_outside_paths: bool) -> PyResult<Self> {
+    fn load(
+        py: Python<'_>,
+        path: PathBuf,
+        unit: Option<String>,
+        repair: bool,
+        allow_outside_paths: bool,
+    ) -> PyResult<Self> {
         let scene = run(py, None, move || {
             let unit = match unit {
-                Some(u) => scene::mesh_model::Unit::parse(&u).map_err(|e| lambert::Error::Usage(format!("unit: {e}")))?,
+                Some(u) => scene::mesh_model::Unit::parse(&u)
+                    .map_err(|e| lambert::Error::Usage(format!("unit: {e}")))?,
                 None => scene::mesh_model::Unit::M,
             };
             let bare = scene::mesh_model::MeshOptions { unit, repair, ..Default::default() };
@@ -191,7 +206,8 @@ impl PyScene {
             }
         }
         let n = points.len() / 3;
-        let pts = numpy::ndarray::Array2::from_shape_vec((n, 3), points).expect("three coordinates per point");
+        let pts =
+            numpy::ndarray::Array2::from_shape_vec((n, 3), points).expect("three coordinates per point");
         let cells = (0..self.scene.patches.len() as i64).collect();
         (PyArray2::from_owned_array(py, pts), PyArray1::from_vec(py, faces), PyArray1::from_vec(py, cells))
     }
@@ -214,7 +230,8 @@ impl PyScene {
     ) -> PyResult<(Bound<'py, PyDict>, PyViewFactors)> {
         let scene = self.scene.clone();
         let out = run(py, threads, move || {
-            let mut opts = route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
+            let mut opts =
+                route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
             opts.params.progress = progress;
             route::view_factors(&scene, opts)
         })?;
@@ -262,7 +279,8 @@ impl PyScene {
         let scene = self.scene.clone();
         let saved = viewfactors.map(|(v, stamped, file)| ((*v.vf).clone(), stamped, file));
         let out = run(py, threads, move || {
-            let mut opts = route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
+            let mut opts =
+                route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
             opts.params.progress = progress;
             let s = route::SolveOptions { solver, exchange };
             let saved = saved.as_ref().map(|(v, st, f)| (v.clone(), *st, f.as_deref()));
@@ -322,7 +340,8 @@ fn vf_dict<'py>(py: Python<'py>, vf: &ViewFactors) -> PyResult<Bound<'py, PyDict
 
 /// The per-node arrays of a solution.
 fn solution_dict<'py>(py: Python<'py>, s: &Solution) -> PyResult<Bound<'py, PyDict>> {
-    let col = |f: fn(&lambert::solve::NodeResult) -> f64| PyArray1::from_vec(py, s.results.iter().map(f).collect());
+    let col =
+        |f: fn(&lambert::solve::NodeResult) -> f64| PyArray1::from_vec(py, s.results.iter().map(f).collect());
     let d = PyDict::new(py);
     d.set_item("names", s.names.clone())?;
     d.set_item("area", PyArray1::from_vec(py, s.areas.clone()))?;

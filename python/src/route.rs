@@ -198,7 +198,13 @@ fn lean_viewfactors(
     if mode == Enforce::None {
         warn_dense_leaks(scene, &ex, said);
     } else {
-        let p = EnforceParams { mode, open, source: scene.source.clone(), facts: facts(scene), ..Default::default() };
+        let p = EnforceParams {
+            mode,
+            open,
+            source: scene.source.clone(),
+            facts: facts(scene),
+            ..Default::default()
+        };
         let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
         note_enforcement(mode, &rep, said);
     }
@@ -456,7 +462,13 @@ pub fn read_viewfactors(path: &Path, scene: &Scene) -> Result<(ViewFactors, bool
 }
 
 /// Builds the exchange matrix of `vf` and enforces `mode` (CLI `enforced`).
-fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>, said: &mut Said) -> Result<Exchange> {
+fn enforced(
+    scene: &Scene,
+    vf: &ViewFactors,
+    mode: Enforce,
+    rays: Option<usize>,
+    said: &mut Said,
+) -> Result<Exchange> {
     let mut ex = Exchange::from_viewfactors(vf);
     if let (Some(n), Level::Patch) = (rays, ex.level) {
         if ex.samples.iter().all(|&s| s == 0) {
