@@ -1,7 +1,7 @@
 //! Semi-gray bands: blackbody fractions against quadrature, one-band and equal-band limits
 //! against the gray solve, the two-surface closed form per band, and Newton recovering a
 //! temperature from its flux.
-mod common;
+use crate::common;
 
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::geometry::quadrature::gauss_legendre;
