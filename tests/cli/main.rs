@@ -2,8 +2,6 @@
 //!
 //! One test binary per area (each links the whole crate once); every file under `tests/cli/` is
 //! a module here. Run one with `cargo test --release --test cli <module>::`.
-#[path = "../common/mod.rs"]
-mod common;
 mod cli_errors;
 mod cli_hints;
 mod cli_mesh;
@@ -13,6 +11,8 @@ mod cli_render;
 mod cli_rough_edges;
 mod cli_solve;
 mod cli_vs3;
+#[path = "../common/mod.rs"]
+mod common;
 mod determinism;
 mod fuzz;
 mod small_messages;

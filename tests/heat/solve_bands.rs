@@ -59,7 +59,7 @@ fn bands(limits: &[f64]) -> Vec<Band> {
         .collect()
 }
 
-/// Two concentric cubes (inner 6 m², outer 54 m²) with exact factors, as in tests/solve.rs.
+/// Two concentric cubes (inner 6 m², outer 54 m²) with exact factors, as in tests/heat/solve.rs.
 fn two_surface(
     c1: lambert::scene::BoundaryCondition,
     c2: lambert::scene::BoundaryCondition,

@@ -2,13 +2,13 @@
 //!
 //! One test binary per area (each links the whole crate once); every file under `tests/viewfactor/` is
 //! a module here. Run one with `cargo test --release --test viewfactor <module>::`.
-#[path = "../common/mod.rs"]
-mod common;
 mod analytic_accuracy;
 mod analytic_method;
 mod analytic_properties;
 mod analytic_scale;
 mod auto;
+#[path = "../common/mod.rs"]
+mod common;
 mod hemicube;
 mod lattice_reuse;
 mod monte_carlo;
