@@ -2,7 +2,7 @@
 //! ambient node, and agreement with the radiosity solve (literature.md §5).
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-mod common;
+use crate::common;
 
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::scene::BoundaryCondition::{HeatFlux, Temperature};

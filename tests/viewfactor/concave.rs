@@ -1,7 +1,7 @@
 //! `analytic` behind and inside concave closed meshes (an L-bracket, a U-channel, a finned
 //! heat sink): entry by entry against a brute Monte Carlo with exact per-ray visibility,
 //! reciprocity, and closure in a room.
-mod common;
+use crate::common;
 
 use common::concave_meshes::{brute_vf, extruded, FIN_PROFILE, L_PROFILE, U_PROFILE};
 use common::cube_faces;

@@ -29,7 +29,7 @@ fn long_triangle(l: f64) -> Polygon {
 
 /// (L, F(square → triangle)) from the committed mpmath table.
 fn reference() -> Vec<(f64, f64)> {
-    include_str!("../validation/reference/long_triangle.csv")
+    include_str!("../../validation/reference/long_triangle.csv")
         .lines()
         .skip(1)
         .map(|line| {
@@ -72,7 +72,7 @@ fn long_strips_over_each_other_are_bounded_honestly() {
     // and the error grows like L². Not fixed: the round-off bound must cover the error, and
     // the kernel flags the entry once the bound passes the 1e-9 promise (catalogue C-11 at
     // 60 digits, validation/reference/strips.py).
-    let table: Vec<(f64, f64)> = include_str!("../validation/reference/strips.csv")
+    let table: Vec<(f64, f64)> = include_str!("../../validation/reference/strips.csv")
         .lines()
         .skip(1)
         .map(|line| {

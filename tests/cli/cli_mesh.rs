@@ -2,7 +2,7 @@
 //! `--repair`, every new error path (exit 2, the file named), and leak hints that follow the
 //! geometry facts (two outward bodies are never told to flip; an inward part, an open mesh
 //! and an outward shell around the scene each get their own hint).
-mod common;
+use crate::common;
 use common::mesh_files::{ascii_stl, binary_stl, cube, cube_quads, flip, obj, Tri};
 use lambert::geometry::DVec3;
 use std::path::{Path, PathBuf};

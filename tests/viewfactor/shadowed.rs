@@ -1,5 +1,5 @@
 //! `analytic` with obstructions: exact shadow clipping against closed forms and references.
-mod common;
+use crate::common;
 
 use common::{cube_faces, rect, F_BLOCKED, F_PARALLEL};
 use lambert::geometry::{DVec3, Polygon};

@@ -172,7 +172,7 @@ fn error_paths_follow_spec_exit_codes() {
     assert_exit(&run(&["solve", &scene, "--viewfactors", &vf, "--enforce", "all"]), 2, &["--enforce"]);
     assert_exit(&run(&["solve", &scene, "--viewfactors", &vf, "--patches"]), 2, &["--patches"]);
     // Iterative solver that runs out of sweeps: the computation failed (exit 1) — not
-    // reachable from the CLI without a cap option, so checked in tests/solve.rs.
+    // reachable from the CLI without a cap option, so checked in tests/heat/solve.rs.
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! STL and OBJ input and the mesh checks, through the library: binary and ASCII STL, OBJ groups
 //! and objects, units, welding, split modes, every hygiene finding with its count and worst
 //! example, and repair. Every file is written here (tests/common/mesh_files.rs).
-mod common;
+use crate::common;
 use common::mesh_files::{ascii_stl, binary_stl, cube, cube_faces, cube_quads, flip, obj, Tri};
 use common::{F_PARALLEL, F_PERPENDICULAR};
 use lambert::geometry::DVec3;

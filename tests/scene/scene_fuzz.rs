@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 /// Valid starting points: the shipped cases, a mixed scene, a scene with a glTF model.
 const BASES: [&str; 4] = [
-    include_str!("../cases/cube_furnace/scene.toml"),
-    include_str!("../cases/coaxial_disks/scene.toml"),
-    include_str!("data/model_scene.toml"),
+    include_str!("../../cases/cube_furnace/scene.toml"),
+    include_str!("../../cases/coaxial_disks/scene.toml"),
+    include_str!("../data/model_scene.toml"),
     r#"title = "mixed"
 [ambient]
 temperature = 250

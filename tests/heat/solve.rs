@@ -2,7 +2,7 @@
 //! from C-11/C-14) and closed forms (concentric cubes), all solvers, energy balance.
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-mod common;
+use crate::common;
 
 use common::rect_exact as rect;
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};

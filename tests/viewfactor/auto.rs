@@ -1,5 +1,5 @@
 //! `auto`, the default method: each pair by the cheapest estimator meeting `--tolerance`.
-mod common;
+use crate::common;
 
 use common::{cube_faces, F_BLOCKED, F_PARALLEL, F_PERPENDICULAR};
 use lambert::geometry::DVec3;

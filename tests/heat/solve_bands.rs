@@ -1,7 +1,7 @@
 //! Semi-gray bands: blackbody fractions against quadrature, one-band and equal-band limits
 //! against the gray solve, the two-surface closed form per band, and Newton recovering a
 //! temperature from its flux.
-mod common;
+use crate::common;
 
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::geometry::quadrature::gauss_legendre;
@@ -59,7 +59,7 @@ fn bands(limits: &[f64]) -> Vec<Band> {
         .collect()
 }
 
-/// Two concentric cubes (inner 6 m², outer 54 m²) with exact factors, as in tests/solve.rs.
+/// Two concentric cubes (inner 6 m², outer 54 m²) with exact factors, as in tests/heat/solve.rs.
 fn two_surface(
     c1: lambert::scene::BoundaryCondition,
     c2: lambert::scene::BoundaryCondition,

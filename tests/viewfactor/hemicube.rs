@@ -5,7 +5,7 @@
 //! error, checked against the catalogue area factors. Tolerances follow the §4 error models
 //! (common/hemicube.rs): O(h²) for the midpoint delta factors, O(h) where edges cut pixels, aliasing
 //! for targets a few pixels wide, and the single plane's grazing-angle loss.
-mod common;
+use crate::common;
 
 use common::hemicube::*;
 use glam::{DAffine3, DVec3};

@@ -1,6 +1,6 @@
 //! Visibility: watertightness (closed cube, tessellated sphere), sidedness rules, occlusion,
 //! blocker candidates against brute force, tree quality and scale invariance.
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec2;

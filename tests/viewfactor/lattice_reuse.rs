@@ -3,7 +3,7 @@
 //! congruent pairs), on gridded boxes (any grid sizes, mirrored and swapped
 //! grid steps, rotated and shifted), on a scene file with blockers, and the tables do serve
 //! the pairs they should.
-mod common;
+use crate::common;
 
 use common::analytic_scenes as scenes;
 

@@ -2,7 +2,7 @@
 //! against the closed forms, surface aggregation with F_II > 0, open scenes, the Gauss
 //! ladder's error bound swept over separations, determinism, and pairs whose view is partly
 //! blocked (shadowed exactly; blocker detection checked against brute-force sampling).
-mod common;
+use crate::common;
 
 use common::analytic_scenes as scenes;
 

@@ -3,7 +3,7 @@
 //! thread-count determinism.
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
-mod common;
+use crate::common;
 
 use lambert::exchange::{enforce, ClosureMethod, Diagnostics, Enforce, EnforceParams, Exchange};
 use lambert::scene::BoundaryCondition::HeatFlux;

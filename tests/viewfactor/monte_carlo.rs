@@ -1,6 +1,6 @@
 //! Monte Carlo estimators against closed forms, their standard errors against the measured
 //! spread, the concentric-box closure case and thread-count determinism.
-mod common;
+use crate::common;
 
 use common::*;
 use lambert::scene::Scene;

@@ -174,3 +174,103 @@ fn help_shows_the_defaults_of_tolerance_and_enforce() {
         assert!(enf.split("\n  -").next().unwrap().contains("[default: none for `viewfactors`"), "{out}");
     }
 }
+
+#[test]
+fn celsius_check_covers_any_plausible_pair_and_negative_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let warned = |toml: &str| {
+        let p = scene(dir.path(), toml);
+        let o = run(&["solve", p.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        text(&o.stderr)
+    };
+    // 200 K with 20 K walls: 20 °C is as plausible as at 300 K.
+    let err = warned(&cube("", 200.0, "emissivity = 0.5\ntemperature = 20.0"));
+    assert!(err.contains("temperature 20 K is below 100 K while the scene reaches 200 K"), "{err}");
+    assert!(err.contains("was 20 °C (293.15 K) meant?"), "{err}");
+    // An ambient at 20 beside a 300 K floor is a suspect too; deep space at 0 K is not.
+    let err = warned(&cube("[ambient]\ntemperature = 20.0\n", 300.0, "emissivity = 0.5\nheat_flux = 0.0"));
+    assert!(err.contains("the ambient: temperature 20 K is below 100 K"), "{err}");
+    let err = warned(&cube("[ambient]\ntemperature = 0.0\n", 300.0, "emissivity = 0.5\nheat_flux = 0.0"));
+    assert!(!err.contains("°C"), "{err}");
+    // A cryogenic scene below 150 K stays silent (20 K inside a 77 K shield).
+    let err = warned(&cube("", 77.0, "emissivity = 0.5\ntemperature = 20.0"));
+    assert!(!err.contains("°C"), "{err}");
+    // A negative temperature is refused, with the °C reading offered.
+    let p = scene(dir.path(), &cube("", 300.0, "emissivity = 0.5\ntemperature = -20.0"));
+    let o = run(&["solve", p.to_str().unwrap()]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("must be positive (kelvin)") && err.contains("was -20 °C (253.15 K) meant?"),
+        "{err}"
+    );
+}
+
+#[test]
+fn negative_numbers_get_lambert_s_own_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = scene(dir.path(), &cube("", 1000.0, "emissivity = 0.5\nheat_flux = 0.0"));
+    let o = run(&["viewfactors", p.to_str().unwrap(), "--tolerance", "-1"]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--tolerance must be in (0, 1), got -1"), "{err}");
+    assert!(!err.contains("-- -1") && !err.contains("tip"), "{err}");
+    for flag in ["--samples", "--threads", "--resolution"] {
+        let o = run(&["viewfactors", p.to_str().unwrap(), flag, "-1"]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{flag}: {err}");
+        assert!(err.contains("invalid value '-1'") && !err.contains("-- -1"), "{flag}: {err}");
+    }
+}
+
+#[test]
+fn projection_methods_leave_std_error_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = scene(
+        dir.path(),
+        &cube("[ambient]\ntemperature = 0.0\n", 1000.0, "emissivity = 0.5\nheat_flux = 0.0"),
+    );
+    for (method, dense) in [("hemicube", false), ("single-plane", false), ("hemicube", true)] {
+        let mut args = vec!["viewfactors", p.to_str().unwrap(), "-m", method, "--resolution", "16"];
+        if dense {
+            // Patch rows with enforcement take the packed store and its own CSV writer.
+            args.extend(["--patches", "--enforce", "reciprocity"]);
+        }
+        let o = run(&args);
+        assert!(o.status.success(), "{method}: {}", text(&o.stderr));
+        let csv = text(&o.stdout);
+        let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+        assert!(rows.iter().any(|r| r[1] == "ambient"), "{csv}");
+        assert!(rows.iter().all(|r| r[3].is_empty() && r[4].contains(method)), "{method}: {csv}");
+    }
+    // Methods with an estimate still write it: 0 for the exact ones.
+    let o = run(&["viewfactors", p.to_str().unwrap(), "-m", "analytic"]);
+    let csv = text(&o.stdout);
+    assert!(csv.lines().skip(1).all(|l| l.split(',').nth(3) == Some("0")), "{csv}");
+}
+
+#[test]
+fn gray_emissivity_beside_band_emissivities_draws_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    // `cube` leaves the ceiling out when its first argument is not empty: the ambient closes it.
+    let bands = "[ambient]\ntemperature = 300.0\n[[band]]\nname = \"solar\"\nlower = 0.0\nupper = 4.0\n\
+                 [[band]]\nname = \"ir\"\nlower = 4.0\n";
+    let p = scene(
+        dir.path(),
+        &cube(bands, 1000.0, "emissivity = 0.5\nemissivity_bands = [0.3, 0.6]\nheat_flux = 0.0"),
+    );
+    let o = run(&["solve", p.to_str().unwrap()]);
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("surface 'wall_y0': emissivity = 0.5 is not used by the solve")
+            && err.contains("emissivity_bands = [0.3, 0.6]")
+            && err.contains("scene.toml: line "),
+        "{err}"
+    );
+    // Bands alone: no warning.
+    let p = scene(dir.path(), &cube(bands, 1000.0, "emissivity_bands = [0.3, 0.6]\nheat_flux = 0.0"));
+    let o = run(&["solve", p.to_str().unwrap()]);
+    assert!(o.status.success() && !text(&o.stderr).contains("not used"), "{}", text(&o.stderr));
+}
