@@ -7,9 +7,9 @@ mod analytic_method;
 mod analytic_properties;
 mod analytic_scale;
 mod auto;
-mod concave;
 #[path = "../common/mod.rs"]
 mod common;
+mod concave;
 mod hemicube;
 mod lattice_reuse;
 mod monte_carlo;
