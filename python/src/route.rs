@@ -14,10 +14,8 @@ use lambert::{Error, Result};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// Largest `samples` per patch (the CLI's `--samples` cap).
-pub const MAX_SAMPLES: usize = 100_000_000;
-/// Smallest tolerance (the CLI's floor: the round-off of the exact integrals in f64).
-pub const MIN_TOLERANCE: f64 = 1e-13;
+pub use lambert::viewfactor::limits::MAX_SAMPLES;
+use lambert::viewfactor::limits::{tolerance as check_tolerance, RESOLUTIONS};
 /// Output surfaces above which the surface-level matrix is kept in the packed store (CLI).
 const LEAN_SURFACES: usize = 512;
 /// Bytes per patch pair of the sparse store (CLI), used to refuse what cannot fit.
@@ -62,8 +60,12 @@ impl Options {
             params.samples = s;
         }
         if let Some(r) = resolution {
-            if !(2..=16384).contains(&r) {
-                return Err(Error::Usage("resolution must be between 2 and 16384".into()));
+            if !RESOLUTIONS.contains(&r) {
+                return Err(Error::Usage(format!(
+                    "resolution must be between {} and {}",
+                    RESOLUTIONS.start(),
+                    RESOLUTIONS.end()
+                )));
             }
             params.resolution = r;
         }
@@ -75,20 +77,6 @@ impl Options {
         }
         Ok(Self { params, tolerance_given: tolerance, patches, enforce })
     }
-}
-
-/// A tolerance in (0, 1) above the round-off floor.
-fn check_tolerance(t: f64, what: &str) -> Result<f64> {
-    if !(t.is_finite() && t > 0.0 && t < 1.0) {
-        return Err(Error::Usage(format!("{what} must be in (0, 1), got {t}")));
-    }
-    if t < MIN_TOLERANCE {
-        return Err(Error::Usage(format!(
-            "{what} {t:e} is below {MIN_TOLERANCE:e}, the round-off floor of the exact integrals in f64: it \
-             cannot be met and the run would not end; give {MIN_TOLERANCE:e} or more"
-        )));
-    }
-    Ok(t)
 }
 
 /// What a computation said besides its result.

@@ -7,6 +7,7 @@
 //! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
+//! - [`limits`]: the bounds on samples, resolution and tolerance, for every caller;
 //! - [`range`]: the final check that every written factor lies in [0, 1];
 //! - [`flags`]: entries a method could not bound, reported on stderr;
 //! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
@@ -26,6 +27,7 @@ pub mod distributed;
 pub mod engine;
 pub mod flags;
 pub mod hemicube;
+pub mod limits;
 pub mod monte_carlo;
 pub mod progress;
 pub mod range;
