@@ -65,6 +65,9 @@ fn run<T: Send>(
 }
 
 /// A scene: named surfaces, their patches, emissivities and boundary conditions.
+/// Patch polygons for pyvista: points (k, 3), the VTK face array, the patch of each cell.
+type PatchMesh<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>);
+
 #[pyclass(name = "_Scene", module = "lambert._lambert", frozen)]
 struct PyScene {
     scene: Arc<Scene>,
@@ -192,10 +195,7 @@ impl PyScene {
     }
 
     /// The patch polygons as (points (k, 3), VTK face array [n, i0, …], patch of each cell).
-    fn mesh<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>) {
+    fn mesh<'py>(&self, py: Python<'py>) -> PatchMesh<'py> {
         let (mut points, mut faces) = (Vec::new(), Vec::new());
         for p in &self.scene.patches {
             let v = p.polygon.vertices();
