@@ -13,11 +13,13 @@
 //! - [`exchange`]: symmetric exchange areas S = A·F, ambient node, enforcement, diagnostics.
 //! - [`solve`]: the net-radiation system K = D − S and its solvers.
 //! - [`report`]: CSV writers and charts; the one place that turns results into bytes.
+//! - [`distributed`]: runs under `mpirun` (feature `mpi`): rank, row blocks, gathers.
 //! - [`validate`]: the textbook validation suite, its error models and studies.
 #![warn(missing_docs)]
 // `!(x > tol)` is the NaN-safe way to reject degenerate or non-finite measures; keep it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod distributed;
 pub mod error;
 pub mod exchange;
 pub mod geometry;
