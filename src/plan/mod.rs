@@ -268,6 +268,9 @@ pub enum Phase {
 pub trait Progress {
     /// A phase starts.
     fn phase(&mut self, phase: Phase);
+    /// The view-factor method's accuracy warnings and flagged entries, as soon as they are
+    /// known (before a later step can fail); also kept in [`Diagnostics`].
+    fn method_report(&mut self, _warnings: &[String], _flags: &[Flag]) {}
 }
 
 /// A [`Progress`] that reports nothing.
@@ -402,6 +405,7 @@ impl Plan {
                     .map_err(|e| with_obstruction_note(scene, e))?;
                 match run {
                     Some(run) => {
+                        progress.method_report(&run.warnings, &run.flags);
                         d.warnings = run.warnings;
                         d.flags = run.flags;
                         d.enforcement = Some(run.report);
@@ -443,6 +447,7 @@ impl Plan {
                 d.warnings = computed.warnings.clone();
                 d.flags = computed.flags.clone();
                 d.pairs = computed.pairs;
+                progress.method_report(&d.warnings, &d.flags);
                 &computed
             }
         };
