@@ -1,5 +1,5 @@
 //! CPU time per `polygon_polygon` call, for shared (loaded) machines where criterion's wall
-//! clock is inflated: `cargo run --release --example analytic_cpu_time [config]`.
+//! clock is inflated: `cargo run --release --features studies --example analytic_cpu_time [config]`.
 //! Reads the thread's on-CPU nanoseconds from /proc/thread-self/schedstat (Linux only).
 use glam::{DAffine3, DQuat, DVec3};
 use lambert::geometry::Polygon;

@@ -1,8 +1,8 @@
 //! Scaling of the analytic method with the patch count: a closed unit cube with n×n patches
 //! per face (N = 6n²) or a 5×4×3 m room with patches of side h, all pairs, per-surface output.
 //!
-//! `cargo run --release --example analytic_scaling -- cube N_PER_FACE [ROW_STRIDE]`
-//! `cargo run --release --example analytic_scaling -- room PATCH_SIDE [ROW_STRIDE]`
+//! `cargo run --release --features studies --example analytic_scaling -- cube N_PER_FACE [ROW_STRIDE]`
+//! `cargo run --release --features studies --example analytic_scaling -- room PATCH_SIDE [ROW_STRIDE]`
 //!
 //! With ROW_STRIDE = 1 the whole matrix is computed through `viewfactor::compute`. With
 //! ROW_STRIDE = k > 1 only every k-th row is computed (in parallel, through the same kernel)

@@ -2,7 +2,7 @@
 //! pairs, per-surface output. Prints wall time, pairs/s, face-total errors against the closed
 //! forms (C-11, C-14), the largest patch row-sum error and peak RSS (VmHWM).
 //!
-//! `cargo run --release --example cube_speed -- [n=36] [threads] [rungs|direct]`; with `rungs`, a
+//! `cargo run --release --features studies --example cube_speed -- [n=36] [threads] [rungs|direct]`; with `rungs`, a
 //! second (untimed) pass counts the pairs per ladder rung; with `direct`, every pair is
 //! evaluated (no translated-pair tables), which measures the ladder's raw speed.
 #[path = "../tests/common/analytic_scenes.rs"]

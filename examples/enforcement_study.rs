@@ -4,7 +4,7 @@
 //! worst surface heat-rate error of a mixed-ε, all-temperature solve (relative to the largest
 //! |Q|), and negative entries, for every enforcement method.
 //!
-//! Run: `cargo run --release --example enforcement_study`
+//! Run: `cargo run --release --features studies --example enforcement_study`
 
 // Dense matrix sums read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]

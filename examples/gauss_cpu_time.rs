@@ -1,6 +1,6 @@
 //! CPU time per far-field Gauss pair (the ladder's hot path) for orders 2–4, for shared
 //! (loaded) machines where wall-clock benches are inflated:
-//! `cargo run --release --example gauss_cpu_time`. Reads the thread's on-CPU nanoseconds from
+//! `cargo run --release --features studies --example gauss_cpu_time`. Reads the thread's on-CPU nanoseconds from
 //! /proc/thread-self/schedstat (Linux only).
 #[path = "../tests/common/analytic_scenes.rs"]
 mod scenes;

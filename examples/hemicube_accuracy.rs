@@ -2,7 +2,7 @@
 //! resolution and projection-position rule: surface factors floor→ceiling (V1) and
 //! floor→wall (V2), worst patch row-sum error, wall time.
 //!
-//! `cargo run --release --example hemicube_accuracy [n ...]` (n = patches per cube edge).
+//! `cargo run --release --features studies --example hemicube_accuracy [n ...]` (n = patches per cube edge).
 use glam::DVec3;
 use lambert::geometry::Polygon;
 use lambert::scene::Scene;

@@ -2,7 +2,7 @@
 //! with each row's link error bound, and the largest entry differences of the worst row:
 //! where a link's area sharing moves exchange between patches, and whether the bounds hold.
 //!
-//! Run: cargo run --release --example hierarchy_rows -- SCENE.toml [TOLERANCE]
+//! Run: cargo run --release --features studies --example hierarchy_rows -- SCENE.toml [TOLERANCE]
 use lambert::exchange::hierarchy::Hierarchy;
 use lambert::exchange::operator::Operator;
 fn main() {

@@ -9,7 +9,7 @@
 //! and per emitter the largest ratio of error to the current bound (must stay below 1/SAFETY;
 //! errors at round-off, below 3e-14, are left out: the bound covers quadrature error only).
 //!
-//! `cargo run --release --example ladder_calibration`
+//! `cargo run --release --features studies --example ladder_calibration`
 use glam::{DQuat, DVec3};
 use lambert::geometry::quadrature::AreaRule;
 use lambert::geometry::Polygon;

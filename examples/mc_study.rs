@@ -1,7 +1,7 @@
 //! Accuracy study of the Monte Carlo estimators: RMSE against the closed form and the mean
 //! reported standard error, over many seeds, for Sobol (RQMC) and plain random sampling.
 //!
-//! `cargo run --release --example mc_study [seeds]` — numbers go to validation/rays.md.
+//! `cargo run --release --features studies --example mc_study [seeds]` — numbers go to validation/rays.md.
 #[path = "../tests/common/mod.rs"]
 mod common;
 

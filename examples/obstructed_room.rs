@@ -3,7 +3,7 @@
 //! radiating. View3D: 176 s single-threaded, 285 MB.
 //!
 //! ```text
-//! cargo run --release --example obstructed_room -- [auto|analytic|stats] [tolerance] [grid] [block grid]
+//! cargo run --release --features studies --example obstructed_room -- [auto|analytic|stats] [tolerance] [grid] [block grid]
 //! ```
 //! Prints wall time, pairs/s, peak RSS (VmHWM), the face-to-face totals, their row sums and the
 //! method mix. `stats` times the obstruction classification alone and counts pair classes.

@@ -3,7 +3,7 @@
 //! `lambert::viewfactor::shadow::policy` were measured with it).
 //!
 //! ```text
-//! cargo run --release --example price_units -- SCENE [tolerance] [shadow cap factor]
+//! cargo run --release --features studies --example price_units -- SCENE [tolerance] [shadow cap factor]
 //! ```
 //! Prints the calibration pairs (blockers, u/goal, counted work of both estimators), the fitted
 //! cost model, and for each pair both estimators timed (one thread): ns per shadow work unit,

@@ -2,7 +2,7 @@
 //! scene and rays (research/crates.md §1.5: a 10 m box with 65×65 quads per face plus 250
 //! interior boxes of 4×4 quads per face, 98,700 triangles).
 //!
-//! `cargo run --release --example rays [rays_per_patch] [all]` — numbers go to validation/rays.md.
+//! `cargo run --release --features studies --example rays [rays_per_patch] [all]` — numbers go to validation/rays.md.
 //! Other modes (second argument): `interleave [rounds]` (one thread, the core variants
 //! round-robin, best CPU time of each: ratios robust to a changing load) and
 //! `profile-{sobol,random,uniform-sobol,uniform-random}` (one engine run for perf, with its

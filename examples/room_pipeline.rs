@@ -3,7 +3,7 @@
 //! mc-cosine, closure by constrained ML, sparse LLT solve. Prints the stage times and the peak
 //! resident memory.
 //!
-//! Run: `cargo run --release --example room_pipeline -- [SAMPLES] [SEED]`
+//! Run: `cargo run --release --features studies --example room_pipeline -- [SAMPLES] [SEED]`
 use lambert::exchange::{enforce, Enforce, EnforceParams, Exchange};
 use lambert::solve::{self, Params};
 use lambert::viewfactor::{self, Level, Method};

@@ -1,4 +1,4 @@
-//! Scene loading and patching throughput: `cargo run --release --example scene_scaling`.
+//! Scene loading and patching throughput: `cargo run --release --features studies --example scene_scaling`.
 //!
 //! - a .glb with N triangles (a k×k grid of quads under a two-level node hierarchy);
 //! - TOML scenes whose surfaces are split into many patches (rectangle grid, non-convex

@@ -3,7 +3,7 @@
 //! relative target (default `EXACT_REL_TOL`), one thread, timed.
 //!
 //! ```text
-//! cargo run --release --example shadow_stats -- SCENE [row stride] [relative target]
+//! cargo run --release --features studies --example shadow_stats -- SCENE [row stride] [relative target]
 //! ```
 //! Prints partly obstructed pairs, viewpoints (evaluations) and cells per pair, root cells after
 //! the split along the kinks of g, cells stopped at the depth limit, and µs per pair. With

@@ -1,5 +1,5 @@
 //! Solver timing on synthetic closed enclosures (validation/solve.md):
-//! `cargo run --release --example solve_bench -- N FILL [solvers]`, e.g. `2000 1.0` (all
+//! `cargo run --release --features studies --example solve_bench -- N FILL [solvers]`, e.g. `2000 1.0` (all
 //! pairs) or `20000 0.02` (spatially local pattern: points in a unit cube joined within the
 //! radius that gives the requested mean degree, as research/crates.md §2). Exchange areas are
 //! random in [0.5, 1.5] per pair, closed by symmetric scaling; ε in {0.9, 0.5, 0.3, 0.7}

@@ -1,7 +1,7 @@
 //! Time and memory of the result writers on a large scene (no view factors computed): a room
 //! whose six walls are split into `n`×`n` patches each (6n² patches, default n = 180 → 194,400),
 //! with smooth synthetic values. Writes `--vtk`-style .vtu and a rendered PNG to a temp dir.
-//! `cargo run --release --example vtk_render_scaling [n] [vtk|render|both|none]`, under
+//! `cargo run --release --features studies --example vtk_render_scaling [n] [vtk|render|both|none]`, under
 //! `/usr/bin/time -v` for the peak RSS.
 use lambert::report::render::{self, camera::Camera};
 use lambert::report::vtk::{self, VtkFields};
@@ -60,6 +60,8 @@ fn main() {
         field: "temperature".into(),
         unit: "K".into(),
         caption: "scaling room".into(),
+        flat: false,
+        fit: true,
     };
     let t = Instant::now();
     if mode == "render" || mode == "both" {

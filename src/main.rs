@@ -27,13 +27,16 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
     };
-    match cli::run::run(args.command) {
-        Ok(()) => ExitCode::SUCCESS,
+    // Under mpirun (feature `mpi`) every rank ends with rank 0's code; a no-op otherwise.
+    lambert::distributed::start();
+    let code = match cli::run::run(args.command) {
+        Ok(()) => 0,
         Err(e) => {
             eprintln!("lambert: error: {e}");
-            ExitCode::from(e.exit_code())
+            e.exit_code()
         }
-    }
+    };
+    ExitCode::from(lambert::distributed::finish(code))
 }
 
 /// Replaces Rust's panic report (message, thread name, backtrace hint) with one line.

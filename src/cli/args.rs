@@ -36,7 +36,8 @@ pub struct MeshArgs {
     pub repair: bool,
 }
 
-/// Options shared by `viewfactors` and `solve`.
+/// Options shared by `viewfactors` and `solve`. Numeric options take negative numbers as values
+/// (`--tolerance -1`), so that lambert's own range check answers instead of clap's `-- -1` tip.
 #[derive(Debug, Args)]
 pub struct CommonArgs {
     /// Scene file: .toml, .gltf, .glb, .stl, .obj or a View3D .vs3.
@@ -49,19 +50,19 @@ pub struct CommonArgs {
     #[arg(short, long, default_value = "auto")]
     pub method: String,
     /// Rays or points per patch for the Monte Carlo methods (at most 100000000).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub samples: Option<usize>,
     /// Pixels along a hemicube face or the single plane.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub resolution: Option<usize>,
     /// Absolute accuracy goal on each F for `auto`, at least 1e-13 [default: 1e-4].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Random seed; the same seed gives the same result on any thread count.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub seed: u64,
     /// Worker threads, 1 to 1024 (default: all cores).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// none, reciprocity or closure [default: none for `viewfactors`; for `solve`, closure in a
     /// closed scene and reciprocity in an open one, where the ambient takes the rest].
@@ -135,7 +136,8 @@ pub struct ValidateArgs {
 /// `lambert render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Scene file: .toml, .gltf, .glb, .stl, .obj (the one the result was solved on).
+    /// Scene file: .toml, .gltf, .glb, .stl, .obj or a View3D .vs3 (the one the result was solved
+    /// on).
     pub scene: PathBuf,
     /// Bare mesh scene options (as given to `solve`).
     #[command(flatten)]
@@ -149,19 +151,22 @@ pub struct RenderArgs {
     /// PNG picture to write.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Camera, any of "eye=x,y,z target=x,y,z up=x,y,z fov=degrees" (default: framed
-    /// diagonal view, z up, fov 35).
+    /// Camera, any of "eye=x,y,z target=x,y,z up=x,y,z fov=degrees" (default: diagonal view,
+    /// z up). The picture is zoomed to fit the scene unless fov= is given.
     #[arg(long)]
     pub camera: Option<String>,
     /// Picture size WIDTHxHEIGHT in pixels, colour bar included.
     #[arg(long, default_value = "1000x720")]
     pub size: String,
-    /// Colour range MIN,MAX (default: the values' range).
+    /// Colour range MIN,MAX (default: the range of the surfaces that show).
     #[arg(long, allow_hyphen_values = true)]
     pub range: Option<String>,
     /// Show back faces in grey instead of hiding them.
     #[arg(long)]
     pub two_sided: bool,
+    /// Plain false colour, without the headlight shading (exact colour reading).
+    #[arg(long)]
+    pub flat: bool,
     /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder (`..`).
     #[arg(long)]
     pub allow_outside_paths: bool,

@@ -47,8 +47,13 @@ impl Config {
             params.samples = limits::samples(s)?;
         }
         if let Some(r) = a.resolution {
-            if !(2..=16384).contains(&r) {
-                return Err(Error::Usage("--resolution must be between 2 and 16384".into()));
+            let ok = lambert::viewfactor::limits::RESOLUTIONS;
+            if !ok.contains(&r) {
+                return Err(Error::Usage(format!(
+                    "--resolution must be between {} and {}",
+                    ok.start(),
+                    ok.end()
+                )));
             }
             params.resolution = r;
         }

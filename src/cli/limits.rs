@@ -4,7 +4,7 @@
 //!
 //! - [`threads`]: `--threads` from 1 to [`MAX_THREADS`]; the worker pool is built once;
 //! - [`samples`] / [`tolerance`]: `--samples` up to [`MAX_SAMPLES`], `--tolerance` down to
-//!   [`MIN_TOLERANCE`];
+//!   [`MIN_TOLERANCE`](lambert::viewfactor::limits::MIN_TOLERANCE);
 //! - [`mesh_cost`]: a mesh surface with more patches than the dense limit, on a method that
 //!   integrates every patch pair.
 use lambert::scene::{Scene, Shape};
@@ -16,14 +16,7 @@ use std::sync::OnceLock;
 /// its 4,096-row wave, and beyond about a thousand threads their stacks alone reserve
 /// gigabytes of address space; no machine lambert runs on gains from more.
 pub const MAX_THREADS: usize = 1024;
-/// Most rays (point pairs for `mc-area`) per patch: 1,000 times the default, where the
-/// standard error of a factor is already below 5e-5·√F; tighter goals are the exact methods'
-/// (`-m auto --tolerance`), at a small fraction of the cost.
-pub const MAX_SAMPLES: usize = 100_000_000;
-/// Smallest `--tolerance`: the exact integrals' round-off in f64 (about 1e-14 relative on a
-/// factor, summed over a row) sits just below it, so a tighter goal cannot be met and only
-/// makes the adaptive rules and samplers run without end.
-pub const MIN_TOLERANCE: f64 = 1e-13;
+pub use lambert::viewfactor::limits::MAX_SAMPLES;
 /// Patch pairs per CPU-second of the exact methods on geometry that is not a regular grid
 /// (README "Performance", validation/speed.md), for the cost estimate.
 pub const PAIRS_PER_CPU_SECOND: f64 = 1e7;
@@ -65,16 +58,7 @@ pub fn samples(n: usize) -> Result<usize> {
 
 /// Checks a tolerance given as `what` (`--tolerance`, or a scene file's View3D `eps`).
 pub fn tolerance(t: f64, what: &str) -> Result<f64> {
-    if !(t.is_finite() && t > 0.0 && t < 1.0) {
-        return Err(Error::Usage(format!("{what} must be in (0, 1), got {t}")));
-    }
-    if t < MIN_TOLERANCE {
-        return Err(Error::Usage(format!(
-            "{what} {t:e} is below {MIN_TOLERANCE:e}, the round-off floor of the exact integrals in f64: it \
-             cannot be met and the run would not end; give {MIN_TOLERANCE:e} or more"
-        )));
-    }
-    Ok(t)
+    lambert::viewfactor::limits::tolerance(t, what)
 }
 
 /// Thousands separators for a count.

@@ -733,16 +733,20 @@ fn render(a: RenderArgs) -> Result<()> {
         field: a.field.clone(),
         unit: unit.to_string(),
         caption,
+        flat: a.flat,
+        fit: !a.camera.as_deref().is_some_and(|c| c.contains("fov=")),
     };
     let img = render::render(&scene, &v.values, &opts)?;
     outs.write("output", |w, p| render::encode_png(&img, w, p))?;
     outs.commit()?;
     let c = &opts.camera;
     eprintln!(
-        "lambert: render: {} patches, {}x{} px, camera eye={},{},{} target={},{},{} up={},{},{} fov={}",
+        "lambert: render: {} patches, {}x{} px, colour range {}..{}, camera eye={},{},{} target={},{},{} up={},{},{} fov={}",
         scene.patches.len(),
         size.0,
         size.1,
+        img.range.0,
+        img.range.1,
         c.eye.x,
         c.eye.y,
         c.eye.z,

@@ -7,7 +7,10 @@
 //! plain CSV readers (pandas, the csv module, spreadsheets) read the file unchanged; a comment
 //! line would push the header down, a sidecar file gets lost, and the value on every row would
 //! add ~25 bytes per entry. Files without the column still load.
-use crate::viewfactor::ViewFactors;
+//!
+//! `std_error` is empty where a projection method (hemicube, single-plane) took part: their
+//! error is a bias they do not estimate, and a 0 would read as exact ([`std_error_field`]).
+use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
@@ -23,6 +26,20 @@ fn csv_err(path: &Path, e: csv::Error) -> Error {
 pub const HEADER: [&str; 6] = ["from", "to", "factor", "std_error", "method", GEOMETRY];
 /// Name of the column that carries the geometry fingerprint (first data row only).
 pub const GEOMETRY: &str = "geometry";
+
+/// True when `method` includes a projection method, whose entries carry no error estimate.
+pub fn unestimated(method: MethodSet) -> bool {
+    method.union(MethodSet::HEMICUBE) == method || method.union(MethodSet::SINGLE_PLANE) == method
+}
+
+/// The `std_error` field of an entry: empty when [`unestimated`], else the number.
+pub fn std_error_field(method: MethodSet, std_error: f64) -> String {
+    if unestimated(method) {
+        String::new()
+    } else {
+        super::fmt_f64(std_error)
+    }
+}
 
 /// Writes `from,to,factor,std_error,method,geometry` with the fingerprint `geometry` on the
 /// first row; open scenes get a `to = ambient` row per source.
@@ -45,7 +62,7 @@ pub fn write_viewfactors<W: Write>(
                 vf.names[i].as_str(),
                 vf.names[e.to as usize].as_str(),
                 &super::fmt_f64(e.factor),
-                &super::fmt_f64(e.std_error),
+                &std_error_field(e.method, e.std_error),
                 &e.method.to_string(),
                 stamp(),
             ])
@@ -54,14 +71,13 @@ pub fn write_viewfactors<W: Write>(
         if open {
             let rest = (1.0 - row.iter().map(|e| e.factor).sum::<f64>()).max(0.0);
             let var: f64 = row.iter().map(|e| e.std_error * e.std_error).sum();
-            let method =
-                row.iter().fold(Default::default(), |m: crate::viewfactor::MethodSet, e| m.union(e.method));
+            let method = row.iter().fold(MethodSet::default(), |m, e| m.union(e.method));
             if rest > 0.0 {
                 w.write_record([
                     vf.names[i].as_str(),
                     AMBIENT,
                     &super::fmt_f64(rest),
-                    &super::fmt_f64(var.sqrt()),
+                    &std_error_field(method, var.sqrt()),
                     &method.to_string(),
                     stamp(),
                 ])

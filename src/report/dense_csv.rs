@@ -99,7 +99,9 @@ fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize,
         out.push(',');
         super::push_f64(&mut out, f);
         out.push(',');
-        super::push_f64(&mut out, se);
+        if !super::csv::unestimated(method) {
+            super::push_f64(&mut out, se);
+        }
         out.push(',');
         if last.as_ref().is_none_or(|l| l.0 != method) {
             last = Some((method, method.to_string()));
@@ -115,7 +117,9 @@ fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize,
         out.push(',');
         super::push_f64(&mut out, rest);
         out.push(',');
-        super::push_f64(&mut out, var_sum.sqrt());
+        if !super::csv::unestimated(methods) {
+            super::push_f64(&mut out, var_sum.sqrt());
+        }
         out.push(',');
         out.push_str(&methods.to_string());
         out.push_str(",\n");

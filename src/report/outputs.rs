@@ -277,6 +277,10 @@ impl OutputSet {
     /// errors): into its temporary, or in place for stdout and devices. Errors name the path
     /// and what was being written.
     pub fn write(&mut self, key: &str, f: impl FnOnce(&mut dyn Write, &Path) -> Result<()>) -> Result<()> {
+        // Under mpirun, rank 0 alone writes (the other ranks' copies of the run are identical).
+        if !crate::distributed::writes_outputs() {
+            return Ok(());
+        }
         let Some(slot) = self.slots.iter_mut().find(|s| s.out.key == key) else {
             return Err(Error::Compute(format!("output '{key}' was not planned")));
         };

@@ -190,7 +190,7 @@ pub fn model(mesh: &PatchMesh, fields: &VtkFields, kind: VtkKind, title: &str) -
         }),
     };
     Vtk {
-        version: Version::new((1, 0)),
+        version: Version::new_xml(1, 0),
         title: title.into(),
         byte_order: ByteOrder::LittleEndian,
         file_path: None,

@@ -16,7 +16,9 @@
 //!
 //! Bands must start at 0 µm, be contiguous and end at ∞ so that every emitted watt belongs to a
 //! band. A surface without `emissivity_bands` uses its gray emissivity in every band.
-//! `emissivity_bands` without any `[[band]]` is an error.
+//! `emissivity_bands` without any `[[band]]` is an error. A surface entry that gives both
+//! `emissivity` and `emissivity_bands` draws a warning: the solve uses the bands, and the gray
+//! value only decides whether a gray `--conductances` deck is refused.
 use super::schema::{RawBand, RawSurface};
 use super::toml_errors::line_of;
 use super::Scene;
@@ -45,13 +47,15 @@ pub struct Spectral {
     pub emissivity: Vec<Vec<f64>>,
 }
 
-/// Builds the spectral table from the raw TOML, naming file, line and surface on errors.
+/// Builds the spectral table from the raw TOML, naming file, line and surface on errors;
+/// warnings (a gray `emissivity` beside `emissivity_bands`) go to `warnings`.
 pub fn from_raw(
     path: &Path,
     text: &str,
     raw: &[Spanned<RawBand>],
     surfaces: &[Spanned<RawSurface>],
     scene: &Scene,
+    warnings: &mut Vec<String>,
 ) -> Result<Option<Spectral>> {
     let err = |offset: usize, surface: Option<&str>, p: String| {
         let mut e = InputError::file(path, p).at_line(line_of(text, offset));
@@ -121,6 +125,16 @@ pub fn from_raw(
         }
         if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= 1.0)) {
             return Err(err(at, Some(&name), format!("band emissivity {v} is outside (0, 1]")).into());
+        }
+        if let Some(gray) = &r.emissivity {
+            warnings.push(format!(
+                "{}: line {}: surface '{name}': emissivity = {} is not used by the solve, which takes \
+                 emissivity_bands = {values:?} in its bands; give only emissivity_bands (a gray \
+                 --conductances deck is refused while the two differ)",
+                path.display(),
+                line_of(text, gray.span().start),
+                gray.get_ref(),
+            ));
         }
         // Obstructions have no surface entry: their band emissivities are not used.
         if let Some(i) = scene.surface_index(&name) {

@@ -136,7 +136,10 @@ pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<S
     let title = raw.title.map(|t| t.into_inner());
     let mut scene = assemble::assemble(path, title, ambient, &defaults, surfaces, models)?;
     scene.warnings.extend(model_warnings);
-    scene.spectral = super::bands::from_raw(path, &text, &raw.band, &raw.surface, &scene)?;
+    let mut band_warnings = Vec::new();
+    scene.spectral =
+        super::bands::from_raw(path, &text, &raw.band, &raw.surface, &scene, &mut band_warnings)?;
+    scene.warnings.extend(band_warnings);
     Ok(scene)
 }
 

@@ -72,13 +72,35 @@ pub fn emissivity(e: f64) -> Result<f64, String> {
     }
 }
 
-/// Absolute temperature in (0, [`MAX_TEMPERATURE`]] K.
+/// Absolute temperature in (0, [`MAX_TEMPERATURE`]] K; a value that is a plausible °C one
+/// (above absolute zero in °C) gets the °C hint.
 pub fn temperature(t: f64, what: &str) -> Result<f64, String> {
     finite(t, what)?;
     if t > 0.0 && t <= MAX_TEMPERATURE {
         Ok(t)
     } else {
-        Err(format!("{what} is {t} K; it must be positive (kelvin) and at most {MAX_TEMPERATURE:e} K"))
+        Err(format!(
+            "{what} is {t} K; it must be positive (kelvin) and at most {MAX_TEMPERATURE:e} K{}",
+            celsius_hint(t)
+        ))
+    }
+}
+
+/// Absolute zero in °C.
+const ZERO_CELSIUS_IN_KELVIN: f64 = 273.15;
+
+/// `t` °C in kelvin, rounded to 1e-6 K so that −20 °C prints as 253.15 K, not 253.14999999999998.
+fn kelvin_of_celsius(t: f64) -> f64 {
+    ((t + ZERO_CELSIUS_IN_KELVIN) * 1e6).round() / 1e6
+}
+
+/// "; was t °C (… K) meant?" for a refused temperature that is a possible °C value (above
+/// −273.15 and at most 0), else nothing.
+fn celsius_hint(t: f64) -> String {
+    if t > -ZERO_CELSIUS_IN_KELVIN && t <= 0.0 {
+        format!("; temperatures are in kelvin: was {t} °C ({} K) meant?", kelvin_of_celsius(t))
+    } else {
+        String::new()
     }
 }
 
@@ -91,45 +113,49 @@ pub fn ambient_temperature(t: f64) -> Result<f64, String> {
         Ok(t)
     } else {
         Err(format!(
-            "the ambient temperature is {t} K; it must be at least 0 (kelvin) and at most {MAX_TEMPERATURE:e} K"
+            "the ambient temperature is {t} K; it must be at least 0 (kelvin) and at most {MAX_TEMPERATURE:e} K{}",
+            celsius_hint(t)
         ))
     }
 }
 
-/// A surface below this temperature in a scene that reaches [`CELSIUS_HOT`] was probably
-/// given in °C: 100 K is colder than liquid oxygen, 250 K colder than any heated room.
+/// A temperature below this in a scene that reaches [`CELSIUS_HOT`] was probably given in
+/// °C: 100 K (−173 °C) is colder than liquid oxygen, and 0–100 are everyday °C values.
 pub const CELSIUS_COLD: f64 = 100.0;
-/// See [`CELSIUS_COLD`].
-pub const CELSIUS_HOT: f64 = 250.0;
+/// See [`CELSIUS_COLD`]: 150 K (−123 °C) is colder than any heated, inhabited or sunlit
+/// surface, so a scene that reaches it is at kelvin values where a 20 K entry reads as 20 °C
+/// (300 K / 20 K and 200 K / 20 K both warn); a cryogenic scene that stays below it (20 K
+/// hydrogen inside a 77 K nitrogen shield) does not.
+pub const CELSIUS_HOT: f64 = 150.0;
 
-/// Warnings for surface temperatures below [`CELSIUS_COLD`] K in a scene whose surfaces or
-/// ambient reach [`CELSIUS_HOT`] K: °C written where kelvin is meant. The run goes on.
+/// Warnings for temperatures (surfaces, and an ambient above 0 K) below [`CELSIUS_COLD`] K
+/// in a scene whose surfaces or ambient reach [`CELSIUS_HOT`] K: °C written where kelvin is
+/// meant. The run goes on. An ambient at 0 K is deep space, never a suspect.
 pub fn celsius_suspects(scene: &super::Scene) -> Vec<String> {
     use super::BoundaryCondition::Temperature;
     let given = |s: &super::Surface| match s.condition {
         Some(Temperature(t)) => Some(t),
         _ => None,
     };
-    let hottest = scene
-        .surfaces
-        .iter()
-        .filter_map(given)
-        .chain(scene.ambient.map(|a| a.temperature))
-        .fold(0.0, f64::max);
+    let ambient = scene.ambient.map(|a| a.temperature);
+    let hottest = scene.surfaces.iter().filter_map(given).chain(ambient).fold(0.0, f64::max);
     if hottest < CELSIUS_HOT {
         return Vec::new();
     }
-    scene
+    let cold = |t: f64| t > 0.0 && t < CELSIUS_COLD;
+    let surfaces = scene
         .surfaces
         .iter()
-        .filter_map(|s| given(s).filter(|&t| t < CELSIUS_COLD).map(|t| (s, t)))
-        .map(|(s, t)| {
+        .filter_map(|s| given(s).filter(|&t| cold(t)).map(|t| (format!("surface '{}'", s.name), t)));
+    let ambient = ambient.filter(|&t| cold(t)).map(|t| ("the ambient".to_string(), t));
+    surfaces
+        .chain(ambient)
+        .map(|(who, t)| {
             format!(
-                "{}: surface '{}': temperature {t} K is below {CELSIUS_COLD} K while the scene reaches \
+                "{}: {who}: temperature {t} K is below {CELSIUS_COLD} K while the scene reaches \
                  {hottest} K; temperatures are in kelvin: was {t} °C ({} K) meant?",
                 scene.source.display(),
-                s.name,
-                t + 273.15
+                kelvin_of_celsius(t)
             )
         })
         .collect()
@@ -176,5 +202,17 @@ mod tests {
         assert!(vector([0.0, 1e308, 0.0], "origin").is_err());
         assert!(count(0, "subdivide", 1, 10).unwrap_err().contains("between 1 and 10"));
         assert!(length(-0.0, "radius").is_err());
+    }
+
+    #[test]
+    fn negative_temperatures_near_celsius_get_the_hint() {
+        let e = temperature(-20.0, "temperature").unwrap_err();
+        assert!(e.contains("must be positive (kelvin)") && e.contains("was -20 °C (253.15 K) meant?"), "{e}");
+        assert!(temperature(0.0, "temperature").unwrap_err().contains("was 0 °C (273.15 K) meant?"));
+        let e = ambient_temperature(-40.0).unwrap_err();
+        assert!(e.contains("at least 0 (kelvin)") && e.contains("was -40 °C (233.15 K) meant?"), "{e}");
+        // Below absolute zero in °C: no hint, only the refusal.
+        assert!(!temperature(-300.0, "temperature").unwrap_err().contains("°C"));
+        assert!(!temperature(2e9, "temperature").unwrap_err().contains("°C"));
     }
 }

@@ -42,7 +42,7 @@ pub const FIRST_PASS_MAX_TOL: f64 = 3e-2;
 /// The first pass's radiosity error estimates times this make the ranges: its bounds hold
 /// for cluster means, single patches stray further (a link shares its exchange by area, a
 /// first-order error per patch, while the link's own bound is fourth order between planar
-/// clusters; 3.4× on the heated room of tests/dense.rs, 2.4× on room_5k with first-order
+/// clusters; 3.4× on the heated room of tests/heat/dense.rs, 2.4× on room_5k with first-order
 /// links). The ranges only steer the final refinement — the final estimate uses the final
 /// radiosities — and a wider margin costs little (room_10k at 1e-3: 1 → 3 adds 14 % links,
 /// 1 % pairs, with first-order links).

@@ -50,6 +50,15 @@ pub trait RowKernel: Sync {
     fn flags(&self) -> Vec<super::Flag> {
         Vec::new()
     }
+    /// Count and worst entry of the entries that missed their error goal (MPI runs gather them).
+    fn misses(&self) -> (u64, Option<super::shadow::misses::Miss>) {
+        (0, None)
+    }
+    /// Merges the flags and misses that a copy of this kernel recorded on another MPI rank, so
+    /// that [`RowKernel::warnings`] and [`RowKernel::flags`] cover every row.
+    fn absorb(&self, flags: Vec<super::Flag>, misses: (u64, Option<super::shadow::misses::Miss>)) {
+        let _ = (flags, misses);
+    }
 }
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
@@ -58,6 +67,12 @@ const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 /// Runs `kernel` over every patch row and aggregates at `level`.
 pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level) -> Result<ViewFactors> {
     let start = Instant::now();
+    // Under mpirun: every rank computes a block of rows, rank 0 folds them all (others exit).
+    let gathered = super::distributed::rows(scene, kernel, &format!("sparse {level:?} {params:?}"))?;
+    let kernel: &dyn RowKernel = match &gathered {
+        Some(g) => g,
+        None => kernel,
+    };
     let n = scene.patches.len();
     let mut sink = Sink::new(scene, level, kernel.symmetric());
     let threads = rayon::current_num_threads().max(1);

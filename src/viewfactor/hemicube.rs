@@ -10,7 +10,7 @@
 //! - `delta`: the delta form factor tables, one per resolution;
 //! - `positions`: one or several projection positions per patch.
 //!
-//! Error behaviour (literature.md §4, measured in tests/hemicube.rs): the delta factors are
+//! Error behaviour (literature.md §4, measured in tests/viewfactor/hemicube.rs): the delta factors are
 //! a midpoint rule, O(h²) for a receiver whose projection edges align with pixels; edges
 //! crossing pixels cost O(h) (an edge on the hemicube horizon worst of all); receivers that
 //! project to a few pixels alias (a 0.05×0.05 target at unit distance: −100 % at R = 32,

@@ -7,8 +7,10 @@
 //! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
+//! - [`limits`]: the bounds on samples, resolution and tolerance, for every caller;
 //! - [`range`]: the final check that every written factor lies in [0, 1];
 //! - [`flags`]: entries a method could not bound, reported on stderr;
+//! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
 //! - [`accuracy`]: what each method knows about its own error (leak thresholds, error model,
 //!   accuracy knob), asked by the CLI, enforcement and validation;
 //! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
@@ -21,9 +23,11 @@ pub mod accuracy;
 pub mod analytic;
 pub mod auto;
 pub mod closed_form;
+pub mod distributed;
 pub mod engine;
 pub mod flags;
 pub mod hemicube;
+pub mod limits;
 pub mod monte_carlo;
 pub mod progress;
 pub mod range;
@@ -236,7 +240,13 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
     let n = scene.patches.len() as u64;
     let total = if kernel.symmetric() { n * (n + 1) / 2 } else { n * n };
     let progress = progress::Progress::start(total, "pairs", progress::Mode::for_stderr(params.progress));
-    let t = triangle::fill(scene, kernel.as_ref(), &progress)?;
+    // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
+    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {params:?}"))?;
+    let kernel: &dyn engine::RowKernel = match &gathered {
+        Some(g) => g,
+        None => kernel.as_ref(),
+    };
+    let t = triangle::fill(scene, kernel, &progress)?;
     progress.finish();
     Ok(Some(t))
 }

@@ -15,7 +15,7 @@
 //! classic s = 10 misses 8.1e-3). The bias is one-sided: factors to receivers near the
 //! patch's horizon come out low (of a wall at distance d from the eye, the strip below
 //! height d/s is lost) and closed-scene row sums fall short by up to that amount. It is reported, not corrected
-//! (rescaling would move it onto receivers that lie inside the plane). tests/hemicube.rs
+//! (rescaling would move it onto receivers that lie inside the plane). tests/viewfactor/hemicube.rs
 //! measures it. Within the plane, errors are the hemicube's: O(h) where edges cut pixels,
 //! aliasing of targets a few pixels wide, and the proximity error ([`Positions`]).
 //!
@@ -109,6 +109,12 @@ impl RowKernel for SinglePlaneKernel<'_> {
 
     fn flags(&self) -> Vec<Flag> {
         self.flags.sorted()
+    }
+
+    fn absorb(&self, flags: Vec<Flag>, _misses: (u64, Option<super::shadow::misses::Miss>)) {
+        for f in flags {
+            self.flags.push(f);
+        }
     }
 
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {

@@ -1,4 +1,4 @@
-//! Closed forms, scenes and helpers for tests/hemicube.rs (the hemicube and single-plane
+//! Closed forms, scenes and helpers for tests/viewfactor/hemicube.rs (the hemicube and single-plane
 //! kernels).
 use glam::DVec3;
 use lambert::geometry::quadrature::AreaRule;

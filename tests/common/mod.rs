@@ -7,9 +7,11 @@
 //!   their extensions);
 //! - [`exact_vf`]: hand-made view-factor matrices: exact box factors and multinomial counts;
 //! - [`analytic_scenes`]: subdivided boxes, an L-shaped room and plates with blockers;
+//! - [`concave_meshes`]: extruded concave closed meshes and a brute Monte Carlo reference;
 //! - [`hemicube`]: closed forms, scenes and error models of the projection methods.
 #![allow(dead_code, unused_imports)]
 pub mod analytic_scenes;
+pub mod concave_meshes;
 pub mod exact_vf;
 pub mod hemicube;
 pub mod mesh_files;

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the glTF fixtures of tests/scene_gltf.rs and cases/box_interior (run from the repo root:
+"""Writes the glTF fixtures of tests/scene/scene_gltf.rs and cases/box_interior (run from the repo root:
 `python3 tests/data/make_gltf.py`). Standard library only; the output is deterministic.
 
 hierarchy.{gltf,glb} and external.gltf + external.bin hold the same document:
@@ -195,7 +195,7 @@ def box_interior():
 
 def outward_box():
     """gltf/outward_box.gltf: a unit cube as one mesh with every normal facing outward, the
-    wrong winding for an enclosure (the leak hint of tests/cli_rough_edges.rs)."""
+    wrong winding for an enclosure (the leak hint of tests/cli/cli_rough_edges.rs)."""
     corners = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1)]
     # The box_interior faces with their winding reversed: counter-clockwise seen from outside.
     faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the malformed glTF corpus of tests/gltf_malformed.rs (run from the repo root:
+"""Writes the malformed glTF corpus of tests/scene/gltf_malformed.rs (run from the repo root:
 `python3 tests/data/make_malformed_gltf.py`). Standard library only; deterministic output.
 
 grid.gltf / grid.glb are valid: node "Grid" with mesh "GridMesh", the unit square split into

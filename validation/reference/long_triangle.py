@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reference view factors F(square -> long triangle) for tests/analytic_scale.rs.
+"""Reference view factors F(square -> long triangle) for tests/viewfactor/analytic_scale.rs.
 
 The unit square [0,1]^2 at z = 1 faces down (-z); the triangle (0,0,0.5), (L,0,0.5),
 (0,0.5,0.5) faces up. F = (1/A_sq) * integral over the square of Lambert's point-to-polygon

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reference view factors between two directly opposed parallel rectangles L x 1 at unit gap
-(long strips), for tests/analytic_scale.rs.
+(long strips), for tests/viewfactor/analytic_scale.rs.
 
 Howell's catalogue C-11 in mpmath at 60 significant digits, where its terms (of size L ln L)
 cancel harmlessly:

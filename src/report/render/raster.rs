@@ -55,6 +55,77 @@ pub struct Raster {
     pub normal: Vec<[f32; 3]>,
 }
 
+/// Where the image plane lands in the picture: focal length and principal point, pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    /// Focal length, pixels.
+    pub focal: f64,
+    /// Principal point x, pixels.
+    pub cx: f64,
+    /// Principal point y, pixels.
+    pub cy: f64,
+}
+
+impl Frame {
+    /// The camera's own frame: its fov spans the height, its axis at the centre.
+    pub fn centred(cam: &Camera, w: usize, h: usize) -> Frame {
+        Frame {
+            focal: (h as f64 / 2.0) / (cam.fov.to_radians() / 2.0).tan(),
+            cx: w as f64 / 2.0,
+            cy: h as f64 / 2.0,
+        }
+    }
+
+    /// The frame that fits every corner of `tris` seen by `cam` into the box `x0..x1 × y0..y1`
+    /// of pixels (zoom and pan of the image plane; the eye stays). The camera's own frame
+    /// when a corner lies behind the eye (nothing can fit) or there is nothing to fit.
+    pub fn fit(
+        cam: &Camera,
+        tris: &[Tri],
+        w: usize,
+        h: usize,
+        (x0, x1, y0, y1): (f64, f64, f64, f64),
+    ) -> Frame {
+        let (right, up, fwd) = cam.basis();
+        let near = NEAR_REL * (cam.target - cam.eye).length();
+        let mut b = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
+        for p in tris.iter().flat_map(|t| t.p) {
+            let d = p - cam.eye;
+            let z = d.dot(fwd);
+            if !(z > near) {
+                return Frame::centred(cam, w, h);
+            }
+            let (u, v) = (d.dot(right) / z, d.dot(up) / z);
+            b = [b[0].min(u), b[1].max(u), b[2].min(v), b[3].max(v)];
+        }
+        let (du, dv) = (b[1] - b[0], b[3] - b[2]);
+        if !(du.is_finite() && dv.is_finite()) || du.max(dv) <= 0.0 || x1 <= x0 || y1 <= y0 {
+            return Frame::centred(cam, w, h);
+        }
+        let focal = ((x1 - x0) / du.max(1e-300)).min((y1 - y0) / dv.max(1e-300));
+        Frame {
+            focal,
+            cx: (x0 + x1) / 2.0 - focal * (b[0] + b[1]) / 2.0,
+            cy: (y0 + y1) / 2.0 + focal * (b[2] + b[3]) / 2.0,
+        }
+    }
+
+    /// Unit direction of the ray from the eye through the centre of pixel (x, y).
+    pub fn ray(&self, cam: &Camera, x: usize, y: usize) -> DVec3 {
+        let (right, up, fwd) = cam.basis();
+        let (u, v) = ((x as f64 + 0.5 - self.cx) / self.focal, (self.cy - y as f64 - 0.5) / self.focal);
+        (right * u + up * v + fwd).normalize()
+    }
+
+    /// Pixel position of world point `p` (in front of the eye).
+    pub fn project(&self, cam: &Camera, p: DVec3) -> (f64, f64) {
+        let (right, up, fwd) = cam.basis();
+        let d = p - cam.eye;
+        let z = d.dot(fwd);
+        (self.cx + self.focal * d.dot(right) / z, self.cy - self.focal * d.dot(up) / z)
+    }
+}
+
 /// Projection of one camera onto a w × h image.
 struct View {
     eye: DVec3,
@@ -83,16 +154,21 @@ impl Raster {
     /// Draws every triangle seen by `cam`; `two_sided` draws result back faces as neutral
     /// instead of culling them.
     pub fn draw(&mut self, cam: &Camera, tris: &[Tri], two_sided: bool) {
+        self.draw_framed(cam, Frame::centred(cam, self.w, self.h), tris, two_sided);
+    }
+
+    /// [`Raster::draw`] with the image plane placed by `frame`.
+    pub fn draw_framed(&mut self, cam: &Camera, frame: Frame, tris: &[Tri], two_sided: bool) {
         let (right, up, fwd) = cam.basis();
         let view = View {
             eye: cam.eye,
             right,
             up,
             fwd,
-            focal: (self.h as f64 / 2.0) / (cam.fov.to_radians() / 2.0).tan(),
+            focal: frame.focal,
             near: NEAR_REL * (cam.target - cam.eye).length(),
-            cx: self.w as f64 / 2.0,
-            cy: self.h as f64 / 2.0,
+            cx: frame.cx,
+            cy: frame.cy,
         };
         for t in tris {
             let n = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
@@ -271,6 +347,30 @@ mod tests {
         assert_eq!(value(&r, 16, 16), Fragment::Empty);
         r.draw(&cam(), &back, true);
         assert_eq!(value(&r, 16, 16), Fragment::Neutral);
+    }
+
+    /// A fitted frame puts every corner inside the asked box, touching two opposite sides.
+    #[test]
+    fn fit_puts_the_corners_in_the_box() {
+        let tris = quad(0.0, [0.0; 4], 0);
+        let c = Camera { eye: DVec3::new(0.3, -2.0, 3.0), target: DVec3::ZERO, up: DVec3::Z, fov: 20.0 };
+        let bx = (20.0, 380.0, 90.0, 280.0);
+        let f = Frame::fit(&c, &tris, 400, 300, bx);
+        let px: Vec<(f64, f64)> = tris.iter().flat_map(|t| t.p).map(|p| f.project(&c, p)).collect();
+        let e = 1e-9;
+        assert!(
+            px.iter().all(|&(x, y)| x >= bx.0 - e && x <= bx.1 + e && y >= bx.2 - e && y <= bx.3 + e),
+            "{px:?}"
+        );
+        let touch = |a: f64, f: fn(&(f64, f64)) -> f64| px.iter().any(|p| (f(p) - a).abs() < 1e-6);
+        assert!(
+            (touch(bx.0, |p| p.0) && touch(bx.1, |p| p.0)) || (touch(bx.2, |p| p.1) && touch(bx.3, |p| p.1))
+        );
+        // An eye inside the geometry cannot be fitted: the camera's own frame.
+        let inside = Camera { eye: DVec3::new(0.0, 0.0, -0.5), target: DVec3::new(0.0, 0.0, -1.0), ..c };
+        let mut behind = tris.clone();
+        behind[0].p[0].z = 2.0;
+        assert_eq!(Frame::fit(&inside, &behind, 400, 300, bx), Frame::centred(&inside, 400, 300));
     }
 
     #[test]

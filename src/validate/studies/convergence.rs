@@ -2,7 +2,7 @@
 //! estimators, with the 1/√N (independent sampling) and N^−0.656 (scrambled Sobol on this
 //! 4-D integrand, literature §4) slopes drawn.
 use super::scenes;
-use crate::report::charts::{self, method_color, Chart, Series, Style};
+use crate::report::charts::{self, method_color, okabe_ito, Chart, Series, Style};
 use crate::viewfactor::{self, Level, Method, Params};
 use crate::Result;
 use std::fmt::Write;
@@ -69,9 +69,10 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
     }
     if let Some((n0, e0)) = anchor {
         let n1 = *ns.last().expect("non-empty sweep") as f64;
-        for (name, slope, color) in
-            [("slope −1/2", -0.5, (90, 90, 90)), ("slope −0.656 (Sobol)", SOBOL_SLOPE, (148, 103, 189))]
-        {
+        for (name, slope, color) in [
+            ("slope −1/2", -0.5, okabe_ito::GREY),
+            ("slope −0.656 (Sobol)", SOBOL_SLOPE, okabe_ito::REDDISH_PURPLE),
+        ] {
             series.push(Series {
                 name: name.into(),
                 points: vec![(n0, e0), (n1, e0 * (n1 / n0).powf(slope))],
@@ -85,7 +86,6 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
         x_label: "samples per patch N".into(),
         y_label: "RMS error of F over seeds".into(),
         series,
-        legend_lower_left: true,
     };
     charts::write(&chart, out, "mc_convergence")?;
     md.push_str("\n![Monte Carlo convergence](mc_convergence.png)\n");

@@ -113,7 +113,6 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
             x_label: "wall time [s]".into(),
             y_label: "max |F − F_exact|".into(),
             series: series(&points, &METHODS, |p| Some((p.seconds, p.error?))),
-            legend_lower_left: true,
         };
         let file = format!("speed_accuracy_{stem}");
         charts::write(&chart, out, &file)?;

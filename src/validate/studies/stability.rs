@@ -98,7 +98,6 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
             x_label: s.x_label.into(),
             y_label: "relative error".into(),
             series: series(&points, &shown, |p| Some((p.knob, p.error?))),
-            legend_lower_left: false,
         };
         let file = format!("stability_{}", s.stem);
         charts::write(&chart, out, &file)?;

@@ -373,6 +373,19 @@ impl RowKernel for AnalyticKernel<'_> {
         self.flags.sorted()
     }
 
+    fn misses(&self) -> (u64, Option<crate::viewfactor::shadow::misses::Miss>) {
+        self.shadows.as_ref().map_or((0, None), |s| s.misses().summary())
+    }
+
+    fn absorb(&self, flags: Vec<Flag>, misses: (u64, Option<crate::viewfactor::shadow::misses::Miss>)) {
+        for f in flags {
+            self.flags.push(f);
+        }
+        if let Some(s) = &self.shadows {
+            s.misses().merge(misses.0, misses.1);
+        }
+    }
+
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let n = self.info.len();
         let mut scratch = Scratch::default();

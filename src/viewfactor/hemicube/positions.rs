@@ -12,7 +12,7 @@
 //! of position k by (k + 1) golden angles about the normal: the row errors of edges parallel
 //! to the patch become independent pixel errors that average out over the positions
 //! (parallel unit squares, 3×3 positions at R = 128: pixel error 5.8e-4 aligned, 3.0e-5
-//! turned; tests/hemicube.rs).
+//! turned; tests/viewfactor/hemicube.rs).
 use super::prepare::Prepared;
 use crate::geometry::quadrature::AreaRule;
 use crate::geometry::tolerance::PARALLELOGRAM_REL;

@@ -47,6 +47,15 @@ impl MissLog {
             g.1 = Some(m);
         }
     }
+    /// Adds another log's (count, worst), as recorded by a copy of the kernel on another MPI
+    /// rank: the result is the log of all the rows together.
+    pub fn merge(&self, count: u64, worst: Option<Miss>) {
+        if let Some(w) = worst {
+            self.record(w);
+            let mut g = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+            g.0 += count - 1;
+        }
+    }
     /// (count, worst).
     pub fn summary(&self) -> (u64, Option<Miss>) {
         *self.inner.lock().unwrap_or_else(|e| e.into_inner())

@@ -128,6 +128,8 @@ pub struct Scratch {
     piece: Vec<DVec2>,
     shadow_tmp: Vec<DVec2>,
     covered: PieceSet,
+    /// Bounding box of each covered piece (same order as `covered`).
+    cover_boxes: Vec<[DVec2; 2]>,
     frags: PieceSet,
     frags2: PieceSet,
     edges: Vec<HalfPlane>,
@@ -312,6 +314,7 @@ impl ShadowGeometry {
     pub fn shaded(&self, p: DVec3, active: &[u32], s: &mut Scratch) -> (f64, Coverage) {
         let mut cov = Coverage { work: VIEWPOINT_WORK + active.len() as u64, ..Coverage::default() };
         s.covered.clear();
+        s.cover_boxes.clear();
         s.body_pts.clear();
         let h = p.z;
         if !(h > self.snap) {
@@ -381,22 +384,36 @@ impl ShadowGeometry {
                     }
                 }
             }
-            // Minus what earlier shadows already cover.
+            // Minus what earlier shadows already cover. A covered piece whose box lies more
+            // than `snap` away from the fragments' box cannot cut them (most pieces of a
+            // meshed body's shadow lie elsewhere), so it is passed over unread.
+            let mut frag_box = bounds(s.frags.iter().flatten());
             for c in 0..s.covered.len() {
                 if s.frags.is_empty() {
                     break;
+                }
+                if boxes_apart(&frag_box, &s.cover_boxes[c], snap) {
+                    continue;
                 }
                 let cover = s.covered.piece(c);
                 edges_into(cover, &mut s.edges);
                 s.frags2.clear();
                 cov.work += s.frags.len() as u64;
                 for f in 0..s.frags.len() {
-                    subtract_convex(s.frags.piece(f), &s.edges, snap, snap * snap, &mut s.frags2, &mut s.ops);
+                    let piece = s.frags.piece(f);
+                    if boxes_apart(&bounds(piece.iter()), &s.cover_boxes[c], snap) {
+                        s.frags2.push(piece);
+                        continue;
+                    }
+                    subtract_convex(piece, &s.edges, snap, snap * snap, &mut s.frags2, &mut s.ops);
                 }
                 std::mem::swap(&mut s.frags, &mut s.frags2);
+                frag_box = bounds(s.frags.iter().flatten());
             }
             for f in 0..s.frags.len() {
-                s.covered.push(s.frags.piece(f));
+                let piece = s.frags.piece(f);
+                s.cover_boxes.push(bounds(piece.iter()));
+                s.covered.push(piece);
             }
         }
     }
@@ -463,6 +480,19 @@ fn clip3(src: &[DVec3], n: DVec3, c: f64, snap: f64) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(src.len() + 2);
     clip_ring(src, |x| n.dot(x) + c, snap, &mut out);
     out
+}
+
+/// Axis-aligned bounding box [min, max] of the points (inverted when there are none).
+fn bounds<'a>(pts: impl Iterator<Item = &'a DVec2>) -> [DVec2; 2] {
+    pts.fold([DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)], |[lo, hi], &q| {
+        [lo.min(q), hi.max(q)]
+    })
+}
+
+/// True when boxes `a` and `b` are more than `gap` apart along x or y.
+#[inline]
+fn boxes_apart(a: &[DVec2; 2], b: &[DVec2; 2], gap: f64) -> bool {
+    a[0].x > b[1].x + gap || b[0].x > a[1].x + gap || a[0].y > b[1].y + gap || b[0].y > a[1].y + gap
 }
 
 fn edges_of(ring: &[DVec2]) -> Vec<HalfPlane> {

@@ -25,7 +25,7 @@
 //! pessimistic here, so A_m and B_m are *calibrated*: the envelope of 80 000 worst-case pairs
 //! (parallel, offset, perpendicular and grazing, tilted, random; squares, 5:1 rectangles,
 //! triangles; `examples/ladder_calibration`), times [`SAFETY`] = 4 for geometry the sweep missed.
-//! `tests/analytic_method.rs` checks 1 000+ further random pairs against the exact contour
+//! `tests/viewfactor/analytic_method.rs` checks 1 000+ further random pairs against the exact contour
 //! integral; the worst is 13× inside the target.
 pub mod model;
 pub mod rules;

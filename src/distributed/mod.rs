@@ -1,0 +1,59 @@
+//! Runs under `mpirun` (cargo feature `mpi`): every rank loads the same scene, the view-factor
+//! rows are split between the ranks, and rank 0 gathers them, runs the rest of the route and
+//! writes the outputs. Without the feature (or outside `mpirun`) every function here is the
+//! single-process answer, so callers need no `cfg`.
+//!
+//! - [`partition`]: contiguous row blocks balanced by an estimated cost per row;
+//! - [`comm`] (feature `mpi`): the communicator: start-up, checked sync points (a tag and a hash
+//!   of the geometry compared across ranks; a mismatch aborts the run), byte gathers, and the
+//!   end of the run (every rank exits with rank 0's code).
+//!
+//! Rank 0 is the root: it prints, writes and decides the exit code. The other ranks send their
+//! rows and leave (see `viewfactor::distributed`); their stderr is silenced unless
+//! [`VERBOSE_VAR`] is set.
+pub mod partition;
+
+#[cfg(feature = "mpi")]
+pub mod comm;
+
+/// Environment variable that keeps the stderr of ranks other than 0 (for debugging).
+pub const VERBOSE_VAR: &str = "LAMBERT_MPI_VERBOSE";
+
+/// Environment variable that makes rank 0 print the per-rank rows, time and bytes of the gather.
+pub const STATS_VAR: &str = "LAMBERT_MPI_STATS";
+
+/// (rank, size) of this process: (0, 1) without MPI.
+pub fn rank_size() -> (usize, usize) {
+    #[cfg(feature = "mpi")]
+    {
+        comm::rank_size()
+    }
+    #[cfg(not(feature = "mpi"))]
+    {
+        (0, 1)
+    }
+}
+
+/// True on the rank that writes the outputs (always, without MPI).
+pub fn writes_outputs() -> bool {
+    rank_size().0 == 0
+}
+
+/// Starts MPI when the binary runs under `mpirun` with the feature on; nothing otherwise.
+pub fn start() {
+    #[cfg(feature = "mpi")]
+    comm::start();
+}
+
+/// Ends the run on every rank with rank 0's exit code (`code` on rank 0); returns `code`
+/// unchanged without MPI.
+pub fn finish(code: u8) -> u8 {
+    #[cfg(feature = "mpi")]
+    {
+        comm::finish(code)
+    }
+    #[cfg(not(feature = "mpi"))]
+    {
+        code
+    }
+}

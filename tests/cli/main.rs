@@ -1,0 +1,19 @@
+//! Integration tests of the `lambert` command line: errors and hints, outputs, rendering, progress, determinism and fuzzing.
+//!
+//! One test binary per area (each links the whole crate once); every file under `tests/cli/` is
+//! a module here. Run one with `cargo test --release --test cli <module>::`.
+mod cli_errors;
+mod cli_hints;
+mod cli_mesh;
+mod cli_outputs;
+mod cli_progress;
+mod cli_render;
+mod cli_rough_edges;
+mod cli_solve;
+mod cli_vs3;
+#[path = "../common/mod.rs"]
+mod common;
+mod determinism;
+mod fuzz;
+mod small_messages;
+mod vtk_output;

@@ -1,0 +1,162 @@
+//! The same numbers on any rank count (feature `mpi`, needs `mpiexec` on PATH, MPICH): the
+//! output files of `mpiexec -np 1/2/3 lambert …` are byte-identical to a run without MPI, for
+//! auto, analytic and Monte Carlo view factors (patch and surface level) and the solve routes
+//! (packed dense, sparse patch rows, hierarchical, iterative). Ranks that load different
+//! geometry are refused with exit code 2, and only rank 0 writes.
+//!
+//! Run with `cargo test --release --features mpi --test mpi` (the release binary is the one
+//! `cargo build --release --features mpi` makes, so CI builds it once).
+#![cfg(feature = "mpi")]
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_lambert");
+
+fn case(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(name).join("scene.toml")
+}
+
+/// The obstructed room with 4×4 patches per wall and 2×2 per block face (120 patches).
+fn room(dir: &Path) -> String {
+    let text = std::fs::read_to_string(case("o3_obstructed_room"))
+        .unwrap()
+        .replace("subdivide = [12, 12]", "subdivide = [4, 4]")
+        .replace("subdivide = [6, 6]", "subdivide = [2, 2]");
+    let p = dir.join("room.toml");
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+/// The cube furnace with 6×6 patches per face (216 patches).
+fn furnace(dir: &Path) -> String {
+    let text = std::fs::read_to_string(case("cube_furnace"))
+        .unwrap()
+        .replace("subdivide = [4, 4]", "subdivide = [6, 6]");
+    let p = dir.join("furnace.toml");
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+/// Runs lambert with `args`, under `mpiexec -np np` when `np` is given, with 1 thread per rank
+/// on 3 ranks and 2 otherwise (the thread count must not matter either).
+fn run(np: Option<usize>, args: &[String]) -> Output {
+    let threads = if np == Some(3) { "1" } else { "2" };
+    let mut cmd = match np {
+        Some(np) => {
+            let mut c = Command::new("mpiexec");
+            c.args(["-np", &np.to_string(), BIN]);
+            c
+        }
+        None => Command::new(BIN),
+    };
+    cmd.args(args).args(["--threads", threads]);
+    cmd.output().expect("run lambert (is mpiexec on PATH?)")
+}
+
+/// Runs `cmd scene args -o out` without MPI and under 1, 2 and 3 ranks, and asserts every
+/// output file is byte-identical to the run without MPI.
+fn assert_same_on_any_rank_count(dir: &Path, what: &str, cmd: &str, scene: &str, args: &[&str]) {
+    let mut reference: Option<Vec<u8>> = None;
+    for np in [None, Some(1), Some(2), Some(3)] {
+        let out = dir.join(format!("{}_{}.csv", what.replace(' ', "_"), np.unwrap_or(0)));
+        let mut all: Vec<String> = vec![cmd.into(), scene.into(), "-o".into(), out.to_str().unwrap().into()];
+        all.extend(args.iter().map(|s| s.to_string()));
+        let o = run(np, &all);
+        assert!(o.status.success(), "{what}, np {np:?}: {}", String::from_utf8_lossy(&o.stderr));
+        let bytes =
+            std::fs::read(&out).unwrap_or_else(|e| panic!("{what}, np {np:?}: {}: {e}", out.display()));
+        assert!(bytes.len() > 100, "{what}: the output is nearly empty");
+        match &reference {
+            None => reference = Some(bytes),
+            Some(r) => assert!(r == &bytes, "{what}: np {np:?} differs from the run without MPI"),
+        }
+    }
+    // Nothing but the outputs: no temporaries left by any rank.
+    let partial: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains("partial"))
+        .collect();
+    assert!(partial.is_empty(), "{what}: temporaries left: {partial:?}");
+}
+
+#[test]
+fn view_factors_are_the_same_on_any_rank_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let room = room(d);
+    for (what, args) in [
+        ("auto patches", vec!["--patches"]),
+        ("auto surfaces", vec![]),
+        ("analytic patches", vec!["--patches", "-m", "analytic"]),
+        ("mc-area patches", vec!["--patches", "-m", "mc-area", "--samples", "2000", "--seed", "7"]),
+        ("mc-cosine surfaces", vec!["-m", "mc-cosine", "--samples", "2000"]),
+        ("hemicube patches", vec!["--patches", "-m", "hemicube", "--resolution", "32"]),
+    ] {
+        assert_same_on_any_rank_count(d, what, "viewfactors", &room, &args);
+    }
+}
+
+#[test]
+fn solves_are_the_same_on_any_rank_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    for (what, args) in [
+        ("solve packed", vec!["--patches"]),
+        ("solve surfaces", vec![]),
+        ("solve mc-area", vec!["--patches", "-m", "mc-area", "--samples", "20000"]),
+        ("solve jacobi", vec!["--solver", "jacobi"]),
+        ("solve hierarchical", vec!["--exchange", "hierarchical"]),
+    ] {
+        assert_same_on_any_rank_count(d, what, "solve", &furnace, &args);
+    }
+}
+
+/// Runs `viewfactors` under MPMD `mpiexec`: rank 0 on `a`, rank 1 on `b`, one output name.
+fn two_scenes(a: &str, b: &str, out: &Path) -> Output {
+    Command::new("mpiexec")
+        .args(["-np", "1", BIN, "viewfactors", a, "-o", out.to_str().unwrap(), ":"])
+        .args(["-np", "1", BIN, "viewfactors", b, "-o", out.to_str().unwrap()])
+        .output()
+        .expect("run mpiexec")
+}
+
+#[test]
+fn ranks_with_different_geometry_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let room = room(d);
+    let text = std::fs::read_to_string(&room).unwrap();
+    // Rank 1 splits the floor into 3×3 patches instead of 4×4: a valid scene, another hash.
+    let finer = d.join("finer.toml");
+    std::fs::write(&finer, text.replacen("subdivide = [4, 4]", "subdivide = [3, 3]", 1)).unwrap();
+    let out = d.join("vf.csv");
+    let o = two_scenes(&room, finer.to_str().unwrap(), &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("do not hold the same scene geometry") && err.contains("rank 1 has hash"), "{err}");
+    assert!(!out.exists(), "a refused run wrote its output");
+    // Rank 1's floor moved by 1 mm: its scene no longer loads, so it finishes while rank 0
+    // waits for rows; the run is refused all the same.
+    let moved = d.join("moved.toml");
+    std::fs::write(&moved, text.replacen("origin = [0", "origin = [0.001", 1)).unwrap();
+    let o = two_scenes(&room, moved.to_str().unwrap(), &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("rank 1 is finishing while rank 0 is about to compute"), "{err}");
+    assert!(!out.exists(), "a refused run wrote its output");
+}
+
+#[test]
+fn bad_input_fails_on_every_rank_with_exit_code_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, "[[surface]]\nname = \"a\"\n").unwrap();
+    let o = run(Some(2), &["viewfactors".into(), bad.to_str().unwrap().into()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    // Rank 0 alone speaks: the message appears once.
+    assert_eq!(err.matches("bad.toml").count(), 1, "{err}");
+}
