@@ -12,6 +12,7 @@
 //! - [`viewfactor`]: the view-factor methods behind one `Method` enum and one engine.
 //! - [`exchange`]: symmetric exchange areas S = A·F, ambient node, enforcement, diagnostics.
 //! - [`solve`]: the net-radiation system K = D − S and its solvers.
+//! - [`plan`]: the route to a `solve` result (store, tolerance meaning, refusals) and its run.
 //! - [`report`]: CSV writers and charts; the one place that turns results into bytes.
 //! - [`distributed`]: runs under `mpirun` (feature `mpi`): rank, row blocks, gathers.
 //! - [`validate`]: the textbook validation suite, its error models and studies.
@@ -23,6 +24,7 @@ pub mod distributed;
 pub mod error;
 pub mod exchange;
 pub mod geometry;
+pub mod plan;
 pub mod report;
 pub mod scene;
 pub mod solve;

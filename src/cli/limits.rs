@@ -22,7 +22,7 @@ pub use lambert::viewfactor::limits::MAX_SAMPLES;
 pub const PAIRS_PER_CPU_SECOND: f64 = 1e7;
 /// Patches of one mesh surface above which a pairwise run is warned about its cost: `solve`'s
 /// dense limit (above it `--exchange auto` clusters the patches).
-pub const MESH_PATCH_WARN: usize = super::run::HIERARCHICAL_MIN_PATCHES;
+pub const MESH_PATCH_WARN: usize = lambert::plan::HIERARCHICAL_MIN_PATCHES;
 
 /// The worker-thread count of the first configured run in this process.
 static POOL: OnceLock<usize> = OnceLock::new();

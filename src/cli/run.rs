@@ -3,6 +3,10 @@ use super::args::{Command, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs}
 use super::config::Config;
 use super::limits;
 use lambert::exchange::{self, Enforce, EnforceParams, Exchange};
+use lambert::plan::{
+    hit_rays, with_obstruction_note, Outcome, Phase, Plan, PlanError, Progress, Reason, Request, Route,
+    Store, Tolerance, HIERARCHICAL_MIN_PATCHES,
+};
 use lambert::report;
 use lambert::report::decks::{DeckFormat, DeckInfo};
 use lambert::report::outputs::{Input, Output, OutputSet};
@@ -353,25 +357,10 @@ fn row_sum(s: f64) -> String {
     }
 }
 
-/// Builds the exchange matrix of `vf` and enforces `mode`, printing the diagnostics.
-/// `rays`: rays per patch of a hit-counting method (mc-cosine, mc-uniform), which the
-/// Sobol sampler does not report per row (it reports replicate spreads instead); with it the
-/// closure can use maximum likelihood.
+/// Builds the exchange matrix of `vf` and enforces `mode` ([`lambert::plan::enforced`]),
+/// printing the diagnostics.
 fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>) -> Result<Exchange> {
-    let mut ex = Exchange::from_viewfactors(vf);
-    if let (Some(n), Level::Patch) = (rays, ex.level) {
-        if ex.samples.iter().all(|&s| s == 0) {
-            ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
-        }
-    }
-    let p = EnforceParams {
-        mode,
-        open: !scene.is_closed(),
-        source: scene.source.clone(),
-        facts: facts(scene),
-        ..Default::default()
-    };
-    let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
+    let (ex, rep) = lambert::plan::enforced(scene, vf, mode, rays)?;
     print_enforcement(mode, &rep);
     Ok(ex)
 }
@@ -388,15 +377,6 @@ fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
     );
 }
 
-/// Adds the obstruction note to a leak refusal whose row has obstructions in front of it.
-fn with_obstruction_note(scene: &Scene, e: Error) -> Error {
-    let Error::Input(mut ie) = e else { return e };
-    if let Some(note) = ie.surface.as_deref().and_then(|n| scene::hints::obstruction_note(scene, n)) {
-        ie.problem = format!("{}. Note: {note}", ie.problem);
-    }
-    Error::Input(ie)
-}
-
 /// Adds to a leak refusal of `solve --viewfactors FILE` that FILE carries no geometry
 /// fingerprint, so it may belong to another scene with the same names.
 fn with_unstamped_note(e: Error, file: &Path) -> Error {
@@ -410,11 +390,6 @@ fn with_unstamped_note(e: Error, file: &Path) -> Error {
         );
     }
     Error::Input(ie)
-}
-
-/// Rays per patch when the method counts hits with equal weights.
-fn hit_rays(p: &viewfactor::Params) -> Option<usize> {
-    p.method.counts_hits().then_some(p.samples)
 }
 
 fn mode_name(m: Enforce) -> &'static str {
@@ -442,9 +417,9 @@ fn check_vtk(path: &Option<std::path::PathBuf>) -> Result<Option<report::vtk::Vt
 }
 
 fn solve(a: SolveArgs) -> Result<()> {
-    let mut cfg = Config::from_args(&a.common)?;
+    let cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
-    let params = solve::Params { solver: a.solver.parse()?, ..solve::Params::default() };
+    let solver: solve::Solver = a.solver.parse()?;
     let deck = match (&a.format, &a.conductances) {
         (Some(f), Some(_)) => DeckFormat::from_name(f)?,
         (Some(_), None) => {
@@ -453,6 +428,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         (None, Some(path)) => DeckFormat::from_path(path)?,
         (None, None) => DeckFormat::Csv,
     };
+    let store = store_of(&a.exchange)?;
     let saved: Vec<Input> = a.viewfactors.iter().map(|p| Input::new("the --viewfactors input", p)).collect();
     let mut outs =
         plan_outputs(&cfg, "results CSV", a.common.vtk.as_deref(), a.conductances.as_deref(), &saved)?;
@@ -462,7 +438,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         eprintln!("lambert: warning: {w}");
     }
     if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
-        cfg.params.tolerance = scene_tolerance(&scene, t)?;
+        scene_tolerance(&scene, t)?;
     }
     scene.check_boundary_conditions()?;
     warn_facing_away(&scene);
@@ -472,54 +448,76 @@ fn solve(a: SolveArgs) -> Result<()> {
         let level = if a.viewfactors.is_some() { Level::Surface } else { Level::Patch };
         solve::conductance::check_deck(&scene, level, cfg.patches)?;
     }
-    let mode = match cfg.enforce.as_deref() {
-        Some(e) => e.parse()?,
-        None => Enforce::solve_default(!scene.is_closed()),
+    let enforce = cfg.enforce.as_deref().map(str::parse).transpose()?;
+    let request = Request {
+        method: cfg.params.method,
+        samples: cfg.params.samples,
+        resolution: cfg.params.resolution,
+        tolerance: cfg.tolerance_given,
+        seed: cfg.params.seed,
+        enforce,
+        store,
+        solver,
+        saved_viewfactors: a.viewfactors.is_some(),
+        conductances: a.conductances.is_some(),
+        progress_bar: cfg.params.progress,
     };
-    let exchange = ExchangePath::from_name(&a.exchange)?;
+    let plan = Plan::new(&scene, &request).map_err(|e| match e {
+        PlanError::ClusteredUnserved => Error::Usage(
+            "--exchange hierarchical serves gray `solve` runs with -m auto or analytic and the direct \
+             solver, without --viewfactors or --conductances"
+                .into(),
+        ),
+        PlanError::Other(e) => e,
+    })?;
     if a.viewfactors.is_none() {
-        warn_mesh_cost(&scene, &cfg, &a, exchange, mode, &params);
+        warn_mesh_cost(&scene, &cfg, &plan);
     }
-    if let Some(run) = clustered_solve(&scene, &cfg, &a, exchange, mode, &params)? {
-        finish_solve(&scene, &cfg, run.solution, vtk, &mut outs)?;
+    say_route(&plan);
+    let mut sink = Sink { scene: &scene };
+    if plan.route == Route::Clustered {
+        let out = plan.run(&scene, &mut sink)?;
+        say_clustered(&scene, &plan, &out);
+        finish_solve(&scene, &cfg, out.solution, vtk, &mut outs)?;
         return outs.commit();
     }
-    if let Some(run) = lean_solve(&scene, &cfg.params, &a, mode, &params)? {
-        finish_solve(&scene, &cfg, run.solution, vtk, &mut outs)?;
-        return outs.commit();
-    }
-
     let (vf, stamped) = match &a.viewfactors {
-        Some(path) => report::read_vf::read_stamped(path, &scene)?,
-        None => {
-            exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
-            let vf = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
-            say_warnings(&vf.warnings);
-            warn_flags(&scene, &vf.flags);
-            (vf, true)
+        Some(path) => {
+            let (vf, stamped) = report::read_vf::read_stamped(path, &scene)?;
+            if a.conductances.is_some() {
+                solve::conductance::check_deck(&scene, vf.level, cfg.patches)?;
+            }
+            if cfg.patches && vf.level == Level::Surface {
+                return Err(Error::Usage(
+                    "--patches needs patch-level view factors (a `viewfactors --patches` file)".into(),
+                ));
+            }
+            (Some(vf), stamped)
         }
+        None => (None, true),
     };
-    if a.conductances.is_some() {
-        solve::conductance::check_deck(&scene, vf.level, cfg.patches)?;
-    }
-    if cfg.patches && vf.level == Level::Surface {
-        return Err(Error::Usage(
-            "--patches needs patch-level view factors (a `viewfactors --patches` file)".into(),
-        ));
-    }
-    let rays = if a.viewfactors.is_none() { hit_rays(&cfg.params) } else { None };
-    let ex = enforced(&scene, &vf, mode, rays).map_err(|e| match (&a.viewfactors, stamped) {
+    let out = plan.run_with(&scene, vf.as_ref(), &mut sink).map_err(|e| match (&a.viewfactors, stamped) {
         (Some(file), false) => with_unstamped_note(e, file),
         _ => e,
     })?;
-    let sol = match &scene.spectral {
-        Some(spectral) => solve::bands::solve_bands(&scene, &ex, &spectral.into(), &params)?,
-        None => solve::solve_gray(&scene, &ex, &params)?,
+    let d = &out.diagnostics;
+    if let Some(rep) = &d.enforcement {
+        print_enforcement(plan.enforce, rep);
+    }
+    let Some(ex) = &out.exchange else {
+        eprintln!(
+            "lambert: {} patches, {} pairs, dense store {:.1} MB",
+            scene.patches.len(),
+            d.pairs,
+            d.store_bytes as f64 / 1e6
+        );
+        finish_solve(&scene, &cfg, out.solution, vtk, &mut outs)?;
+        return outs.commit();
     };
     // The deck is written (as a temporary) before the results, so that a deck that cannot be
     // written stops the run before anything reaches stdout.
     if a.conductances.is_some() {
-        let c = solve::conductance::radk(&scene, &ex, &params)?;
+        let c = solve::conductance::radk(&scene, ex, &plan.solve)?;
         let c = if cfg.patches || ex.level == Level::Surface {
             c
         } else {
@@ -534,25 +532,103 @@ fn solve(a: SolveArgs) -> Result<()> {
         let info = DeckInfo { scene: cfg.scene.display().to_string(), title: scene.title.clone() };
         outs.write("conductances", |w, p| report::decks::write(deck, w, &c, &info, p))?;
     }
-    finish_solve(&scene, &cfg, sol, vtk, &mut outs)?;
+    finish_solve(&scene, &cfg, out.solution, vtk, &mut outs)?;
     outs.commit()
 }
 
-/// The cost warning of [`limits::mesh_cost`] for a `solve` that integrates every patch pair
-/// (the clustered path is what large meshes are for).
-fn warn_mesh_cost(
-    scene: &Scene,
-    cfg: &Config,
-    a: &SolveArgs,
-    path: ExchangePath,
-    mode: Enforce,
-    params: &solve::Params,
-) {
-    let served = lean_served(scene, &cfg.params, a, mode, params);
-    if served && path != ExchangePath::Dense {
-        return;
+/// `solve --exchange` as the plan's store.
+fn store_of(s: &str) -> Result<Store> {
+    match s {
+        "auto" => Ok(Store::Auto),
+        "dense" => Ok(Store::Dense),
+        "hierarchical" => Ok(Store::Hierarchical),
+        _ => Err(Error::Usage(format!("unknown --exchange '{s}'; expected auto, dense or hierarchical"))),
     }
-    let cheaper = if served {
+}
+
+/// The plan's progress sink: prints the method's warnings and flags as they arrive.
+struct Sink<'a> {
+    scene: &'a Scene,
+}
+
+impl Progress for Sink<'_> {
+    fn phase(&mut self, _: Phase) {}
+    fn method_report(&mut self, warnings: &[String], flags: &[viewfactor::Flag]) {
+        say_warnings(warnings);
+        warn_flags(self.scene, flags);
+    }
+}
+
+/// Says the route a `solve` takes when `--exchange auto` chose it, or when it is clustered.
+fn say_route(plan: &Plan) {
+    let why = match plan.reason {
+        Reason::Small { .. } | Reason::Tight { .. } => {
+            eprintln!(
+                "lambert: exchange: dense ({}; --exchange hierarchical for clustered links)",
+                plan.reason
+            );
+            return;
+        }
+        Reason::Asked if plan.route == Route::Clustered => "forced by --exchange hierarchical".to_string(),
+        Reason::Large { .. } => format!("{}; --exchange dense for every pair", plan.reason),
+        Reason::NoMemory { .. } => plan.reason.to_string(),
+        _ => return,
+    };
+    if let Tolerance::HeatRate { rate, .. } = plan.tolerance {
+        eprintln!("lambert: exchange: hierarchical, heat-rate tolerance {rate:e} ({why})");
+    }
+}
+
+/// The clustered route's enforcement, build statistics and heat-rate error bound.
+fn say_clustered(scene: &Scene, plan: &Plan, out: &Outcome) {
+    let d = &out.diagnostics;
+    if let Some(rep) = &d.enforcement {
+        print_enforcement(plan.enforce, rep);
+    }
+    let Some((s, first)) = &d.clustered else { return };
+    if let Some((loose, s)) = first {
+        eprintln!(
+            "lambert: first pass at tolerance {loose:e} for the radiosity ranges: {} cluster links, {} patch \
+             pairs (links {:.2} s, patch pairs {:.2} s)",
+            s.links,
+            s.leaf_pairs,
+            s.refine.as_secs_f64(),
+            s.pairs.as_secs_f64()
+        );
+    }
+    eprintln!(
+        "lambert: {} patches, {} cluster links, {} patch pairs, {} visibility rays, store {:.1} MB \
+         (links {:.2} s, patch pairs {:.2} s)",
+        scene.patches.len(),
+        s.links,
+        s.leaf_pairs,
+        s.rays,
+        s.bytes as f64 / 1e6,
+        s.refine.as_secs_f64(),
+        s.pairs.as_secs_f64()
+    );
+    if out.solution.heat_rate_error.is_some() {
+        let by_surface = out.solution.by_surface(scene);
+        let (_, max) = by_surface.heat_balance();
+        let worst =
+            by_surface.heat_rate_error.as_ref().map_or(0.0, |e| e.iter().copied().fold(0.0, f64::max));
+        eprintln!(
+            "lambert: estimated heat-rate error: at most {worst:.3e} W on a surface ({:.1e} of max |heat_rate|)",
+            if max > 0.0 { worst / max } else { 0.0 }
+        );
+    }
+}
+
+/// The cost warning of [`limits::mesh_cost`] for a `solve` that integrates every patch pair
+/// (the clustered route is what large meshes are for).
+fn warn_mesh_cost(scene: &Scene, cfg: &Config, plan: &Plan) {
+    // Pairwise routes that `--exchange auto` chose for a scene it would not cluster are quiet.
+    match (plan.route, plan.reason) {
+        (Route::Clustered, _) => return,
+        (Route::Packed, r) if r != Reason::Asked => return,
+        _ => {}
+    }
+    let cheaper = if plan.route == Route::Packed {
         format!(
             "`--exchange hierarchical` (the default above {HIERARCHICAL_MIN_PATCHES} patches) clusters them"
         )
@@ -565,178 +641,6 @@ fn warn_mesh_cost(
         eprintln!("lambert: warning: {w}");
     }
 }
-
-/// Bytes per patch pair of the sparse store and solve (measured: 6.4 GB at N = 8,472, about
-/// 85 bytes per ordered pair), used to refuse what cannot fit.
-const SPARSE_BYTES_PER_PAIR: f64 = 180.0;
-
-/// `solve --exchange`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum ExchangePath {
-    /// Dense up to [`HIERARCHICAL_MIN_PATCHES`] patches and while it fits, else hierarchical.
-    Auto,
-    /// Every patch pair (dense triangle or sparse store).
-    Dense,
-    /// Clustered links.
-    Hierarchical,
-}
-
-impl ExchangePath {
-    fn from_name(s: &str) -> Result<Self> {
-        match s {
-            "auto" => Ok(Self::Auto),
-            "dense" => Ok(Self::Dense),
-            "hierarchical" => Ok(Self::Hierarchical),
-            _ => Err(Error::Usage(format!("unknown --exchange '{s}'; expected auto, dense or hierarchical"))),
-        }
-    }
-}
-
-/// `--exchange auto` goes hierarchical above this many patches (measured in
-/// validation/scale.md: below it the dense path is as fast and exact).
-pub(crate) const HIERARCHICAL_MIN_PATCHES: usize = 12_000;
-/// `--exchange auto` stays dense (while it fits) for tolerances below this: the links' cost
-/// grows faster than the dense store's as the tolerance tightens (validation/scale.md).
-const HIERARCHICAL_MIN_TOLERANCE: f64 = 1e-3;
-
-/// The hierarchical path when chosen (forced, or by `auto` for a large scene or one whose
-/// dense store cannot fit); `None` sends the run to the dense paths.
-fn clustered_solve(
-    scene: &Scene,
-    cfg: &Config,
-    a: &SolveArgs,
-    path: ExchangePath,
-    mode: Enforce,
-    params: &solve::Params,
-) -> Result<Option<solve::clustered::ClusteredRun>> {
-    let n = scene.patches.len();
-    let served = lean_served(scene, &cfg.params, a, mode, params);
-    let why = match path {
-        ExchangePath::Dense => return Ok(None),
-        ExchangePath::Hierarchical => {
-            if !served {
-                return Err(Error::Usage(
-                    "--exchange hierarchical serves gray `solve` runs with -m auto or analytic and the direct \
-                     solver, without --viewfactors or --conductances"
-                        .into(),
-                ));
-            }
-            "forced by --exchange hierarchical".to_string()
-        }
-        ExchangePath::Auto => {
-            if !served {
-                return Ok(None);
-            }
-            let fits = exchange::dense::check_fits(n, 8.0, &scene.source).is_ok();
-            // A tight tolerance costs the links more than the dense store costs the pairs.
-            let tight = cfg.tolerance_given.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
-            if fits && (n <= HIERARCHICAL_MIN_PATCHES || tight) {
-                eprintln!(
-                    "lambert: exchange: dense ({n} patches{}; --exchange hierarchical for clustered links)",
-                    if tight {
-                        format!(", tolerance below {HIERARCHICAL_MIN_TOLERANCE:e}")
-                    } else {
-                        format!(" <= {HIERARCHICAL_MIN_PATCHES}")
-                    }
-                );
-                return Ok(None);
-            }
-            if fits {
-                format!("{n} patches > {HIERARCHICAL_MIN_PATCHES}; --exchange dense for every pair")
-            } else {
-                format!("{n} patches: the dense store would not fit in memory")
-            }
-        }
-    };
-    let tol = cfg.tolerance_given.unwrap_or(exchange::hierarchy::DEFAULT_TOLERANCE);
-    eprintln!("lambert: exchange: hierarchical, heat-rate tolerance {tol:e} ({why})");
-    // `--tolerance` is the heat-rate tolerance here; the exact pairs keep `auto`'s own goal on
-    // each F, tightened with it (sampled pairs must not dominate the heat-rate error).
-    let vf = viewfactor::Params {
-        tolerance: (tol * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE),
-        ..cfg.params.clone()
-    };
-    let run = solve::clustered::solve_scene(scene, &vf, mode, tol, params)?;
-    print_enforcement(mode, &run.report);
-    if let Some((loose, s)) = &run.first {
-        eprintln!(
-            "lambert: first pass at tolerance {loose:e} for the radiosity ranges: {} cluster links, {} patch \
-             pairs (links {:.2} s, patch pairs {:.2} s)",
-            s.links,
-            s.leaf_pairs,
-            s.refine.as_secs_f64(),
-            s.pairs.as_secs_f64()
-        );
-    }
-    let s = &run.stats;
-    eprintln!(
-        "lambert: {n} patches, {} cluster links, {} patch pairs, {} visibility rays, store {:.1} MB \
-         (links {:.2} s, patch pairs {:.2} s)",
-        s.links,
-        s.leaf_pairs,
-        s.rays,
-        s.bytes as f64 / 1e6,
-        s.refine.as_secs_f64(),
-        s.pairs.as_secs_f64()
-    );
-    if run.solution.heat_rate_error.is_some() {
-        let by_surface = run.solution.by_surface(scene);
-        let (_, max) = by_surface.heat_balance();
-        let worst =
-            by_surface.heat_rate_error.as_ref().map_or(0.0, |e| e.iter().copied().fold(0.0, f64::max));
-        eprintln!(
-            "lambert: estimated heat-rate error: at most {worst:.3e} W on a surface ({:.1e} of max |heat_rate|)",
-            if max > 0.0 { worst / max } else { 0.0 }
-        );
-    }
-    Ok(Some(run))
-}
-
-/// True when the lean paths (dense triangle or hierarchy) can serve this `solve`.
-fn lean_served(
-    scene: &Scene,
-    vf: &viewfactor::Params,
-    a: &SolveArgs,
-    mode: Enforce,
-    params: &solve::Params,
-) -> bool {
-    let symmetric = vf.method.is_symmetric();
-    a.viewfactors.is_none()
-        && a.conductances.is_none()
-        && scene.spectral.is_none()
-        && params.solver == solve::Solver::Direct
-        && !vf.method.is_monte_carlo()
-        && (symmetric || mode != Enforce::None)
-}
-
-/// The lean dense path: every `solve` it can serve (a view-factor kernel, gray, the direct
-/// solver, no conductances and no saved view factors); `None` sends the run to the sparse path.
-fn lean_solve(
-    scene: &Scene,
-    vf: &viewfactor::Params,
-    a: &SolveArgs,
-    mode: Enforce,
-    params: &solve::Params,
-) -> Result<Option<solve::dense::DenseRun>> {
-    // Without enforcement a non-symmetric kernel's raw rows would be solved as they are.
-    if !lean_served(scene, vf, a, mode, params) {
-        return Ok(None);
-    }
-    let run =
-        solve::dense::solve_scene(scene, vf, mode, params).map_err(|e| with_obstruction_note(scene, e))?;
-    let Some(run) = run else { return Ok(None) };
-    say_warnings(&run.warnings);
-    warn_flags(scene, &run.flags);
-    print_enforcement(mode, &run.report);
-    eprintln!(
-        "lambert: {} patches, {} pairs, dense store {:.1} MB",
-        scene.patches.len(),
-        run.pairs,
-        run.store_bytes as f64 / 1e6
-    );
-    Ok(Some(run))
-}
-
 /// Prints the solve summary and energy balance and writes the VTK file (when asked) and the
 /// results table into `outs` (committed by the caller).
 fn finish_solve(

@@ -1,0 +1,518 @@
+//! The route to a result, decided in one place: a scene and a typed [`Request`] become a
+//! [`Plan`], which names the exchange route, states why in words, fixes what `tolerance`
+//! means on that route, and refuses what cannot run before any work. [`Plan::run`] then
+//! computes the result and returns it with its [`Diagnostics`]; nothing here prints.
+//!
+//! Map:
+//! - [`Request`]: what the caller asks for (method and its knobs, tolerance, enforcement,
+//!   exchange [`Store`], [`Solver`]); plain data, no command-line types.
+//! - [`Plan::new`]: chooses the [`Route`] (packed dense triangle, clustered links or the
+//!   sparse store) and the [`Tolerance`] meaning; [`PlanError`] names refusals in the
+//!   library's own words.
+//! - [`Plan::run`]: the chosen route's solve entry point; [`Outcome`] holds the per-patch
+//!   solution, the exchange (sparse route) and the [`Diagnostics`].
+//! - [`Progress`]: the caller's phase callback ([`Phase`]); [`Silent`] ignores it.
+//!
+//! Example (library use; the CLI and the validation suite call the same API):
+//!
+//! ```no_run
+//! use lambert::plan::{Plan, Request, Silent};
+//! let scene = lambert::scene::load(std::path::Path::new("cases/e3_cube_furnace/scene.toml"))?;
+//! let plan = Plan::new(&scene, &Request::default()).map_err(lambert::Error::from)?;
+//! println!("route: {} ({})", plan.route, plan.reason);
+//! let out = plan.run(&scene, &mut Silent)?;
+//! for (name, r) in out.solution.names.iter().zip(&out.solution.results) {
+//!     println!("{name}: {} W", r.heat_rate);
+//! }
+//! # Ok::<(), lambert::Error>(())
+//! ```
+//!
+//! Outputs never enter the plan: no output choice changes a number.
+use crate::exchange::{self, Enforce, EnforceParams, EnforceReport, Exchange};
+use crate::scene::Scene;
+use crate::solve::{self, Solution, Solver};
+use crate::viewfactor::{self, Flag, Level, Method};
+use crate::{Error, Result};
+use std::fmt;
+use std::time::{Duration, Instant};
+
+/// Exchange store asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Store {
+    /// Dense up to [`HIERARCHICAL_MIN_PATCHES`] patches and while it fits, else clustered.
+    #[default]
+    Auto,
+    /// Every patch pair (packed dense triangle, or the sparse store where the packed one
+    /// cannot serve).
+    Dense,
+    /// Clustered links with heat-rate error control.
+    Hierarchical,
+}
+
+/// The route a plan takes: which exchange store and solve stack compute the result.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Route {
+    /// Packed dense triangle of patch pairs, dense solve.
+    Packed,
+    /// Clustered links, heat-rate error control.
+    Clustered,
+    /// Sparse store of patch pairs (any method, solver, bands, saved view factors).
+    Sparse,
+}
+
+impl fmt::Display for Route {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Route::Packed => "dense (packed triangle)",
+            Route::Clustered => "hierarchical (clustered links)",
+            Route::Sparse => "dense (sparse store)",
+        })
+    }
+}
+
+/// What the tolerance means on the chosen route.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Tolerance {
+    /// Absolute accuracy goal on each view factor F (packed and sparse routes).
+    Factor(f64),
+    /// Heat-rate tolerance, relative to the largest |heat rate| (clustered route); `factor`
+    /// is the goal on each exactly integrated patch pair's F that comes with it.
+    HeatRate {
+        /// Relative heat-rate tolerance.
+        rate: f64,
+        /// Goal on each exact pair's F.
+        factor: f64,
+    },
+}
+
+/// A request: what to compute, in the library's terms.
+#[derive(Debug, Clone)]
+pub struct Request {
+    /// View-factor method.
+    pub method: Method,
+    /// Rays or points per patch of the Monte Carlo methods.
+    pub samples: usize,
+    /// Pixels along a hemicube face or the single plane.
+    pub resolution: usize,
+    /// Tolerance as given; `None` takes the scene file's, else the route's default.
+    pub tolerance: Option<f64>,
+    /// Random seed.
+    pub seed: u64,
+    /// Enforcement; `None` takes the default (closure closed, reciprocity open).
+    pub enforce: Option<Enforce>,
+    /// Exchange store.
+    pub store: Store,
+    /// Linear solver.
+    pub solver: Solver,
+    /// The view factors come from the caller (a saved file), not from the method.
+    pub saved_viewfactors: bool,
+    /// Radiative conductances are wanted (needs the sparse store's exchange matrix).
+    pub conductances: bool,
+    /// Let the view-factor engine draw its own terminal progress bar.
+    pub progress_bar: bool,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        let p = viewfactor::Params::default();
+        Self {
+            method: p.method,
+            samples: p.samples,
+            resolution: p.resolution,
+            tolerance: None,
+            seed: p.seed,
+            enforce: None,
+            store: Store::Auto,
+            solver: Solver::Direct,
+            saved_viewfactors: false,
+            conductances: false,
+            progress_bar: false,
+        }
+    }
+}
+
+/// Why a request cannot run, in the library's words (the CLI maps them to its flags).
+#[derive(Debug)]
+pub enum PlanError {
+    /// The clustered store was asked for, but it serves only gray solves by an exact kernel
+    /// (`auto` or `analytic`) with the direct solver, computing the view factors itself and
+    /// writing no conductances.
+    ClusteredUnserved,
+    /// Any other refusal (memory, bad value), already in the library's error type.
+    Other(Error),
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::ClusteredUnserved => f.write_str(
+                "the hierarchical store serves gray solves by an exact kernel (auto or analytic) with the \
+                 direct solver, computing the view factors itself and writing no conductances",
+            ),
+            PlanError::Other(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+impl From<Error> for PlanError {
+    fn from(e: Error) -> Self {
+        PlanError::Other(e)
+    }
+}
+
+impl From<PlanError> for Error {
+    fn from(e: PlanError) -> Self {
+        match e {
+            PlanError::Other(e) => e,
+            e @ PlanError::ClusteredUnserved => Error::Usage(e.to_string()),
+        }
+    }
+}
+
+/// `Store::Auto` goes clustered above this many patches (measured in validation/scale.md:
+/// below it the dense path is as fast and exact).
+pub const HIERARCHICAL_MIN_PATCHES: usize = 12_000;
+/// `Store::Auto` stays dense (while it fits) for tolerances below this: the links' cost grows
+/// faster than the dense store's as the tolerance tightens (validation/scale.md).
+pub const HIERARCHICAL_MIN_TOLERANCE: f64 = 1e-3;
+/// Bytes per patch pair of the sparse store and solve (measured: 6.4 GB at N = 8,472, about
+/// 85 bytes per ordered pair), used to refuse what cannot fit.
+pub const SPARSE_BYTES_PER_PAIR: f64 = 180.0;
+/// Bytes per patch pair of the packed triangle (one f64), for the memory check of `auto`.
+const PACKED_BYTES_PER_PAIR: f64 = 8.0;
+
+/// Why a plan took its route; `Display` says it in the library's words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reason {
+    /// The store was asked for by name ([`Store::Dense`] or [`Store::Hierarchical`]).
+    Asked,
+    /// Only the sparse store serves this request (Monte Carlo method, iterative solver,
+    /// bands, saved view factors or conductances).
+    OnlySparse,
+    /// [`Store::Auto`]: few enough patches for every pair.
+    Small {
+        /// Patches.
+        patches: usize,
+    },
+    /// [`Store::Auto`]: a tolerance below [`HIERARCHICAL_MIN_TOLERANCE`] keeps every pair.
+    Tight {
+        /// Patches.
+        patches: usize,
+    },
+    /// [`Store::Auto`]: more than [`HIERARCHICAL_MIN_PATCHES`] patches are clustered.
+    Large {
+        /// Patches.
+        patches: usize,
+    },
+    /// [`Store::Auto`]: the dense store would not fit in memory.
+    NoMemory {
+        /// Patches.
+        patches: usize,
+    },
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Reason::Asked => f.write_str("asked for"),
+            Reason::OnlySparse => f.write_str("only the sparse store serves this request"),
+            Reason::Small { patches } => write!(f, "{patches} patches <= {HIERARCHICAL_MIN_PATCHES}"),
+            Reason::Tight { patches } => {
+                write!(f, "{patches} patches, tolerance below {HIERARCHICAL_MIN_TOLERANCE:e}")
+            }
+            Reason::Large { patches } => write!(f, "{patches} patches > {HIERARCHICAL_MIN_PATCHES}"),
+            Reason::NoMemory { patches } => {
+                write!(f, "{patches} patches: the dense store would not fit in memory")
+            }
+        }
+    }
+}
+
+/// A decided route with its settings, ready to run.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The route.
+    pub route: Route,
+    /// Why this route.
+    pub reason: Reason,
+    /// What the tolerance means on this route.
+    pub tolerance: Tolerance,
+    /// Enforcement mode.
+    pub enforce: Enforce,
+    /// View-factor parameters of the route.
+    pub viewfactors: viewfactor::Params,
+    /// Solve parameters.
+    pub solve: solve::Params,
+}
+
+/// Phases of a run, reported to a [`Progress`] as each starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Loading the scene.
+    Load,
+    /// Building the BVH.
+    Bvh,
+    /// Computing view factors (or links).
+    ViewFactors,
+    /// Enforcing reciprocity / closure.
+    Enforcement,
+    /// Solving the radiosity system.
+    Solve,
+    /// Writing results.
+    Write,
+}
+
+/// The caller's progress sink.
+pub trait Progress {
+    /// A phase starts.
+    fn phase(&mut self, phase: Phase);
+    /// The view-factor method's accuracy warnings and flagged entries, as soon as they are
+    /// known (before a later step can fail); also kept in [`Diagnostics`].
+    fn method_report(&mut self, _warnings: &[String], _flags: &[Flag]) {}
+}
+
+/// A [`Progress`] that reports nothing.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Silent;
+
+impl Progress for Silent {
+    fn phase(&mut self, _: Phase) {}
+}
+
+/// What a run reported besides its numbers.
+#[derive(Debug, Default, Clone)]
+pub struct Diagnostics {
+    /// The view-factor method's accuracy warnings.
+    pub warnings: Vec<String>,
+    /// Entries the method flagged.
+    pub flags: Vec<Flag>,
+    /// What enforcement did.
+    pub enforcement: Option<EnforceReport>,
+    /// Patch pairs evaluated.
+    pub pairs: u64,
+    /// Bytes of the exchange store.
+    pub store_bytes: usize,
+    /// Clustered route: the build statistics (and those of a first pass with its tolerance).
+    pub clustered:
+        Option<(crate::exchange::hierarchy::Stats, Option<(f64, crate::exchange::hierarchy::Stats)>)>,
+    /// Wall time of the whole run.
+    pub wall: Duration,
+}
+
+/// A run's result.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Per-patch (or per-node) solution.
+    pub solution: Solution,
+    /// The enforced exchange matrix (sparse route only; conductances read it).
+    pub exchange: Option<Exchange>,
+    /// What the run reported.
+    pub diagnostics: Diagnostics,
+}
+
+impl Plan {
+    /// Decides the route of a `solve` of `scene` and refuses what cannot run.
+    pub fn new(scene: &Scene, req: &Request) -> std::result::Result<Plan, PlanError> {
+        let n = scene.patches.len();
+        let mode = req.enforce.unwrap_or_else(|| Enforce::solve_default(!scene.is_closed()));
+        let factor = match (req.tolerance, scene.run_defaults.tolerance) {
+            (Some(t), _) | (None, Some(t)) => t,
+            (None, None) => viewfactor::DEFAULT_TOLERANCE,
+        };
+        let mut vf = viewfactor::Params {
+            method: req.method,
+            samples: req.samples,
+            resolution: req.resolution,
+            tolerance: factor,
+            seed: req.seed,
+            progress: req.progress_bar,
+        };
+        let solve = solve::Params { solver: req.solver, ..solve::Params::default() };
+        let served = packed_serves(scene, req, mode);
+        let packed = |reason| Plan {
+            route: if served { Route::Packed } else { Route::Sparse },
+            reason,
+            tolerance: Tolerance::Factor(factor),
+            enforce: mode,
+            viewfactors: vf.clone(),
+            solve: solve.clone(),
+        };
+        let patches = n;
+        let reason = match req.store {
+            Store::Dense => return Ok(packed(if served { Reason::Asked } else { Reason::OnlySparse })),
+            Store::Hierarchical if !served => return Err(PlanError::ClusteredUnserved),
+            Store::Hierarchical => Reason::Asked,
+            Store::Auto if !served => return Ok(packed(Reason::OnlySparse)),
+            Store::Auto => {
+                let fits = exchange::dense::check_fits(n, PACKED_BYTES_PER_PAIR, &scene.source).is_ok();
+                // A tight tolerance costs the links more than the dense store costs the pairs.
+                let tight = req.tolerance.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
+                match (fits, tight, n <= HIERARCHICAL_MIN_PATCHES) {
+                    (true, true, _) => return Ok(packed(Reason::Tight { patches })),
+                    (true, false, true) => return Ok(packed(Reason::Small { patches })),
+                    (true, false, false) => Reason::Large { patches },
+                    (false, ..) => Reason::NoMemory { patches },
+                }
+            }
+        };
+        let rate = req.tolerance.unwrap_or(exchange::hierarchy::DEFAULT_TOLERANCE);
+        // The exact pairs keep `auto`'s own goal on each F, tightened with the heat-rate
+        // tolerance (sampled pairs must not dominate the heat-rate error).
+        vf.tolerance = (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE);
+        Ok(Plan {
+            route: Route::Clustered,
+            reason,
+            tolerance: Tolerance::HeatRate { rate, factor: vf.tolerance },
+            enforce: mode,
+            viewfactors: vf,
+            solve,
+        })
+    }
+
+    /// Runs the plan on `scene` (the scene it was made for). The sparse route with saved
+    /// view factors takes them from `saved`.
+    pub fn run(&self, scene: &Scene, progress: &mut dyn Progress) -> Result<Outcome> {
+        self.run_with(scene, None, progress)
+    }
+
+    /// [`Plan::run`] with the caller's view factors on the sparse route (`saved`).
+    pub fn run_with(
+        &self,
+        scene: &Scene,
+        saved: Option<&viewfactor::ViewFactors>,
+        progress: &mut dyn Progress,
+    ) -> Result<Outcome> {
+        let start = Instant::now();
+        let mut d = Diagnostics::default();
+        let mut exchange = None;
+        progress.phase(Phase::ViewFactors);
+        let solution = match self.route {
+            Route::Clustered => {
+                let Tolerance::HeatRate { rate, .. } = self.tolerance else {
+                    unreachable!("a clustered plan carries a heat-rate tolerance")
+                };
+                let run =
+                    solve::clustered::solve_scene(scene, &self.viewfactors, self.enforce, rate, &self.solve)?;
+                d.enforcement = Some(run.report);
+                d.store_bytes = run.stats.bytes;
+                d.clustered = Some((run.stats, run.first));
+                run.solution
+            }
+            Route::Packed => {
+                let run = solve::dense::solve_scene(scene, &self.viewfactors, self.enforce, &self.solve)
+                    .map_err(|e| with_obstruction_note(scene, e))?;
+                match run {
+                    Some(run) => {
+                        progress.method_report(&run.warnings, &run.flags);
+                        d.warnings = run.warnings;
+                        d.flags = run.flags;
+                        d.enforcement = Some(run.report);
+                        d.pairs = run.pairs;
+                        d.store_bytes = run.store_bytes;
+                        run.solution
+                    }
+                    None => {
+                        let (sol, ex) = self.sparse(scene, saved, &mut d, progress)?;
+                        exchange = Some(ex);
+                        sol
+                    }
+                }
+            }
+            Route::Sparse => {
+                let (sol, ex) = self.sparse(scene, saved, &mut d, progress)?;
+                exchange = Some(ex);
+                sol
+            }
+        };
+        d.wall = start.elapsed();
+        Ok(Outcome { solution, exchange, diagnostics: d })
+    }
+
+    /// The sparse route: view factors (computed or saved), enforcement, gray or band solve.
+    fn sparse(
+        &self,
+        scene: &Scene,
+        saved: Option<&viewfactor::ViewFactors>,
+        d: &mut Diagnostics,
+        progress: &mut dyn Progress,
+    ) -> Result<(Solution, Exchange)> {
+        let computed;
+        let vf = match saved {
+            Some(vf) => vf,
+            None => {
+                exchange::dense::check_fits(scene.patches.len(), SPARSE_BYTES_PER_PAIR, &scene.source)?;
+                computed = viewfactor::compute(scene, &self.viewfactors, Level::Patch)?;
+                d.warnings = computed.warnings.clone();
+                d.flags = computed.flags.clone();
+                d.pairs = computed.pairs;
+                progress.method_report(&d.warnings, &d.flags);
+                &computed
+            }
+        };
+        progress.phase(Phase::Enforcement);
+        let rays = if saved.is_none() { hit_rays(&self.viewfactors) } else { None };
+        let (ex, rep) = enforced(scene, vf, self.enforce, rays)?;
+        d.enforcement = Some(rep);
+        progress.phase(Phase::Solve);
+        let sol = match &scene.spectral {
+            Some(spectral) => solve::bands::solve_bands(scene, &ex, &spectral.into(), &self.solve)?,
+            None => solve::solve_gray(scene, &ex, &self.solve)?,
+        };
+        Ok((sol, ex))
+    }
+}
+
+/// True when the packed dense triangle or the clustered links can serve the request.
+fn packed_serves(scene: &Scene, req: &Request, mode: Enforce) -> bool {
+    !req.saved_viewfactors
+        && !req.conductances
+        && scene.spectral.is_none()
+        && req.solver == Solver::Direct
+        && !req.method.is_monte_carlo()
+        // Without enforcement a non-symmetric kernel's raw rows would be solved as they are.
+        && (req.method.is_symmetric() || mode != Enforce::None)
+}
+
+/// Rays per patch when the method counts hits with equal weights.
+pub fn hit_rays(p: &viewfactor::Params) -> Option<usize> {
+    p.method.counts_hits().then_some(p.samples)
+}
+
+/// Builds the exchange matrix of `vf` and enforces `mode`. `rays`: rays per patch of a
+/// hit-counting method, which lets the closure use maximum likelihood.
+pub fn enforced(
+    scene: &Scene,
+    vf: &viewfactor::ViewFactors,
+    mode: Enforce,
+    rays: Option<usize>,
+) -> Result<(Exchange, EnforceReport)> {
+    let mut ex = Exchange::from_viewfactors(vf);
+    if let (Some(n), Level::Patch) = (rays, ex.level) {
+        if ex.samples.iter().all(|&s| s == 0) {
+            ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
+        }
+    }
+    let p = EnforceParams {
+        mode,
+        open: !scene.is_closed(),
+        source: scene.source.clone(),
+        facts: Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene))),
+        ..Default::default()
+    };
+    let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
+    Ok((ex, rep))
+}
+
+/// Adds the obstruction note to a leak refusal whose row has obstructions in front of it.
+pub fn with_obstruction_note(scene: &Scene, e: Error) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    if let Some(note) = ie.surface.as_deref().and_then(|n| crate::scene::hints::obstruction_note(scene, n)) {
+        ie.problem = format!("{}. Note: {note}", ie.problem);
+    }
+    Error::Input(ie)
+}
+
+#[cfg(test)]
+mod tests;
