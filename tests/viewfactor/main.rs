@@ -13,5 +13,6 @@ mod concave;
 mod hemicube;
 mod lattice_reuse;
 mod monte_carlo;
+mod real_parts;
 mod shadowed;
 mod visibility;
