@@ -807,19 +807,23 @@ fn former_finding_shadow_debug_assertion() {
 }
 
 /// A .vs3 input of the campaigns (the L-shaped room with a wall's rotation angle changed from
-/// 270 to −1 and a vertex line duplicated): `-m analytic` at patch level stalls at 57 of 66
-/// pairs for more than 90 s in a release build, where the default method refuses the scene as
-/// leaking in 0.07 s.
+/// 270 to −1 and a vertex line duplicated): `-m analytic` at patch level stalled at 57 of 66
+/// pairs for more than 90 s in a release build. Nine pairs' error estimates stop falling
+/// (cells at the depth limit along the broken triangle); the integration now stops when its
+/// error stops falling, and the run ends with those entries named in a warning.
 #[test]
-#[ignore = "open finding: analytic stalls on a mis-rotated wall (rotated_wall_stall.vs3)"]
-fn open_finding_analytic_stalls_on_a_mis_rotated_wall() {
+fn former_finding_analytic_stalls_on_a_mis_rotated_wall() {
     let path = finding("rotated_wall_stall.vs3");
     let outcome = bounded("rotated_wall_stall", move || {
         let s = scene::load(&path).unwrap();
         let params = Params { method: Method::Analytic, progress: false, ..Params::default() };
-        viewfactor::compute(&s, &params, Level::Patch).map(|_| ()).map_err(|e| e.to_string())
+        viewfactor::compute(&s, &params, Level::Patch).map(|vf| vf.warnings).map_err(|e| e.to_string())
     });
-    assert!(outcome.is_ok(), "{outcome:?}");
+    let warnings = outcome.expect("finishes within the bound").expect("computes");
+    assert!(
+        warnings.iter().any(|w| w.contains("ceiling") && w.contains("wall_west_b")),
+        "the entry that stopped short is named: {warnings:?}"
+    );
 }
 
 /// A .vs3 input of the campaigns (one vertex moved to y ≈ 4.3e9 in the L-shaped room with

@@ -426,7 +426,7 @@ impl RowKernel for AnalyticKernel<'_> {
         let small = self.scene.patches[w.i].polygon.area().min(self.scene.patches[w.j].polygon.area());
         vec![format!(
             "{count} partly obstructed entr{} ended with an error estimate above its goal (the shadow \
-             integration stopped at its depth limit); worst: F({} -> {}) or its reciprocal, error \
+             integration stopped at its depth limit, or where its error stopped falling); worst: F({} -> {}) or its reciprocal, error \
              estimate {:.1e} on F against a goal of {:.1e}",
             if count == 1 { "y" } else { "ies" },
             self.scene.patch_name(w.i),

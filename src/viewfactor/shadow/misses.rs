@@ -3,7 +3,8 @@
 //! A partly obstructed pair is computed to an absolute goal on its exchange area (`auto`:
 //! [`super::policy::pair_goal`]; `analytic`: a relative target on the unobstructed value).
 //! Monte Carlo that cannot reach the goal within its sample cap is replaced by the shadow
-//! integration, and the integration stops only at its depth limit; an entry that still misses
+//! integration, and the integration stops only at its depth limit or where its error stops
+//! falling ([`super::adaptive::STALL_MIN_WORK`]); an entry that still misses
 //! its goal there is recorded here. The log keeps the count and the worst entry (largest
 //! estimate over goal, ties broken by the pair), so its report is the same on any thread count.
 use std::sync::Mutex;

@@ -115,6 +115,7 @@ pub fn shadowed(
                     cells: q.cells,
                     at_max_depth: q.at_max_depth,
                     roots: q.roots,
+                    stalled: false,
                 };
                 let value = (s_unobs - q.blocked).max(0.0);
                 return Shadowed { s: value, error: q.error, info, swapped };
