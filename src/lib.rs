@@ -1,5 +1,23 @@
 //! lambert: diffuse view factors and gray-body radiative exchange.
 //!
+//! A shipped case from scene file to heat rates, by the route the `lambert solve` command
+//! takes ([`plan`]):
+//!
+//! ```
+//! use lambert::plan::{Plan, Request, Silent};
+//! let scene = lambert::scene::load(std::path::Path::new("cases/cube_furnace/scene.toml"))?;
+//! let plan = Plan::new(&scene, &Request::default())?;
+//! let out = plan.run(&scene, &mut Silent)?;
+//! for (name, r) in out.solution.names.iter().zip(&out.solution.results) {
+//!     println!("{name}: {:.1} W", r.heat_rate);
+//! }
+//! // A closed furnace exchanges only with itself: its heat rates sum to zero.
+//! let rates: Vec<f64> = out.solution.results.iter().map(|r| r.heat_rate).collect();
+//! let largest = rates.iter().fold(0.0f64, |m, q| m.max(q.abs()));
+//! assert!(rates.iter().sum::<f64>().abs() <= 1e-9 * largest);
+//! # Ok::<(), lambert::Error>(())
+//! ```
+//!
 //! Pipeline (one-way dependencies, left to right):
 //!
 //! ```text

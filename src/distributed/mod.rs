@@ -4,7 +4,7 @@
 //! single-process answer, so callers need no `cfg`.
 //!
 //! - [`partition`]: contiguous row blocks balanced by an estimated cost per row;
-//! - [`comm`] (feature `mpi`): the communicator: start-up, checked sync points (a tag and a hash
+//! - `comm` (feature `mpi`): the communicator: start-up, checked sync points (a tag and a hash
 //!   of the geometry compared across ranks; a mismatch aborts the run), byte gathers, and the
 //!   end of the run (every rank exits with rank 0's code).
 //!

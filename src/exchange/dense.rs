@@ -1,5 +1,5 @@
 //! Enforcement on the lean packed triangle ([`Triangle`]), in place and without an N×N copy:
-//! - the leak check of closed scenes on the raw rows (same thresholds as [`super::enforce`]:
+//! - the leak check of closed scenes on the raw rows (same thresholds as [`mod@super::enforce`]:
 //!   a leaking closed scene is refused, never stretched);
 //! - closure by symmetric scaling s_ij = s̄_ij g_i g_j: Newton on log g with the scaled
 //!   operator applied as g ∘ S̄(g ∘ x), so S̄ is only read until the single final rescaling;

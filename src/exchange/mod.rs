@@ -5,7 +5,7 @@
 //!   column), assembly from any method's [`ViewFactors`], symmetrisation s̄ = ½(s + sᵀ),
 //!   aggregation to surfaces and conversion back to [`ViewFactors`] for output;
 //! - [`diagnostics`]: row-sum, reciprocity and sign residuals, worst rows by name;
-//! - [`enforce`]: `--enforce none|reciprocity|closure`, the leak check and method dispatch;
+//! - [`mod@enforce`]: `--enforce none|reciprocity|closure`, the leak check and method dispatch;
 //! - [`leak`]: why a closed scene leaks, checked against the geometry facts;
 //! - [`scaling`]: symmetric diagonal scaling s_ij = s̄_ij g_i g_j (also capped, for open scenes);
 //! - [`lsq`]: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1;
@@ -57,7 +57,7 @@ pub struct Exchange {
     pub methods: Vec<MethodSet>,
     /// Rays behind each row for hit-counting estimators (0 = deterministic or unknown).
     pub samples: Vec<u32>,
-    /// S_i,amb = A_i − Σ_j S_ij for open scenes (set by [`enforce`]).
+    /// S_i,amb = A_i − Σ_j S_ij for open scenes (set by [`fn@enforce`]).
     pub ambient: Option<Vec<f64>>,
 }
 

@@ -5,7 +5,7 @@
 //! - [`VtkFields`]: named per-patch columns plus integer columns, and lookup lines
 //!   (surface names, method codes) written as an XML comment ahead of the data;
 //! - [`solution_fields`] / [`viewfactor_fields`]: the columns of a `solve` / `viewfactors` run;
-//! - [`write_to`]: the file's bytes into a writer; [`write`]: a file, through a temporary
+//! - [`write_to`]: the file's bytes into a writer; [`fn@write`]: a file, through a temporary
 //!   renamed on success.
 //!
 //! Memory is O(patches + vertices): the arrays, their base64 text, nothing of size N².

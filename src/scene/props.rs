@@ -40,7 +40,7 @@ impl Role {
 /// One layer of properties, validated, with where it came from.
 #[derive(Debug, Clone, Default)]
 pub struct Layer {
-    /// Where it was set, for messages (e.g. "[defaults]", "node extras").
+    /// Where it was set, for messages (e.g. "\[defaults\]", "node extras").
     pub origin: String,
     /// File that holds it.
     pub file: PathBuf,

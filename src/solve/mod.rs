@@ -237,7 +237,7 @@ impl Solution {
 }
 
 /// Solves the gray net-radiation problem on the nodes of `ex` (which must carry the ambient
-/// column for open scenes, see [`crate::exchange::enforce`]).
+/// column for open scenes, see [`fn@crate::exchange::enforce`]).
 pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solution> {
     let start = Instant::now();
     let nodes = system::nodes(scene, ex)?;

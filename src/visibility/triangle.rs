@@ -20,8 +20,8 @@ pub fn transpose(m: &[Vec3A; 3]) -> [Vec3A; 3] {
 }
 
 /// One ray prepared for many triangle tests: origin, axis permutation (kx, ky, kz) and shear
-/// (Sx, Sy, Sz), so that M·(v − o) = ((v−o)[kx] − Sx·(v−o)[kz], (v−o)[ky] − Sy·(v−o)[kz],
-/// Sz·(v−o)[kz]).
+/// (Sx, Sy, Sz), so that M·(v − o) = ((v−o)\[kx\] − Sx·(v−o)\[kz\], (v−o)\[ky\] − Sy·(v−o)\[kz\],
+/// Sz·(v−o)\[kz\]).
 #[derive(Debug, Clone, Copy)]
 pub struct ShearedRay {
     origin: [Vec3A; 3],

@@ -477,7 +477,7 @@ impl Hierarchy {
     /// the exact one, the ambient taking the row's change in an open scene of emissive power
     /// `e_amb`). A link's total is within its bound, but its share of a patch is off to first
     /// order in ρ/r, by −A_i A_j ∇K·(x_j − c_b − x_i + c_a) per pair between planar
-    /// clusters ([`refine::kernel_gradient`]); over a surface that cancels only where J and the
+    /// clusters (`refine::kernel_gradient`); over a surface that cancels only where J and the
     /// heat rates' sensitivity are uniform over the clusters, so it is carried through the
     /// inter-reflections with its sign, as the enforcement's move. Links of curved clusters
     /// are left out.

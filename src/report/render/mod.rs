@@ -209,7 +209,7 @@ fn visible_range(scene: &Scene, patch_values: &[f64], r: &Raster) -> (f64, f64) 
 }
 
 /// Colour-bar labels for `lo..hi` on a bar `px` pixels tall: both ends always, then the nice
-/// ticks at least [`LABEL_GAP`] pixels from every other label. (value, text), bottom first.
+/// ticks at least `LABEL_GAP` pixels from every other label. (value, text), bottom first.
 pub fn bar_labels(lo: f64, hi: f64, px: i32) -> Vec<(f64, String)> {
     let (ticks, decimals) = colormap::ticks(lo, hi, TICKS);
     let gap = (hi - lo) * LABEL_GAP as f64 / px.max(1) as f64;
@@ -226,7 +226,7 @@ pub fn bar_labels(lo: f64, hi: f64, px: i32) -> Vec<(f64, String)> {
 }
 
 /// The caption broken into lines that fit `width` pixels: one line at the largest size if it
-/// fits, else wrapped at spaces at each size in turn, at most [`CAPTION_LINES`] lines until the
+/// fits, else wrapped at spaces at each size in turn, at most `CAPTION_LINES` lines until the
 /// smallest size, which takes as many lines as it needs. Returns (font size, lines).
 pub fn caption_lines(text: &str, width: u32) -> (u32, Vec<String>) {
     let fits =

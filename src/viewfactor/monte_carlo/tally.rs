@@ -10,7 +10,7 @@
 //!   the cell's entries in proportion to s_ij: the sink's sum of entry variances is then the
 //!   cell's variance. At patch level every cell is one entry.
 //!
-//! Storage: a [`TallyPool`] hands out per-thread buffers. A flat table per receiver patch
+//! Storage: a `TallyPool` hands out per-thread buffers. A flat table per receiver patch
 //! (its slot and output cell, 8 bytes, so one cache miss per new receiver) points into a dense list of the receivers this row hit;
 //! likewise for output cells. Closing a replicate or a row costs only the receivers actually
 //! hit, and buffers go back to the pool with every slot cleared.

@@ -559,14 +559,14 @@ const MAX_PIECES: usize = 256;
 ///   changes which shadow edges exist;
 /// - the plane through a receiver edge and a parallel blocker edge: there the shadow edge
 ///   slides onto the receiver edge, and the shaded area's slope jumps;
-/// - the second-order events ([`event_planes`]): a blocker vertex's shadow crossing a receiver
+/// - the second-order events (`event_planes`): a blocker vertex's shadow crossing a receiver
 ///   edge, a blocker edge's shadow crossing a receiver vertex, where g is C¹ but its second
 ///   derivatives jump. Left to the adaptivity these cost thousands of viewpoints per pair
 ///   (a cell cut by such a line converges as h⁴) and can stall at the depth limit.
 ///
-/// Only edges that can bound the blockers' joint shadow count ([`silhouette_edges`]): an edge
+/// Only edges that can bound the blockers' joint shadow count (`silhouette_edges`): an edge
 /// two faces of one mesh share is skipped when, from the whole emitter, they fold away on the
-/// same side. Within each piece g is then smooth (up to [`MAX_PIECES`] pieces).
+/// same side. Within each piece g is then smooth (up to `MAX_PIECES` pieces).
 pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
     let snap = geo.snap();
     let mut planes: Vec<Plane> = geo.blockers().iter().filter_map(|b| plane_of(b)).collect();

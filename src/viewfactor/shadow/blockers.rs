@@ -47,7 +47,7 @@ pub struct Blocker {
     pub normal: DVec3,
     /// What it belongs to.
     pub source: BlockerSource,
-    /// Per edge k (ring[k] → ring[k + 1]): the one other blocker sharing it, when exactly one
+    /// Per edge k (ring\[k\] → ring\[k + 1\]): the one other blocker sharing it, when exactly one
     /// does. Across such an edge the two blockers fold, and the edge casts a shadow edge only
     /// from viewpoints where it is on their silhouette.
     pub across: Vec<Option<u32>>,
