@@ -13,5 +13,6 @@ mod concave;
 mod hemicube;
 mod lattice_reuse;
 mod monte_carlo;
+mod points;
 mod shadowed;
 mod visibility;
