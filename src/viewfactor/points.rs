@@ -100,7 +100,8 @@ pub struct PointFactors {
 impl PointFactors {
     /// Σ_j F(point → j) per point.
     pub fn row_sums(&self) -> Vec<f64> {
-        self.rows.iter().map(|r| r.iter().map(|e| e.factor).sum()).collect()
+        // `+ 0.0`: the empty sum is −0, and a point that sees nothing has a row sum of 0.
+        self.rows.iter().map(|r| r.iter().map(|e| e.factor).sum::<f64>() + 0.0).collect()
     }
     /// The factors as a dense row-major array (points × columns).
     pub fn dense(&self) -> Vec<f64> {
