@@ -143,6 +143,11 @@ fn flags_that_points_cannot_honour_are_refused() {
         assert_eq!(code, Some(2), "{extra:?}: {err}");
         assert!(err.contains(needle), "{extra:?}: {err}");
     }
+    // The points file is an input: no output may overwrite it.
+    let (code, err, _) = lambert(&["viewfactors", FURNACE, "--points", p, "-o", p]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("the points file"), "{err}");
+    assert_eq!(std::fs::read_to_string(&pts).unwrap(), "x,y,z,nx,ny,nz\n0.5,0.5,0.5,0,0,1\n");
     // Exact factors meet any tolerance; analytic is the same computation.
     let (code, err, a) =
         lambert(&["viewfactors", FURNACE, "--points", p, "-m", "analytic", "--tolerance", "1e-9"]);

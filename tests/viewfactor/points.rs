@@ -210,7 +210,7 @@ fn ray_hit(o: DVec3, d: DVec3, poly: &Polygon) -> Option<f64> {
         return None;
     }
     let t = n.dot(v[0] - o) / den;
-    if !(t > 1e-12) {
+    if t.is_nan() || t <= 1e-12 {
         return None;
     }
     let x = o + t * d;
