@@ -14,5 +14,6 @@ mod hemicube;
 mod lattice_reuse;
 mod monte_carlo;
 mod points;
+mod real_parts;
 mod shadowed;
 mod visibility;

@@ -14,7 +14,8 @@
 //! - **Standard error.** The ratio estimator's delta-method variance
 //!   Σ K_k² (V_k − R)² / (Σ K_k)², computed as for independent samples (an overestimate for
 //!   scrambled Sobol), with a floor from a half-count prior R̃ = (R·n_eff + ½)/(n_eff + 1),
-//!   n_eff = (ΣK)²/ΣK², so that a sample in which every point agreed never claims zero error.
+//!   n_eff = (ΣK)²/ΣK², so that a sample in which every point agreed never claims zero error;
+//!   a sample in which no point pair faced each other (ΣK = 0) reports the ratio ½ ± ½.
 //! - **Budget.** The sample doubles until the standard error meets the goal.
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
 use super::blockers::bounds;
@@ -28,6 +29,9 @@ use std::f64::consts::FRAC_1_PI;
 
 /// Salt of the auto pair streams (distinct from the Monte Carlo methods' salts).
 const SALT: u64 = 0x6175_746F;
+/// The ratio reported when no sampled point pair faced each other: the middle of [0, 1],
+/// with the half-width as its standard error.
+const NO_SIGHT_RATIO: f64 = 0.5;
 
 /// Uniform points on a patch: the bilinear map for a parallelogram (keeps the Sobol
 /// stratification), else the triangle-table sampler.
@@ -199,7 +203,10 @@ pub fn estimate(
 /// The ratio estimate and its variance from the kernel sums (see the module notes).
 fn ratio(s_unobs: f64, sk: f64, skv: f64, sk2: f64, sk2v: f64) -> (f64, f64) {
     if !(sk > 0.0) {
-        return (s_unobs, 0.0);
+        // No point pair saw the other patch (the facing part of the pair is smaller than
+        // the sample resolves): the ratio is anywhere in [0, 1], so the estimate is the
+        // middle and its error the half-width, never zero.
+        return (s_unobs * NO_SIGHT_RATIO, (s_unobs * NO_SIGHT_RATIO).powi(2));
     }
     let r = skv / sk;
     // Σ K²(V − R)² with V ∈ {0, 1}: Σ_{V=1} K²·(1 − 2R) + R²·Σ K².
@@ -250,6 +257,23 @@ mod tests {
         // The sample grows until the error meets the budget.
         let m = run(blockers, Budget { first: 8, max: 1 << 16, sigma: 1e-3 }, 3);
         assert!(m.var.sqrt() <= 1e-3 && m.samples > 8, "{m:?}");
+        // A receiver almost entirely behind the emitter's plane: the few samples drawn all
+        // miss its facing sliver, and the estimate must say it knows nothing (before, it
+        // claimed the unobstructed value with zero error).
+        let tilted = Polygon::new(vec![
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(0.0, 0.0, 0.001),
+            DVec3::new(1.0, 0.0, 0.001),
+            DVec3::new(1.0, 0.0, -1.0),
+        ])
+        .unwrap();
+        let st = PatchSampler::new(&tilted);
+        assert!(tilted.normal().y > 0.0, "the receiver faces the emitter");
+        let tree = &mut SegmentTree::default();
+        let unobs_tilted = 1e-6;
+        let budget = Budget { first: 4, max: 4, sigma: 0.0 };
+        let m = estimate(&se, e.normal(), &st, tilted.normal(), unobs_tilted, blockers, budget, 1, (0, 1), tree);
+        assert!(m.var.sqrt() >= 0.5 * unobs_tilted * 0.999, "no sight claimed {m:?}");
         // No blocker: exact whatever the sample count.
         let m = run((&[], &[]), Budget { first: 4, max: 4, sigma: 0.0 }, 1);
         assert_eq!(m.s, unobs);
