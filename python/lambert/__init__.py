@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Mapping, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
@@ -36,6 +36,7 @@ __all__ = [
     "ViewFactors",
     "Result",
     "NodeResults",
+    "ProgressEvent",
     "SIGMA",
     "Error",
     "InputError",
@@ -50,7 +51,20 @@ __all__ = [
 SIGMA: float = _lambert.SIGMA
 
 PathLike = Union[str, "os.PathLike[str]"]
-Progress = Union[None, bool, str, Callable[[str], Any]]
+
+
+class ProgressEvent(NamedTuple):
+    """One progress report to a ``progress=callable``: a phase starting (``"view factors"``,
+    ``"solve"``, ``"point view factors"``, then ``"done"``; ``done`` and ``total`` are None), or
+    the counts of the running stage: ``done`` of ``total`` units, ``phase`` naming the units
+    (``"pairs"``, ``"point-patch pairs"``)."""
+
+    phase: str
+    done: Optional[int] = None
+    total: Optional[int] = None
+
+
+Progress = Union[None, bool, str, Callable[[ProgressEvent], Any]]
 
 
 def _warn(messages: Sequence[str]) -> None:
@@ -58,15 +72,50 @@ def _warn(messages: Sequence[str]) -> None:
         warnings.warn(m, LambertWarning, stacklevel=3)
 
 
-def _stage(progress: Progress, what: str) -> None:
-    """Reports a stage to a progress callback (``progress=callable``)."""
-    if callable(progress):
-        progress(what)
+class _Reporter:
+    """Hands the library's progress to a callback (``ProgressEvent``s) or a tqdm bar
+    (``progress=True`` with tqdm installed; without it, the library's own display on stderr,
+    as ``progress="stderr"``). The counts are polled while the computation runs with the GIL
+    released; they never change a number."""
 
+    def __init__(self, progress: Progress) -> None:
+        self.callback = progress if callable(progress) else None
+        self.tqdm: Any = None
+        if progress is True:
+            try:
+                from tqdm.auto import tqdm
 
-def _bar(progress: Progress) -> bool:
-    """True when the library's own progress display (stderr) is asked for."""
-    return progress is True or progress == "stderr"
+                self.tqdm = tqdm
+            except ImportError:
+                pass
+        self.stderr = progress == "stderr" or (progress is True and self.tqdm is None)
+        self.bar: Any = None
+        self.stage = 0
+
+    def watch(self) -> Optional[Callable[[int, int, int, str], None]]:
+        """The counts callback for the extension, when anyone listens."""
+        return self._counts if (self.callback is not None or self.tqdm is not None) else None
+
+    def phase(self, name: str) -> None:
+        if self.callback is not None:
+            self.callback(ProgressEvent(name))
+        if name == "done":
+            self.close()
+
+    def _counts(self, stages: int, done: int, total: int, what: str) -> None:
+        if self.callback is not None:
+            self.callback(ProgressEvent(what, done, total))
+        if self.tqdm is not None:
+            if stages != self.stage:
+                self.close()
+                self.bar = self.tqdm(total=total, unit=" " + what, unit_scale=True, leave=False)
+                self.stage = stages
+            self.bar.update(done - self.bar.n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
 
 
 @dataclass
@@ -453,15 +502,60 @@ class Scene:
         enforcement and refusals). ``tolerance``: auto's absolute goal on each F (default 1e-4
         or the scene file's View3D eps). ``enforce``: none, reciprocity or closure (default:
         none, or closure for a View3D enclosure). ``threads``: worker threads (results do not
-        depend on it). ``progress``: True for the library's progress display on stderr, or a
-        callable that receives each stage's name."""
-        _stage(progress, "view factors")
-        d, handle = self._inner.view_factors(
-            method, tolerance, samples, resolution, seed, patches, enforce, threads, _bar(progress)
-        )
-        _stage(progress, "done")
+        depend on it). ``progress``: a callable that receives :class:`ProgressEvent`s (phases,
+        and pairs done of the total while it computes), True for a tqdm bar (the library's
+        display on stderr without tqdm), or ``"stderr"``; it never changes a number."""
+        report = _Reporter(progress)
+        report.phase("view factors")
+        try:
+            d, handle = self._inner.view_factors(
+                method, tolerance, samples, resolution, seed, patches, enforce, threads, report.stderr, report.watch()
+            )
+        finally:
+            report.close()
+        report.phase("done")
         _warn(d["warnings"])
         return ViewFactors._from(d, handle)
+
+    def point_view_factors(
+        self,
+        points: Any,
+        normals: Any,
+        patches: bool = False,
+        *,
+        threads: Optional[int] = None,
+        progress: Progress = None,
+    ) -> np.ndarray:
+        """View factors from points to surfaces: F(dA_k → surface j) for a point k (a sensor,
+        a differential element) at ``points[k]`` (m) with normal ``normals[k]`` (any non-zero
+        length), as ``lambert viewfactors --points`` computes them (the same numbers).
+
+        Returns a dense array of shape (n_points, n_surfaces), columns in
+        :attr:`surface_names` order (``patches=True``: one column per patch, in
+        :attr:`patch_names` order). Each factor is exact: Lambert's point-to-polygon formula
+        with the pair methods' exact shadows. A point on a surface is not shadowed by it; a
+        point behind a surface sees none of it. In a closed scene each row of a point inside
+        the enclosure sums to 1; rows that do not draw a :class:`LambertWarning` naming the
+        points. Bad arrays (shapes, NaN, infinite values, a zero normal) raise
+        :class:`InputError` (a ValueError). ``threads`` and ``progress`` as in
+        :meth:`view_factors`."""
+        p = np.asarray(points, dtype=float)
+        n = np.asarray(normals, dtype=float)
+        if p.ndim != 2 or p.shape[1:] != (3,):
+            raise InputError(f"<arrays>: points has shape {p.shape}; expected (n, 3)")
+        if n.shape != p.shape:
+            raise InputError(f"<arrays>: normals has shape {n.shape}; expected the shape of points, {p.shape}")
+        report = _Reporter(progress)
+        report.phase("point view factors")
+        try:
+            factors, said = self._inner.point_view_factors(
+                np.ascontiguousarray(p), np.ascontiguousarray(n), patches, threads, report.watch()
+            )
+        finally:
+            report.close()
+        report.phase("done")
+        _warn(said)
+        return factors
 
     def read_view_factors(self, path: PathLike) -> ViewFactors:
         """Reads a view-factor CSV of ``lambert viewfactors`` (or :meth:`ViewFactors.save`)
@@ -491,7 +585,8 @@ class Scene:
         """The net-radiation solve as ``lambert solve`` runs it (same route: hierarchical,
         dense or sparse; same enforcement default: closure for a closed scene, reciprocity for an
         open one). ``view_factors``: view factors computed or read before (``solve
-        --viewfactors``). Returns per-surface and (where solved per patch) per-patch arrays."""
+        --viewfactors``). Returns per-surface and (where solved per patch) per-patch arrays.
+        ``progress`` as in :meth:`view_factors` (the counts are those of the view-factor stage)."""
         saved = None
         if view_factors is not None:
             saved = (
@@ -499,22 +594,27 @@ class Scene:
                 getattr(view_factors, "_stamped", True),
                 getattr(view_factors, "_file", None),
             )
-        _stage(progress, "solve")
-        d, handle = self._inner.solve(
-            method,
-            tolerance,
-            samples,
-            resolution,
-            seed,
-            patches and (view_factors is None or view_factors.level == "patch"),
-            enforce,
-            threads,
-            _bar(progress),
-            solver,
-            exchange,
-            saved,
-        )
-        _stage(progress, "done")
+        report = _Reporter(progress)
+        report.phase("solve")
+        try:
+            d, handle = self._inner.solve(
+                method,
+                tolerance,
+                samples,
+                resolution,
+                seed,
+                patches and (view_factors is None or view_factors.level == "patch"),
+                enforce,
+                threads,
+                report.stderr,
+                solver,
+                exchange,
+                saved,
+                report.watch(),
+            )
+        finally:
+            report.close()
+        report.phase("done")
         _warn(d["warnings"])
         return Result(
             scene=self,

@@ -1,6 +1,6 @@
 """Type stubs of the extension module (the Rust half of lambert)."""
 
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -66,7 +66,16 @@ class _Scene:
         enforce: Optional[str],
         threads: Optional[int],
         progress: bool,
+        watch: Optional[Callable[[int, int, int, str], None]] = None,
     ) -> Tuple[Dict[str, Any], _ViewFactors]: ...
+    def point_view_factors(
+        self,
+        points: npt.NDArray[np.float64],
+        normals: npt.NDArray[np.float64],
+        patches: bool,
+        threads: Optional[int],
+        watch: Optional[Callable[[int, int, int, str], None]] = None,
+    ) -> Tuple[npt.NDArray[np.float64], List[str]]: ...
     def read_view_factors(self, path: str) -> Tuple[Dict[str, Any], _ViewFactors, bool]: ...
     def solve(
         self,
@@ -82,4 +91,5 @@ class _Scene:
         solver: str,
         exchange: str,
         viewfactors: Optional[Tuple[_ViewFactors, bool, Optional[str]]] = None,
+        watch: Optional[Callable[[int, int, int, str], None]] = None,
     ) -> Tuple[Dict[str, Any], _Solution]: ...

@@ -4,7 +4,8 @@
 //! - this file: the module, the scene handle [`PyScene`], and the handles of computed view
 //!   factors ([`PyViewFactors`]) and solutions ([`PySolution`]) that save in the CLI's formats;
 //! - [`arrays`]: scenes from numpy arrays, with the loaders' value checks;
-//! - [`route`]: the route of every computation (the CLI's method choice, stores and refusals).
+//! - [`route`]: the route of every computation (the CLI's method choice, stores and refusals);
+//! - [`watch`]: progress callbacks polled while the GIL is released, and point factors.
 //!
 //! Every computation runs with the GIL released; library errors become the exceptions of
 //! `lambert.errors` with the CLI's message.
@@ -20,6 +21,7 @@ use std::sync::Arc;
 
 mod arrays;
 mod route;
+mod watch;
 
 /// A library error as the `lambert.errors` exception of its kind, with the CLI's message.
 fn to_py(e: lambert::Error) -> PyErr {
@@ -49,7 +51,15 @@ fn run<T: Send>(
     threads: Option<usize>,
     f: impl FnOnce() -> lambert::Result<T> + Send,
 ) -> PyResult<T> {
-    let out = py.detach(move || match threads {
+    py.detach(move || in_pool(threads, f)).map_err(to_py)
+}
+
+/// Runs `f` on a pool of `threads` workers (the global pool when `None`).
+fn in_pool<T: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> lambert::Result<T> + Send,
+) -> lambert::Result<T> {
+    match threads {
         None => f(),
         Some(n) => {
             if !(1..=1024).contains(&n) {
@@ -60,8 +70,7 @@ fn run<T: Send>(
             })?;
             pool.install(f)
         }
-    });
-    out.map_err(to_py)
+    }
 }
 
 /// A scene: named surfaces, their patches, emissivities and boundary conditions.
@@ -214,7 +223,7 @@ impl PyScene {
 
     /// View factors as `lambert viewfactors` computes them; a dict of arrays and diagnostics.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (method, tolerance, samples, resolution, seed, patches, enforce, threads, progress))]
+    #[pyo3(signature = (method, tolerance, samples, resolution, seed, patches, enforce, threads, progress, watch=None))]
     fn view_factors<'py>(
         &self,
         py: Python<'py>,
@@ -227,9 +236,10 @@ impl PyScene {
         enforce: Option<String>,
         threads: Option<usize>,
         progress: bool,
+        watch: Option<Py<PyAny>>,
     ) -> PyResult<(Bound<'py, PyDict>, PyViewFactors)> {
         let scene = self.scene.clone();
-        let out = run(py, threads, move || {
+        let out = watch::run_watched(py, threads, watch, move || {
             let mut opts =
                 route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
             opts.params.progress = progress;
@@ -241,6 +251,21 @@ impl PyScene {
         d.set_item("warnings", out.said.warnings)?;
         d.set_item("notes", out.said.notes)?;
         Ok((d, PyViewFactors { scene: self.scene.clone(), vf: Arc::new(out.vf) }))
+    }
+
+    /// F(point → surface), or patch with `patches`, as a dense (points, columns) array, with
+    /// the closure warning of a closed scene; `watch` hears the progress counts.
+    #[pyo3(signature = (points, normals, patches, threads, watch=None))]
+    fn point_view_factors<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f64>,
+        normals: PyReadonlyArray2<'py, f64>,
+        patches: bool,
+        threads: Option<usize>,
+        watch: Option<Py<PyAny>>,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Vec<String>)> {
+        watch::point_view_factors(py, self.scene.clone(), points, normals, patches, threads, watch)
     }
 
     /// Reads a `lambert viewfactors` CSV written for this scene.
@@ -259,7 +284,7 @@ impl PyScene {
 
     /// The net-radiation solve as `lambert solve` runs it; per-patch arrays and diagnostics.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (method, tolerance, samples, resolution, seed, patches, enforce, threads, progress, solver, exchange, viewfactors=None))]
+    #[pyo3(signature = (method, tolerance, samples, resolution, seed, patches, enforce, threads, progress, solver, exchange, viewfactors=None, watch=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
@@ -275,10 +300,11 @@ impl PyScene {
         solver: String,
         exchange: String,
         viewfactors: Option<(PyRef<'py, PyViewFactors>, bool, Option<PathBuf>)>,
+        watch: Option<Py<PyAny>>,
     ) -> PyResult<(Bound<'py, PyDict>, PySolution)> {
         let scene = self.scene.clone();
         let saved = viewfactors.map(|(v, stamped, file)| ((*v.vf).clone(), stamped, file));
-        let out = run(py, threads, move || {
+        let out = watch::run_watched(py, threads, watch, move || {
             let mut opts =
                 route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
             opts.params.progress = progress;

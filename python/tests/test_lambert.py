@@ -246,8 +246,114 @@ def test_an_open_scene_warns_and_solves_with_ambient():
     assert r.surface.heat_rate[0] > 0 > r.surface.heat_rate[1]
 
 
-def test_progress_callback_hears_the_stages():
+def test_progress_callback_hears_the_stages_and_the_counts():
     scene = lambert.Scene.load(FURNACE)
     heard = []
-    scene.view_factors(progress=heard.append)
-    assert heard == ["view factors", "done"]
+    vf = scene.view_factors(patches=True, progress=heard.append)
+    assert [e.phase for e in heard if e.done is None] == ["view factors", "done"]
+    counts = [e for e in heard if e.done is not None]
+    assert counts, heard
+    assert counts[-1].phase == "pairs" and counts[-1].done == counts[-1].total > 0
+    assert all(a.done <= b.done for a, b in zip(counts, counts[1:]))
+    # Listening changes no number.
+    quiet = scene.view_factors(patches=True)
+    assert (vf.matrix != quiet.matrix).nnz == 0
+    heard.clear()
+    r = scene.solve(progress=heard.append)
+    assert [e.phase for e in heard if e.done is None] == ["solve", "done"]
+    assert np.array_equal(r.surface.heat_rate, scene.solve().surface.heat_rate)
+
+
+def test_a_failing_progress_callback_raises_once_the_run_is_done():
+    scene = lambert.Scene.load(FURNACE)
+
+    def refuse(event):
+        if event.done is not None:
+            raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        scene.view_factors(progress=refuse)
+
+
+def test_progress_true_draws_a_tqdm_bar_when_tqdm_is_installed(monkeypatch):
+    import sys
+    import types
+
+    bars = []
+
+    class FakeBar:
+        def __init__(self, total, **kw):
+            self.total, self.n, self.closed = total, 0, False
+            bars.append(self)
+
+        def update(self, k):
+            self.n += k
+
+        def close(self):
+            self.closed = True
+
+    fake = types.ModuleType("tqdm.auto")
+    fake.tqdm = FakeBar
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", fake)
+    lambert.Scene.load(FURNACE).view_factors(patches=True, progress=True)
+    assert bars and bars[-1].n == bars[-1].total > 0 and all(b.closed for b in bars)
+
+
+SENSORS = np.array([[0.5, 0.5, 0.5], [0.25, 0.7, 0.0], [0.3, 0.2, 0.6], [0.9, 0.1, 0.95]])
+SENSOR_NORMALS = np.array([[0, 0, 1], [0, 0, 1], [1, -2, 0.5], [-1, 1, -1]], dtype=float)
+
+
+@pytest.mark.parametrize("patches", [False, True])
+def test_point_view_factors_equal_the_cli_to_the_last_digit(tmp_path, patches):
+    scene = lambert.Scene.load(FURNACE)
+    F = scene.point_view_factors(SENSORS, SENSOR_NORMALS, patches=patches)
+    cols = scene.patch_names if patches else scene.surface_names
+    assert F.shape == (len(SENSORS), len(cols))
+    # Inside a closed furnace every row sums to 1; a sensor on the floor sees none of it.
+    np.testing.assert_allclose(F.sum(axis=1), 1.0, rtol=0, atol=1e-13)
+    assert F[1, [k for k, c in enumerate(cols) if c.startswith("floor")]].sum() == 0.0
+    points = tmp_path / "sensors.csv"
+    with open(points, "w") as f:
+        f.write("name,x,y,z,nx,ny,nz\n")
+        for k, (p, n) in enumerate(zip(SENSORS, SENSOR_NORMALS)):
+            f.write(",".join([f"s{k}", *map(repr, p.tolist()), *map(repr, n.tolist())]) + "\n")
+    out = tmp_path / "out.csv"
+    run_cli("viewfactors", str(FURNACE), "--points", str(points), "-o", str(out), *(["--patches"] if patches else []))
+    expected = np.zeros_like(F)
+    for row in read_rows(out):
+        expected[int(row["from"][1:]), cols.index(row["to"])] = float(row["factor"])
+    assert np.array_equal(F, expected)
+
+
+def test_point_view_factors_refuse_bad_arrays():
+    scene = lambert.Scene.load(FURNACE)
+    p, n = SENSORS[:1], SENSOR_NORMALS[:1]
+    for points, normals, match in [
+        (p[0], n[0], r"points has shape \(3,\); expected \(n, 3\)"),
+        (p[:, :2], n[:, :2], r"points has shape \(1, 2\)"),
+        (p, SENSOR_NORMALS[:2], r"normals has shape \(2, 3\); expected the shape of points"),
+        ([[0.5, np.nan, 0.5]], n, r"point 0: y is NaN"),
+        (p, [[0.0, 0.0, 0.0]], r"point 0: the normal \(0, 0, 0\) has length 0"),
+        (p, [[0.0, np.inf, 1.0]], r"point 0: ny is inf"),
+    ]:
+        with pytest.raises(lambert.InputError, match=match):
+            scene.point_view_factors(points, normals)
+    with pytest.raises(ValueError):
+        scene.point_view_factors([["a", "b", "c"]], n)
+
+
+def test_point_view_factors_warn_for_a_point_outside_and_keep_numbers_on_any_thread_count():
+    scene = lambert.Scene.load(FURNACE)
+    outside = np.vstack([SENSORS, [[0.5, 0.5, -1.0]]])
+    normals = np.vstack([SENSOR_NORMALS, [[0, 0, 1]]])
+    with pytest.warns(lambert.LambertWarning, match=r"1 point\(s\) do not see a whole hemisphere.*point 4"):
+        F = scene.point_view_factors(outside, normals, threads=1)
+    assert not F[4].any()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert np.array_equal(F, scene.point_view_factors(outside, normals, threads=2))
+    heard = []
+    scene.point_view_factors(SENSORS, SENSOR_NORMALS, progress=heard.append)
+    assert heard[0] == ("point view factors", None, None) and heard[-1].phase == "done"
+    assert any(e.phase == "point-patch pairs" and e.done == e.total == 4 * 96 for e in heard)

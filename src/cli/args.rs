@@ -91,6 +91,10 @@ pub struct ViewfactorsArgs {
     /// Shared options.
     #[command(flatten)]
     pub common: CommonArgs,
+    /// Factors from points instead: a CSV with columns x,y,z,nx,ny,nz (m, the scene's frame)
+    /// and optionally name; one row per point and surface (or patch) it sees.
+    #[arg(long, value_name = "CSV")]
+    pub points: Option<PathBuf>,
 }
 
 /// `lambert solve`.

@@ -1,7 +1,8 @@
 //! Command line: clap arguments ([`args`]) become a validated [`config::Config`] before any
 //! work starts ([`limits`]: ranges, caps and cost warnings); [`run`] orchestrates library
-//! calls and holds no physics.
+//! calls and holds no physics ([`points`]: `viewfactors --points`).
 pub mod args;
 pub mod config;
 pub mod limits;
+pub mod points;
 pub mod run;

@@ -57,6 +57,9 @@ fn scene_inputs(scene: &Scene) -> Vec<Input> {
 }
 
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
+    if let Some(points) = &a.points {
+        return super::points::run(&a, points);
+    }
     let mut cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
     let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;

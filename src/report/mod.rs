@@ -3,6 +3,7 @@
 //! - [`csv`]: the `viewfactors` matrix;
 //! - [`solve_csv`]: the `solve` table and radiative conductances;
 //! - [`decks`]: conductances as SINDA/FLUINT and ESATAN network decks;
+//! - [`points_csv`]: points read for `viewfactors --points`, and their factors written;
 //! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`);
 //! - [`charts`]: log–log charts of the validation studies (SVG, PNG);
 //! - [`mesh`]: patch polygons as a welded mesh, cell values averaged to vertices;
@@ -15,6 +16,7 @@ pub mod decks;
 pub mod dense_csv;
 pub mod mesh;
 pub mod outputs;
+pub mod points_csv;
 pub mod read_vf;
 pub mod render;
 pub mod solve_csv;

@@ -6,6 +6,7 @@
 //!   diagnostics; never an N×N dense temporary;
 //! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
+//! - [`points`]: factors from points (sensors) to every surface or patch, exact shadows;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
 //! - [`limits`]: the bounds on samples, resolution and tolerance, for every caller;
 //! - [`range`]: the final check that every written factor lies in [0, 1];
@@ -29,6 +30,7 @@ pub mod flags;
 pub mod hemicube;
 pub mod limits;
 pub mod monte_carlo;
+pub mod points;
 pub mod progress;
 pub mod range;
 pub mod shadow;

@@ -9,6 +9,11 @@
 //! often finish last. The estimate therefore takes the slower of the mean rate so far and the
 //! rate over the last [`RATE_WINDOW`]; when no row finished within that window it says so
 //! instead of printing a time.
+//!
+//! **Watching from another thread.** A caller that shows progress itself (the Python package's
+//! callback) runs the work inside [`watching`]: every [`Progress`] started on that thread
+//! then also counts into the caller's [`Watch`], which the caller polls.
+use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -63,11 +68,72 @@ struct Shared {
     wake: Condvar,
 }
 
+/// Counts a caller polls from another thread while work runs under [`watching`]: the current
+/// stage's units done and total, and how many stages have started.
+#[derive(Debug, Default)]
+pub struct Watch {
+    done: AtomicU64,
+    total: AtomicU64,
+    stages: AtomicU64,
+    what: Mutex<&'static str>,
+}
+
+/// One reading of a [`Watch`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Reading {
+    /// Stages started so far (a new [`Progress`] is a new stage).
+    pub stages: u64,
+    /// Units done in the current stage (at most `total`).
+    pub done: u64,
+    /// Units in the current stage.
+    pub total: u64,
+    /// What the units are ("pairs").
+    pub what: &'static str,
+}
+
+impl Watch {
+    /// The current counts.
+    pub fn read(&self) -> Reading {
+        let total = self.total.load(Ordering::Relaxed);
+        Reading {
+            stages: self.stages.load(Ordering::Relaxed),
+            done: self.done.load(Ordering::Relaxed).min(total),
+            total,
+            what: *self.what.lock().unwrap_or_else(|e| e.into_inner()),
+        }
+    }
+    fn begin(&self, total: u64, what: &'static str) {
+        *self.what.lock().unwrap_or_else(|e| e.into_inner()) = what;
+        self.done.store(0, Ordering::Relaxed);
+        self.total.store(total, Ordering::Relaxed);
+        self.stages.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+thread_local! {
+    static WATCH: RefCell<Option<Arc<Watch>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with every [`Progress`] it starts on this thread also counting into `watch`.
+pub fn watching<T>(watch: &Arc<Watch>, f: impl FnOnce() -> T) -> T {
+    let before = WATCH.with(|w| w.replace(Some(Arc::clone(watch))));
+    struct Restore(Option<Arc<Watch>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            let before = self.0.take();
+            WATCH.with(|w| *w.borrow_mut() = before);
+        }
+    }
+    let _restore = Restore(before);
+    f()
+}
+
 /// A running progress report; [`Progress::add`] from any thread, dropped (or
 /// [`Progress::finish`]) when the work is done.
 pub struct Progress {
     shared: Arc<Shared>,
     reporter: Option<JoinHandle<()>>,
+    watch: Option<Arc<Watch>>,
 }
 
 impl Progress {
@@ -79,12 +145,19 @@ impl Progress {
             let s = Arc::clone(&shared);
             std::thread::spawn(move || report(&s, total, what, mode))
         });
-        Progress { shared, reporter }
+        let watch = WATCH.with(|w| w.borrow().clone());
+        if let Some(w) = &watch {
+            w.begin(total, what);
+        }
+        Progress { shared, reporter, watch }
     }
 
     /// Records `n` more units done.
     pub fn add(&self, n: u64) {
         self.shared.done.fetch_add(n, Ordering::Relaxed);
+        if let Some(w) = &self.watch {
+            w.done.fetch_add(n, Ordering::Relaxed);
+        }
     }
 
     /// Units done so far.
@@ -240,6 +313,28 @@ mod tests {
         young.push(Duration::ZERO, 0);
         young.push(Duration::from_secs(5), 10);
         assert_eq!(young.recent(), None);
+    }
+
+    #[test]
+    fn a_watch_sees_each_stage_started_under_it_and_nothing_outside() {
+        let watch = Arc::new(Watch::default());
+        let outside = Progress::start(5, "pairs", Mode::Off);
+        outside.add(5);
+        assert_eq!(watch.read().stages, 0);
+        watching(&watch, || {
+            let p = Progress::start(100, "pairs", Mode::Off);
+            std::thread::scope(|s| {
+                s.spawn(|| p.add(30));
+                s.spawn(|| p.add(12));
+            });
+            assert_eq!(watch.read(), Reading { stages: 1, done: 42, total: 100, what: "pairs" });
+            let q = Progress::start(7, "point-patch pairs", Mode::Off);
+            q.add(7);
+        });
+        assert_eq!(watch.read(), Reading { stages: 2, done: 7, total: 7, what: "point-patch pairs" });
+        // The thread's watch is gone after the call.
+        Progress::start(3, "pairs", Mode::Off).add(3);
+        assert_eq!(watch.read().stages, 2);
     }
 
     #[test]

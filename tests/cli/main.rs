@@ -15,5 +15,6 @@ mod cli_vs3;
 mod common;
 mod determinism;
 mod fuzz;
+mod points;
 mod small_messages;
 mod vtk_output;

@@ -13,6 +13,7 @@ mod concave;
 mod hemicube;
 mod lattice_reuse;
 mod monte_carlo;
+mod points;
 mod real_parts;
 mod shadowed;
 mod visibility;

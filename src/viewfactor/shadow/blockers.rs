@@ -76,6 +76,12 @@ pub struct Blockers {
 impl Blockers {
     /// Collects, filters and indexes the blockers of `scene`.
     pub fn new(scene: &Scene) -> Self {
+        Self::seen_from(scene, &[])
+    }
+
+    /// As [`Self::new`], also keeping blockers with only `viewpoints` (points outside the
+    /// patches, such as sensors) on one side of their plane and patch material on the other.
+    pub fn seen_from(scene: &Scene, viewpoints: &[DVec3]) -> Self {
         let (lo, hi) = scene
             .patches
             .iter()
@@ -97,7 +103,9 @@ impl Blockers {
             .into_iter()
             .filter(|b| {
                 let off = b.normal.dot(b.ring[0]);
-                me.any_patch_vertex(scene, b.normal, -off) && me.any_patch_vertex(scene, -b.normal, off)
+                let seen = |n: DVec3, d: f64| viewpoints.iter().any(|&x| n.dot(x) + d > snap);
+                (me.any_patch_vertex(scene, b.normal, -off) || seen(b.normal, -off))
+                    && (me.any_patch_vertex(scene, -b.normal, off) || seen(-b.normal, off))
             })
             .collect();
         let mut kept = kept;
