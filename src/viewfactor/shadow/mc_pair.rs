@@ -272,7 +272,8 @@ mod tests {
         let tree = &mut SegmentTree::default();
         let unobs_tilted = 1e-6;
         let budget = Budget { first: 4, max: 4, sigma: 0.0 };
-        let m = estimate(&se, e.normal(), &st, tilted.normal(), unobs_tilted, blockers, budget, 1, (0, 1), tree);
+        let m =
+            estimate(&se, e.normal(), &st, tilted.normal(), unobs_tilted, blockers, budget, 1, (0, 1), tree);
         assert!(m.var.sqrt() >= 0.5 * unobs_tilted * 0.999, "no sight claimed {m:?}");
         // No blocker: exact whatever the sample count.
         let m = run((&[], &[]), Budget { first: 4, max: 4, sigma: 0.0 }, 1);
