@@ -639,7 +639,7 @@ mod tests {
             (0..blockers.len()).map(|k| (blockers.get(k).closed, blockers.get(k).body)).collect();
         geo.set_neighbours(&across, &closed);
         let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
-        assert!(active.len() > UNION_MIN_ACTIVE, "{} blockers", active.len());
+        assert!(active.len() > 30, "a meshed body: {} blockers", active.len());
         let (mut worst, mut most) = (0.0f64, 0.0f64);
         let mut s = Scratch::default();
         let ring = geo.emitter().to_vec();
