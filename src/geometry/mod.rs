@@ -8,6 +8,7 @@
 //! - [`planes`]: grouping polygons by unoriented plane (coplanar pairs, blocker planes).
 //! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
 //! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
+//! - [`union`]: the union of many plane polygons by one boolean (`i_overlay`).
 //! - [`tolerance`]: every geometric epsilon, one name per concept, with its reason.
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
@@ -21,6 +22,7 @@ pub mod quadrature;
 pub mod sampling;
 pub mod subdivide;
 pub mod tolerance;
+pub mod union;
 
 pub use glam::DVec3;
 pub use polygon::{Polygon, PolygonError};

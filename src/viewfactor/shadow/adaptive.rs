@@ -401,13 +401,18 @@ impl Integrator {
         info
     }
 
-    /// Drops blockers clear of the cell's penumbra; marks the cell full when the receiver is in
-    /// some blocker's umbra. The surviving list is copied to the end of the pool.
+    /// Drops blockers clear of the cell's penumbra, and faces of a solid turned away from the
+    /// whole cell; marks the cell full when the receiver is in some blocker's umbra. The
+    /// surviving list is copied to the end of the pool.
     fn reclassify(&self, geo: &ShadowGeometry, item: &mut Item, s: &mut AdaptScratch) {
         item.cell.ring(&mut s.ring);
         let start = s.pool.len();
         for k in item.start..item.start + item.len {
             let b = s.pool[k];
+            if geo.turned_away(b as usize, &s.ring) {
+                // A solid's face turned away from the whole cell casts no shadow from it.
+                continue;
+            }
             let blocker = &geo.blockers()[b as usize];
             if s.volume.build(&s.ring, blocker, geo.snap()) == Build::Never {
                 continue;
