@@ -47,6 +47,9 @@ pub enum Store {
     Dense,
     /// Clustered links with heat-rate error control.
     Hierarchical,
+    /// Every patch pair in the sparse store, whatever the request (the reference route that
+    /// validation compares the others with).
+    Sparse,
 }
 
 /// The route a plan takes: which exchange store and solve stack compute the result.
@@ -387,6 +390,7 @@ impl Plan {
         };
         let patches = n;
         let reason = match req.store {
+            Store::Sparse => return Ok(Plan { route: Route::Sparse, ..packed(Reason::Asked) }),
             Store::Dense => return Ok(packed(if served { Reason::Asked } else { Reason::OnlySparse })),
             Store::Hierarchical if !served => return Err(PlanError::ClusteredUnserved),
             Store::Hierarchical => Reason::Asked,
