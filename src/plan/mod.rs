@@ -392,7 +392,10 @@ impl Plan {
         let reason = match req.store {
             Store::Sparse => return Ok(Plan { route: Route::Sparse, ..packed(Reason::Asked) }),
             Store::Dense => return Ok(packed(if served { Reason::Asked } else { Reason::OnlySparse })),
-            Store::Hierarchical if !served => return Err(PlanError::ClusteredUnserved),
+            // The links evaluate their near pairs with an exact kernel only.
+            Store::Hierarchical if !served || !matches!(req.method, Method::Auto | Method::Analytic) => {
+                return Err(PlanError::ClusteredUnserved)
+            }
             Store::Hierarchical => Reason::Asked,
             Store::Auto if !served => return Ok(packed(Reason::OnlySparse)),
             Store::Auto => {

@@ -53,6 +53,9 @@ fn the_clustered_store_refuses_what_it_cannot_serve_in_library_words() {
     let req = Request { store: Store::Hierarchical, method: Method::McCosine, ..Request::default() };
     let e = Plan::new(&s, &req).unwrap_err();
     assert!(matches!(e, PlanError::ClusteredUnserved), "{e}");
+    // A deterministic method without an exact kernel is refused before any work, too.
+    let req = Request { store: Store::Hierarchical, method: Method::Hemicube, ..Request::default() };
+    assert!(matches!(Plan::new(&s, &req), Err(PlanError::ClusteredUnserved)));
     assert!(!e.to_string().contains("--"), "no command-line flag in a library error: {e}");
 }
 
