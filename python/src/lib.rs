@@ -4,7 +4,8 @@
 //! - this file: the module, the scene handle [`PyScene`], and the handles of computed view
 //!   factors ([`PyViewFactors`]) and solutions ([`PySolution`]) that save in the CLI's formats;
 //! - [`arrays`]: scenes from numpy arrays, with the loaders' value checks;
-//! - [`route`]: the route of every computation (the CLI's method choice, stores and refusals);
+//! - [`route`]: every computation on the library's plan (the CLI's method choice, stores and
+//!   refusals);
 //! - [`watch`]: progress callbacks polled while the GIL is released, and point factors.
 //!
 //! Every computation runs with the GIL released; library errors become the exceptions of
@@ -242,7 +243,7 @@ impl PyScene {
         let out = watch::run_watched(py, threads, watch, move || {
             let mut opts =
                 route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
-            opts.params.progress = progress;
+            opts.set_progress(progress);
             route::view_factors(&scene, opts)
         })?;
         let d = vf_dict(py, &out.vf)?;
@@ -307,7 +308,7 @@ impl PyScene {
         let out = watch::run_watched(py, threads, watch, move || {
             let mut opts =
                 route::Options::new(&method, tolerance, samples, resolution, seed, patches, enforce)?;
-            opts.params.progress = progress;
+            opts.set_progress(progress);
             let s = route::SolveOptions { solver, exchange };
             let saved = saved.as_ref().map(|(v, st, f)| (v.clone(), *st, f.as_deref()));
             route::solve(&scene, opts, &s, saved)

@@ -2,9 +2,9 @@
 use super::args::{Command, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs};
 use super::config::Config;
 use super::limits;
-use lambert::exchange::{self, Enforce, EnforceParams, Exchange};
+use lambert::exchange::{self, Enforce};
 use lambert::plan::{
-    hit_rays, with_obstruction_note, Outcome, Phase, Plan, PlanError, Progress, Reason, Request, Route,
+    with_unstamped_note, Goal, Matrix, Outcome, Phase, Plan, PlanError, Progress, Reason, Request, Route,
     Store, Tolerance, HIERARCHICAL_MIN_PATCHES,
 };
 use lambert::report;
@@ -60,7 +60,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     if let Some(points) = &a.points {
         return super::points::run(&a, points);
     }
-    let mut cfg = Config::from_args(&a.common)?;
+    let cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
     let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;
     let scene = scene::load_with(&cfg.scene, &cfg.load)?;
@@ -69,56 +69,72 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         eprintln!("lambert: warning: {w}");
     }
     warn_facing_away(&scene);
-    apply_scene_defaults(&mut cfg, &scene)?;
+    let level = if cfg.patches { Level::Patch } else { Level::Surface };
+    let request = Request { goal: Goal::ViewFactors { level }, ..request(&cfg)? };
+    let plan = Plan::new(&scene, &request)?;
+    for note in &plan.scene_notes {
+        eprintln!("lambert: {note}");
+    }
     let cheaper =
         "a coarser mesh cuts it, or a Monte Carlo method (-m mc-cosine: cost in patches × --samples)";
     if let Some(w) = limits::mesh_cost(&scene, cfg.params.method, rayon::current_num_threads(), cheaper) {
         eprintln!("lambert: warning: {w}");
     }
-    let level = if cfg.patches { Level::Patch } else { Level::Surface };
-    let fallback = if scene.run_defaults.closure { "closure" } else { "none" };
-    let mode: Enforce = cfg.enforce.as_deref().unwrap_or(fallback).parse()?;
-    if vtk.is_none() && lean_viewfactors(&scene, &cfg, level, mode, &mut outs)? {
-        return outs.commit();
+    let out = plan.view_factors(&scene, &mut Sink { scene: &scene })?;
+    let d = &out.diagnostics;
+    say_warnings(&d.leak_warnings);
+    if let Some(rep) = &d.enforcement {
+        print_enforcement(plan.enforce, rep);
     }
-    // Also keeps the per-patch row sums before enforcement (VTK `raw_row_sum`).
-    let (vf, raw_sums) = if mode == Enforce::None {
-        let vf = viewfactor::compute(&scene, &cfg.params, level)?;
-        say_warnings(&vf.warnings);
-        warn_flags(&scene, &vf.flags);
-        warn_leaks(&scene, &vf, cfg.params.method, cfg.params.tolerance);
-        let sums = vf.patch_row_sums.clone();
-        (vf, sums)
-    } else {
-        // Enforce on patches, then sum to surfaces: S_IJ = Σ S_ij keeps reciprocity and closure.
-        let raw = viewfactor::compute(&scene, &cfg.params, Level::Patch)?;
-        say_warnings(&raw.warnings);
-        warn_flags(&scene, &raw.flags);
-        let ex = enforced(&scene, &raw, mode, hit_rays(&cfg.params))?;
-        let mut vf = at_level(&scene, &ex, level).to_viewfactors(raw.wall);
-        vf.pairs = raw.pairs;
-        (vf, raw.patch_row_sums)
+    let open = !scene.is_closed();
+    let geometry = scene::fingerprint::geometry(&scene);
+    let method = match (&out.matrix, out.route) {
+        (Matrix::Rows(vf), Route::Sparse) => method_summary(cfg.params.method, vf),
+        _ => cfg.params.method.to_string(),
     };
+    let store = match out.route {
+        Route::Packed => format!(", dense store {:.1} MB", d.store_bytes as f64 / 1e6),
+        _ => String::new(),
+    };
+    let (pairs, secs) = (d.pairs, d.viewfactor_wall.as_secs_f64());
+    let worst = out.worst_row.clone();
     if let Some(kind) = vtk {
-        let fields = report::vtk::viewfactor_fields(&scene, &vf, &raw_sums);
+        let fields = report::vtk::viewfactor_fields(&scene, &out.to_viewfactors(), &out.raw_row_sums);
         outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, &scene, &fields))?;
     }
-    let geometry = scene::fingerprint::geometry(&scene);
-    outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, !scene.is_closed(), &geometry, p))?;
+    match &out.matrix {
+        Matrix::Packed { triangle, names } => outs.write("output", |w, p| {
+            report::dense_csv::write_triangle(w, triangle, names, open, &geometry, p)
+        })?,
+        Matrix::Rows(vf) => {
+            outs.write("output", |w, p| report::csv::write_viewfactors(w, vf, open, &geometry, p))?
+        }
+    }
     outs.commit()?;
-    let secs = vf.wall.as_secs_f64();
     eprintln!(
-        "lambert: {} patches, {} pairs, {:.3} s ({:.3e} pairs/s), method {}",
+        "lambert: {} patches, {pairs} pairs, {secs:.3} s ({:.3e} pairs/s), method {method}{store}",
         scene.patches.len(),
-        vf.pairs,
-        secs,
-        vf.pairs as f64 / secs.max(1e-9),
-        method_summary(cfg.params.method, &vf)
+        pairs as f64 / secs.max(1e-9),
     );
-    if scene.is_closed() && !scene.patches.is_empty() {
-        eprintln!("lambert: closed scene, {}", row_error_summary(&vf));
+    if let Some((worst, name, level)) = worst {
+        let kind = if level == Level::Patch { "patch" } else { "surface" };
+        eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} ({kind} {name})");
     }
     Ok(())
+}
+
+/// The plan request of the options shared by `viewfactors` and `solve`.
+fn request(cfg: &Config) -> Result<Request> {
+    Ok(Request {
+        method: cfg.params.method,
+        samples: cfg.params.samples,
+        resolution: cfg.params.resolution,
+        tolerance: cfg.tolerance_given,
+        seed: cfg.params.seed,
+        enforce: cfg.enforce.as_deref().map(str::parse).transpose()?,
+        progress_bar: cfg.params.progress,
+        ..Request::default()
+    })
 }
 
 /// Prints what the view-factor method reported about its own accuracy.
@@ -126,19 +142,6 @@ fn say_warnings(warnings: &[String]) {
     for w in warnings {
         eprintln!("lambert: warning: {w}");
     }
-}
-
-/// Run settings the scene file asks for (a View3D model's `eps`), where the command line is
-/// silent; said on stderr so the run is reproducible from the command alone.
-fn apply_scene_defaults(cfg: &mut Config, scene: &Scene) -> Result<()> {
-    if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
-        cfg.params.tolerance = scene_tolerance(scene, t)?;
-        eprintln!("lambert: tolerance {t} from the scene file (View3D eps)");
-    }
-    if cfg.enforce.is_none() && scene.run_defaults.closure {
-        eprintln!("lambert: enforce closure: the scene file declares a closed enclosure (View3D encl = 1)");
-    }
-    Ok(())
 }
 
 /// A scene file's tolerance (View3D `eps`), held to the same floor as `--tolerance`.
@@ -157,215 +160,11 @@ fn method_summary(method: Method, vf: &ViewFactors) -> String {
     }
 }
 
-/// The worst |row sum − 1| at the run's level: a surface in a per-surface run, a patch with
-/// `--patches`.
-fn row_error_summary(vf: &ViewFactors) -> String {
-    match vf.level {
-        Level::Patch => {
-            let (worst, at) = vf.max_patch_row_error();
-            format!("max |row sum - 1| = {worst:.3e} (patch {})", vf.names[at])
-        }
-        Level::Surface => {
-            let (worst, at) = vf
-                .row_sums()
-                .iter()
-                .enumerate()
-                .map(|(i, s)| ((s - 1.0).abs(), i))
-                .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-            format!("max |row sum - 1| = {worst:.3e} (surface {})", vf.names[at])
-        }
-    }
-}
-
-/// Output surfaces above which the surface-level matrix is kept in the packed store.
-const LEAN_SURFACES: usize = 512;
-
-/// `viewfactors` on the lean packed store when the output is patch-level, enforced, or has
-/// many surfaces (and the method has a row kernel); false sends the run to the sparse path.
-fn lean_viewfactors(
-    scene: &Scene,
-    cfg: &Config,
-    level: Level,
-    mode: Enforce,
-    outs: &mut OutputSet,
-) -> Result<bool> {
-    let symmetric = cfg.params.method.is_symmetric();
-    let wanted = level == Level::Patch || mode != Enforce::None || scene.surfaces.len() > LEAN_SURFACES;
-    if cfg.params.method.is_monte_carlo() || !(symmetric || mode != Enforce::None) || !wanted {
-        return Ok(false);
-    }
-    let start = std::time::Instant::now();
-    let Some(mut ex) = exchange::dense::build(scene, &cfg.params)? else { return Ok(false) };
-    let wall = start.elapsed();
-    say_warnings(&ex.t.warnings);
-    warn_flags(scene, &ex.t.flags);
-    let open = !scene.is_closed();
-    if mode == Enforce::None {
-        warn_dense_leaks(scene, &ex);
-    } else {
-        let p = EnforceParams {
-            mode,
-            open,
-            source: scene.source.clone(),
-            facts: facts(scene),
-            ..Default::default()
-        };
-        let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
-        print_enforcement(mode, &rep);
-    }
-    let one_patch_each = scene.surfaces.iter().all(|s| s.patches.len() == 1);
-    let geometry = scene::fingerprint::geometry(scene);
-    if level == Level::Patch || one_patch_each {
-        let names: Vec<String> = match level {
-            Level::Patch => std::mem::take(&mut ex.names),
-            Level::Surface => scene.surfaces.iter().map(|s| s.name.clone()).collect(),
-        };
-        outs.write("output", |w, p| report::dense_csv::write_triangle(w, &ex.t, &names, open, &geometry, p))?;
-    } else {
-        let vf = exchange::dense::to_surface_viewfactors(&ex, scene, wall);
-        outs.write("output", |w, p| report::csv::write_viewfactors(w, &vf, open, &geometry, p))?;
-    }
-    let secs = wall.as_secs_f64();
-    eprintln!(
-        "lambert: {} patches, {} pairs, {:.3} s ({:.3e} pairs/s), method {}, dense store {:.1} MB",
-        scene.patches.len(),
-        ex.t.pairs,
-        secs,
-        ex.t.pairs as f64 / secs.max(1e-9),
-        cfg.params.method,
-        ex.t.bytes() as f64 / 1e6
-    );
-    if !open && ex.t.n > 0 {
-        let sums = if mode == Enforce::None { ex.t.raw_row_sums.clone() } else { ex.t.row_sums() };
-        let (worst, at) = sums
-            .iter()
-            .zip(&ex.t.areas)
-            .enumerate()
-            .map(|(i, (s, a))| ((s / a - 1.0).abs(), i))
-            .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-        eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} (patch {})", scene.patch_name(at));
-    }
-    Ok(true)
-}
-
-/// Flagged entries listed on stderr shown at most this many at a time (the count is always given).
-const FLAGS_SHOWN: usize = 10;
-
-/// Warns about the entries a method flagged (error not bounded, receiver cut), naming the pairs.
-fn warn_flags(scene: &Scene, flags: &[viewfactor::Flag]) {
-    for f in flags.iter().take(FLAGS_SHOWN) {
-        // A surface of one patch is named as itself.
-        let name = |p: usize| {
-            let s = &scene.surfaces[scene.patches[p].surface];
-            if s.patches.len() == 1 {
-                s.name.clone()
-            } else {
-                scene.patch_name(p)
-            }
-        };
-        let (from, to) = (name(f.from), name(f.to));
-        eprintln!("lambert: warning: {} entry {from} -> {to}: {}", f.method, f.note);
-    }
-    if flags.len() > FLAGS_SHOWN {
-        eprintln!("lambert: warning: {} more flagged entries not shown", flags.len() - FLAGS_SHOWN);
-    }
-}
-
-/// The leak warning of [`warn_leaks`] on the packed store (the general thresholds).
-fn warn_dense_leaks(scene: &Scene, ex: &exchange::dense::DenseExchange) {
-    if !scene.is_closed() {
-        return;
-    }
-    let leaks = exchange::dense::leaks(&ex.t);
-    if !leaks.is_empty() {
-        let rows: Vec<(usize, f64)> = leaks.iter().map(|l| (l.0, l.1)).collect();
-        warn_leak_hint(scene, &exchange::leak::rows_from_triangle(&ex.t, &ex.names, &rows));
-        let worst: Vec<String> = leaks
-            .iter()
-            .take(5)
-            .map(|&(i, s, _)| format!("{} (row sum {})", ex.names[i], row_sum(s)))
-            .collect();
-        eprintln!(
-            "lambert: warning: closed scene leaks: {} row(s) sum to less than 1 beyond the method's error; worst: {}",
-            leaks.len(),
-            worst.join(", ")
-        );
-        warn_obstructions(scene, &ex.names[leaks[0].0]);
-    }
-}
-
-/// SPEC: `viewfactors` warns about a leaking closed scene and names the worst rows.
-fn warn_leaks(scene: &Scene, vf: &ViewFactors, method: Method, tolerance: f64) {
-    if !scene.is_closed() {
-        return;
-    }
-    let ex = Exchange::from_viewfactors(vf);
-    let mut leaks: Vec<(usize, f64)> =
-        exchange::enforce::leaks(&ex).iter().map(|l| (l.node, l.row_sum)).collect();
-    // An exact method's error is far below the general threshold: check against its own.
-    if leaks.is_empty() {
-        let all_ladder = || vf.rows.iter().flatten().all(|e| e.method == MethodSet::ANALYTIC);
-        if let Some(tol) = method.own_leak_tol(tolerance, all_ladder) {
-            leaks = viewfactor::analytic::kernel::leaks(vf, tol);
-        }
-    }
-    if !leaks.is_empty() {
-        warn_leak_hint(scene, &exchange::leak::rows_from_viewfactors(vf, &leaks));
-        let worst: Vec<String> =
-            leaks.iter().take(5).map(|&(i, s)| format!("{} (row sum {})", vf.names[i], row_sum(s))).collect();
-        eprintln!(
-            "lambert: warning: closed scene leaks: {} row(s) sum to less than 1 beyond the method's error; worst: {}",
-            leaks.len(),
-            worst.join(", ")
-        );
-        warn_obstructions(scene, &vf.names[leaks[0].0]);
-    }
-}
-
-/// The obstruction note of [`scene::hints::obstruction_note`] beside a leak warning whose
-/// worst row is `name`, when the facts support it.
-fn warn_obstructions(scene: &Scene, name: &str) {
-    if let Some(note) = scene::hints::obstruction_note(scene, name) {
-        eprintln!("lambert: warning: {note}");
-    }
-}
-
 /// SPEC extension: a panel of an open scene that faces away from every surface it could see.
 fn warn_facing_away(scene: &Scene) {
     for f in scene::hints::facing_away(scene) {
         eprintln!("lambert: warning: {}", scene::hints::facing_away_warning(scene, &f));
     }
-}
-
-/// The geometry facts that leak hints are checked against.
-fn facts(scene: &Scene) -> Option<std::sync::Arc<scene::orientation::SceneFacts>> {
-    Some(std::sync::Arc::new(scene::orientation::SceneFacts::of(scene)))
-}
-
-/// Prints the hint for leaking `rows`, when the geometry facts name a cause.
-fn warn_leak_hint(scene: &Scene, rows: &[exchange::leak::LeakRow]) {
-    let hint = exchange::leak::hint(&scene::orientation::SceneFacts::of(scene), rows);
-    if !hint.is_empty() {
-        eprintln!("lambert: warning: {hint}");
-    }
-}
-
-/// A row sum for a message: six decimals, and a sum that rounds to zero (a surface that sees
-/// nothing, with round-off of either sign) as `0`, never `-0.000000`.
-fn row_sum(s: f64) -> String {
-    if s.abs() < 5e-7 {
-        "0".into()
-    } else {
-        format!("{s:.6}")
-    }
-}
-
-/// Builds the exchange matrix of `vf` and enforces `mode` ([`lambert::plan::enforced`]),
-/// printing the diagnostics.
-fn enforced(scene: &Scene, vf: &ViewFactors, mode: Enforce, rays: Option<usize>) -> Result<Exchange> {
-    let (ex, rep) = lambert::plan::enforced(scene, vf, mode, rays)?;
-    print_enforcement(mode, &rep);
-    Ok(ex)
 }
 
 /// The residuals before and after enforcement, on stderr.
@@ -380,38 +179,12 @@ fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
     );
 }
 
-/// Adds to a leak refusal of `solve --viewfactors FILE` that FILE carries no geometry
-/// fingerprint, so it may belong to another scene with the same names.
-fn with_unstamped_note(e: Error, file: &Path) -> Error {
-    let Error::Input(mut ie) = e else { return e };
-    if ie.problem.contains("leaks") {
-        ie.problem = format!(
-            "{}. Note: {} carries no geometry fingerprint (an older or hand-made file), so it may have \
-             been computed for another scene with the same names",
-            ie.problem,
-            file.display()
-        );
-    }
-    Error::Input(ie)
-}
-
 fn mode_name(m: Enforce) -> &'static str {
     match m {
         Enforce::None => "none",
         Enforce::Reciprocity => "reciprocity",
         Enforce::Closure => "closure",
     }
-}
-
-/// The exchange matrix at the output level (patches as they are, or summed per surface).
-fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
-    if level == ex.level {
-        return ex.clone();
-    }
-    let group: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
-    let names = scene.surfaces.iter().map(|s| s.name.clone()).collect();
-    let areas = scene.surfaces.iter().map(|s| s.area).collect();
-    ex.aggregate(&group, names, areas, Level::Surface)
 }
 
 /// A bad `--vtk` extension is refused before any work starts; the file type otherwise.
@@ -451,19 +224,12 @@ fn solve(a: SolveArgs) -> Result<()> {
         let level = if a.viewfactors.is_some() { Level::Surface } else { Level::Patch };
         solve::conductance::check_deck(&scene, level, cfg.patches)?;
     }
-    let enforce = cfg.enforce.as_deref().map(str::parse).transpose()?;
     let request = Request {
-        method: cfg.params.method,
-        samples: cfg.params.samples,
-        resolution: cfg.params.resolution,
-        tolerance: cfg.tolerance_given,
-        seed: cfg.params.seed,
-        enforce,
         store,
         solver,
         saved_viewfactors: a.viewfactors.is_some(),
         conductances: a.conductances.is_some(),
-        progress_bar: cfg.params.progress,
+        ..request(&cfg)?
     };
     let plan = Plan::new(&scene, &request).map_err(|e| match e {
         PlanError::ClusteredUnserved => Error::Usage(
@@ -558,7 +324,7 @@ impl Progress for Sink<'_> {
     fn phase(&mut self, _: Phase) {}
     fn method_report(&mut self, warnings: &[String], flags: &[viewfactor::Flag]) {
         say_warnings(warnings);
-        warn_flags(self.scene, flags);
+        say_warnings(&lambert::plan::flag_warnings(self.scene, flags));
     }
 }
 

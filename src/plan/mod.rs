@@ -47,6 +47,9 @@ pub enum Store {
     Dense,
     /// Clustered links with heat-rate error control.
     Hierarchical,
+    /// Every patch pair in the sparse store, whatever the request (the reference route that
+    /// validation compares the others with).
+    Sparse,
 }
 
 /// The route a plan takes: which exchange store and solve stack compute the result.
@@ -85,9 +88,24 @@ pub enum Tolerance {
     },
 }
 
+/// What a request computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Goal {
+    /// The radiosity solve ([`Plan::run`]).
+    #[default]
+    Solve,
+    /// The view-factor matrix at `level` ([`Plan::view_factors`]), enforced when asked.
+    ViewFactors {
+        /// Per surface or per patch.
+        level: Level,
+    },
+}
+
 /// A request: what to compute, in the library's terms.
 #[derive(Debug, Clone)]
 pub struct Request {
+    /// What to compute.
+    pub goal: Goal,
     /// View-factor method.
     pub method: Method,
     /// Rays or points per patch of the Monte Carlo methods.
@@ -98,7 +116,8 @@ pub struct Request {
     pub tolerance: Option<f64>,
     /// Random seed.
     pub seed: u64,
-    /// Enforcement; `None` takes the default (closure closed, reciprocity open).
+    /// Enforcement; `None` takes the goal's default (a solve: closure closed, reciprocity
+    /// open; view factors: none, or closure where the scene file declares an enclosure).
     pub enforce: Option<Enforce>,
     /// Exchange store.
     pub store: Store,
@@ -116,6 +135,7 @@ impl Default for Request {
     fn default() -> Self {
         let p = viewfactor::Params::default();
         Self {
+            goal: Goal::Solve,
             method: p.method,
             samples: p.samples,
             resolution: p.resolution,
@@ -211,6 +231,12 @@ pub enum Reason {
         /// Patches.
         patches: usize,
     },
+    /// View factors: the output is per patch, enforced or has many surfaces, and the method
+    /// has a row kernel, so the packed triangle holds the pairs.
+    PackedRows,
+    /// View factors: an unenforced per-surface matrix of at most
+    /// [`viewfactors::LEAN_SURFACES`] surfaces is summed in the sparse store.
+    FewSurfaces,
 }
 
 impl fmt::Display for Reason {
@@ -226,6 +252,14 @@ impl fmt::Display for Reason {
             Reason::NoMemory { patches } => {
                 write!(f, "{patches} patches: the dense store would not fit in memory")
             }
+            Reason::PackedRows => f.write_str(
+                "per-patch, enforced or many-surface output by a method with a row kernel: packed triangle",
+            ),
+            Reason::FewSurfaces => write!(
+                f,
+                "unenforced per-surface output of at most {} surfaces: sparse store",
+                viewfactors::LEAN_SURFACES
+            ),
         }
     }
 }
@@ -233,6 +267,8 @@ impl fmt::Display for Reason {
 /// A decided route with its settings, ready to run.
 #[derive(Debug, Clone)]
 pub struct Plan {
+    /// What the plan computes.
+    pub goal: Goal,
     /// The route.
     pub route: Route,
     /// Why this route.
@@ -245,6 +281,9 @@ pub struct Plan {
     pub viewfactors: viewfactor::Params,
     /// Solve parameters.
     pub solve: solve::Params,
+    /// Run settings the scene file chose where the request is silent (View3D `eps` and
+    /// `encl`), in words, so that a run is reproducible from its request alone.
+    pub scene_notes: Vec<String>,
 }
 
 /// Phases of a run, reported to a [`Progress`] as each starts.
@@ -294,6 +333,11 @@ pub struct Diagnostics {
     pub pairs: u64,
     /// Bytes of the exchange store.
     pub store_bytes: usize,
+    /// Leak warnings of an unenforced closed scene's view factors (worst rows, the geometry's
+    /// hint and an obstruction note), in words.
+    pub leak_warnings: Vec<String>,
+    /// Wall time of the view-factor computation.
+    pub viewfactor_wall: Duration,
     /// Clustered route: the build statistics (and those of a first pass with its tolerance).
     pub clustered:
         Option<(crate::exchange::hierarchy::Stats, Option<(f64, crate::exchange::hierarchy::Stats)>)>,
@@ -313,14 +357,17 @@ pub struct Outcome {
 }
 
 impl Plan {
-    /// Decides the route of a `solve` of `scene` and refuses what cannot run.
+    /// Decides the route of the request's goal on `scene` and refuses what cannot run.
     pub fn new(scene: &Scene, req: &Request) -> std::result::Result<Plan, PlanError> {
+        if let (None, Some(t)) = (req.tolerance, scene.run_defaults.tolerance) {
+            viewfactor::limits::tolerance(t, &format!("{}: View3D eps", scene.source.display()))?;
+        }
+        if let Goal::ViewFactors { level } = req.goal {
+            return Ok(viewfactors::plan(scene, req, level));
+        }
         let n = scene.patches.len();
         let mode = req.enforce.unwrap_or_else(|| Enforce::solve_default(!scene.is_closed()));
-        let factor = match (req.tolerance, scene.run_defaults.tolerance) {
-            (Some(t), _) | (None, Some(t)) => t,
-            (None, None) => viewfactor::DEFAULT_TOLERANCE,
-        };
+        let factor = factor_tolerance(scene, req);
         let mut vf = viewfactor::Params {
             method: req.method,
             samples: req.samples,
@@ -332,17 +379,23 @@ impl Plan {
         let solve = solve::Params { solver: req.solver, ..solve::Params::default() };
         let served = packed_serves(scene, req, mode);
         let packed = |reason| Plan {
+            goal: Goal::Solve,
             route: if served { Route::Packed } else { Route::Sparse },
             reason,
             tolerance: Tolerance::Factor(factor),
             enforce: mode,
             viewfactors: vf.clone(),
             solve: solve.clone(),
+            scene_notes: Vec::new(),
         };
         let patches = n;
         let reason = match req.store {
+            Store::Sparse => return Ok(Plan { route: Route::Sparse, ..packed(Reason::Asked) }),
             Store::Dense => return Ok(packed(if served { Reason::Asked } else { Reason::OnlySparse })),
-            Store::Hierarchical if !served => return Err(PlanError::ClusteredUnserved),
+            // The links evaluate their near pairs with an exact kernel only.
+            Store::Hierarchical if !served || !matches!(req.method, Method::Auto | Method::Analytic) => {
+                return Err(PlanError::ClusteredUnserved)
+            }
             Store::Hierarchical => Reason::Asked,
             Store::Auto if !served => return Ok(packed(Reason::OnlySparse)),
             Store::Auto => {
@@ -362,12 +415,14 @@ impl Plan {
         // tolerance (sampled pairs must not dominate the heat-rate error).
         vf.tolerance = (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE);
         Ok(Plan {
+            goal: Goal::Solve,
             route: Route::Clustered,
             reason,
             tolerance: Tolerance::HeatRate { rate, factor: vf.tolerance },
             enforce: mode,
             viewfactors: vf,
             solve,
+            scene_notes: Vec::new(),
         })
     }
 
@@ -384,6 +439,11 @@ impl Plan {
         saved: Option<&viewfactor::ViewFactors>,
         progress: &mut dyn Progress,
     ) -> Result<Outcome> {
+        if self.goal != Goal::Solve {
+            return Err(Error::Usage(
+                "a view-factor plan runs with Plan::view_factors, not Plan::run".into(),
+            ));
+        }
         let start = Instant::now();
         let mut d = Diagnostics::default();
         let mut exchange = None;
@@ -464,6 +524,14 @@ impl Plan {
     }
 }
 
+/// The F tolerance of a request: as given, else the scene file's, else the default.
+fn factor_tolerance(scene: &Scene, req: &Request) -> f64 {
+    match (req.tolerance, scene.run_defaults.tolerance) {
+        (Some(t), _) | (None, Some(t)) => t,
+        (None, None) => viewfactor::DEFAULT_TOLERANCE,
+    }
+}
+
 /// True when the packed dense triangle or the clustered links can serve the request.
 fn packed_serves(scene: &Scene, req: &Request, mode: Enforce) -> bool {
     !req.saved_viewfactors
@@ -514,5 +582,22 @@ pub fn with_obstruction_note(scene: &Scene, e: Error) -> Error {
     Error::Input(ie)
 }
 
+/// Adds to a leak refusal of saved view factors that `file` carries no geometry fingerprint,
+/// so it may belong to another scene with the same names.
+pub fn with_unstamped_note(e: Error, file: &std::path::Path) -> Error {
+    let Error::Input(mut ie) = e else { return e };
+    if ie.problem.contains("leaks") {
+        ie.problem = format!(
+            "{}. Note: {} carries no geometry fingerprint (an older or hand-made file), so it may have \
+             been computed for another scene with the same names",
+            ie.problem,
+            file.display()
+        );
+    }
+    Error::Input(ie)
+}
+
 #[cfg(test)]
 mod tests;
+pub mod viewfactors;
+pub use viewfactors::{flag_warnings, Matrix, VfOutcome};

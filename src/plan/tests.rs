@@ -1,6 +1,7 @@
 //! The plan's route choice and refusals on a shipped case, and that the route's result agrees
 //! with the sparse route's.
 use super::*;
+use crate::viewfactor::Level;
 use std::path::Path;
 
 /// The shipped cube furnace: six walls, closed, gray, with temperatures set.
@@ -52,6 +53,9 @@ fn the_clustered_store_refuses_what_it_cannot_serve_in_library_words() {
     let req = Request { store: Store::Hierarchical, method: Method::McCosine, ..Request::default() };
     let e = Plan::new(&s, &req).unwrap_err();
     assert!(matches!(e, PlanError::ClusteredUnserved), "{e}");
+    // A deterministic method without an exact kernel is refused before any work, too.
+    let req = Request { store: Store::Hierarchical, method: Method::Hemicube, ..Request::default() };
+    assert!(matches!(Plan::new(&s, &req), Err(PlanError::ClusteredUnserved)));
     assert!(!e.to_string().contains("--"), "no command-line flag in a library error: {e}");
 }
 
@@ -90,4 +94,77 @@ fn progress_hears_the_phases_of_the_sparse_route() {
     let mut log = Log(Vec::new());
     plan.run(&s, &mut log).unwrap();
     assert_eq!(log.0, [Phase::ViewFactors, Phase::Enforcement, Phase::Solve]);
+}
+
+/// A view-factor request at `level` with `enforce`.
+fn vf_request(level: Level, enforce: Option<Enforce>) -> Request {
+    Request { goal: Goal::ViewFactors { level }, enforce, ..Request::default() }
+}
+
+#[test]
+fn view_factor_plans_choose_packed_rows_or_the_sparse_store_and_say_why() {
+    let s = furnace();
+    let patch = Plan::new(&s, &vf_request(Level::Patch, None)).unwrap();
+    assert_eq!(
+        (patch.route, patch.reason, patch.enforce),
+        (Route::Packed, Reason::PackedRows, Enforce::None)
+    );
+    let surface = Plan::new(&s, &vf_request(Level::Surface, None)).unwrap();
+    assert_eq!((surface.route, surface.reason), (Route::Sparse, Reason::FewSurfaces));
+    let enforced = Plan::new(&s, &vf_request(Level::Surface, Some(Enforce::Closure))).unwrap();
+    assert_eq!(enforced.route, Route::Packed);
+    let mc = Request { method: Method::McCosine, ..vf_request(Level::Patch, None) };
+    let mc = Plan::new(&s, &mc).unwrap();
+    assert_eq!((mc.route, mc.reason), (Route::Sparse, Reason::OnlySparse));
+}
+
+#[test]
+fn a_plan_runs_only_its_own_goal() {
+    let s = furnace();
+    let solve = Plan::new(&s, &Request::default()).unwrap();
+    assert!(matches!(solve.view_factors(&s, &mut Silent), Err(Error::Usage(_))));
+    let vf = Plan::new(&s, &vf_request(Level::Patch, None)).unwrap();
+    assert!(matches!(vf.run(&s, &mut Silent), Err(Error::Usage(_))));
+}
+
+#[test]
+fn packed_view_factors_equal_the_sparse_computation_and_close_the_furnace() {
+    let s = furnace();
+    let plan = Plan::new(&s, &vf_request(Level::Patch, None)).unwrap();
+    let out = plan.view_factors(&s, &mut Silent).unwrap();
+    assert_eq!(out.route, Route::Packed);
+    assert!(matches!(out.matrix, Matrix::Packed { .. }));
+    let (worst, _, level) = out.worst_row.clone().expect("the furnace is closed");
+    assert_eq!(level, Level::Patch);
+    assert!(worst < 1e-4, "row sums of the exact cube within the tolerance: {worst}");
+    assert!(out.diagnostics.leak_warnings.is_empty(), "{:?}", out.diagnostics.leak_warnings);
+    let packed = out.into_viewfactors();
+    let sparse = viewfactor::compute(&s, &plan.viewfactors, Level::Patch).unwrap();
+    for (i, (a, b)) in packed.rows.iter().zip(&sparse.rows).enumerate() {
+        let f = |r: &[viewfactor::Entry], j: u32| r.iter().find(|e| e.to == j).map_or(0.0, |e| e.factor);
+        for j in 0..s.patches.len() as u32 {
+            // Both integrate the same exact kernel to the 1e-4 goal on each F.
+            assert!((f(a, j) - f(b, j)).abs() <= 1e-4, "F[{i}][{j}]: {} vs {}", f(a, j), f(b, j));
+        }
+    }
+}
+
+#[test]
+fn enforced_view_factors_report_their_enforcement_and_hear_its_phase() {
+    struct Log(Vec<Phase>);
+    impl Progress for Log {
+        fn phase(&mut self, p: Phase) {
+            self.0.push(p);
+        }
+    }
+    let s = furnace();
+    for level in [Level::Patch, Level::Surface] {
+        let plan = Plan::new(&s, &vf_request(level, Some(Enforce::Closure))).unwrap();
+        let mut log = Log(Vec::new());
+        let out = plan.view_factors(&s, &mut log).unwrap();
+        assert_eq!(log.0, [Phase::ViewFactors, Phase::Enforcement]);
+        assert!(out.diagnostics.enforcement.is_some());
+        let (worst, ..) = out.worst_row.expect("closed");
+        assert!(worst < 1e-9, "closure enforced: {worst}");
+    }
 }

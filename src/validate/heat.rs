@@ -8,11 +8,10 @@
 use super::case::{Case, HeatRef};
 use super::check::{Check, Status};
 use super::tolerance::{self, HEAT_EXACT_REL};
-use crate::exchange::{self, Enforce, EnforceParams, Exchange};
+use crate::plan::{Plan, PlanError, Request, Route, Silent, Store};
 use crate::report;
 use crate::scene::Scene;
-use crate::solve;
-use crate::viewfactor::{self, Level, Method, Params, ViewFactors};
+use crate::viewfactor::{Method, Params, ViewFactors};
 use crate::{Error, Result};
 use std::time::{Duration, Instant};
 
@@ -35,34 +34,40 @@ impl HeatResults {
     }
 }
 
-/// Solves `scene` as `lambert solve` does: patch-level factors (a method's, or the exact
-/// file), the solve's default enforcement (closure for closed scenes, reciprocity for open
-/// ones; maximum likelihood for hit counts), the gray solve, results per surface.
-fn solve(scene: &Scene, source: Source) -> Result<HeatResults> {
+/// Solves `scene` as `lambert solve` does, through its plan on `store`: patch-level factors
+/// (a method's, or the exact file), the solve's default enforcement (closure for closed
+/// scenes, reciprocity for open ones; maximum likelihood for hit counts), the gray solve,
+/// results per surface. `rate`: the heat-rate tolerance of the clustered store. `None`: the
+/// clustered store does not serve this request.
+fn solve(scene: &Scene, source: Source, store: Store, rate: f64) -> Result<Option<(HeatResults, Route)>> {
     scene.check_boundary_conditions()?;
-    let (vf, rays) = match source {
+    let base = Request { store, ..Request::default() };
+    let (req, saved) = match source {
         Source::Method(p) => {
-            let hits = matches!(p.method, Method::McCosine | Method::McUniform).then_some(p.samples);
-            (viewfactor::compute(scene, p, Level::Patch)?, hits)
+            let tolerance = if store == Store::Hierarchical { rate } else { p.tolerance };
+            let req = Request {
+                method: p.method,
+                samples: p.samples,
+                resolution: p.resolution,
+                tolerance: Some(tolerance),
+                seed: p.seed,
+                ..base
+            };
+            (req, None)
         }
-        Source::File(path) => (report::read_vf::read_viewfactors(path, scene)?, None),
+        Source::File(path) => (
+            Request { saved_viewfactors: true, ..base },
+            Some(report::read_vf::read_viewfactors(path, scene)?),
+        ),
     };
-    let mut ex = Exchange::from_viewfactors(&vf);
-    if let (Some(n), Level::Patch) = (rays, ex.level) {
-        if ex.samples.iter().all(|&s| s == 0) {
-            ex.samples = vec![u32::try_from(n).unwrap_or(u32::MAX); ex.len()];
-        }
-    }
-    let open = !scene.is_closed();
-    let p = EnforceParams {
-        mode: Enforce::solve_default(open),
-        open,
-        source: scene.source.clone(),
-        ..Default::default()
+    let plan = match Plan::new(scene, &req) {
+        Ok(plan) => plan,
+        Err(PlanError::ClusteredUnserved) => return Ok(None),
+        Err(PlanError::Other(e)) => return Err(e),
     };
-    exchange::enforce(&mut ex, &p)?;
-    let sol = solve::solve_gray(scene, &ex, &solve::Params::default())?.by_surface(scene);
-    Ok(HeatResults {
+    let out = plan.run_with(scene, saved.as_ref(), &mut Silent)?;
+    let sol = out.solution.by_surface(scene);
+    let res = HeatResults {
         surfaces: sol
             .names
             .iter()
@@ -70,7 +75,8 @@ fn solve(scene: &Scene, source: Source) -> Result<HeatResults> {
             .map(|(n, r)| (n.clone(), r.heat_rate, r.temperature))
             .collect(),
         ambient: sol.ambient.map(|a| a.1),
-    })
+    };
+    Ok(Some((res, plan.route)))
 }
 
 /// Where the view factors come from.
@@ -127,6 +133,9 @@ fn heat_tolerance(
     Some(exact + if method.is_monte_carlo() { squares.sqrt() } else { sum })
 }
 
+/// Heat checks of one solve. `rate`: the route's own heat-rate tolerance relative to the
+/// largest |heat rate| (the clustered store's; 0 for every-pair routes), added to the method's.
+#[allow(clippy::too_many_arguments)]
 fn checks(
     case: &Case,
     label: &str,
@@ -134,6 +143,7 @@ fn checks(
     params: Option<&Params>,
     vf: Option<&ViewFactors>,
     result: Result<HeatResults>,
+    rate: f64,
     time: Duration,
 ) -> Vec<Check> {
     let res = match result {
@@ -148,14 +158,19 @@ fn checks(
         }
     };
     let mut out = Vec::new();
+    let largest = quantities(case).iter().filter(|q| !q.2).fold(0.0f64, |m, q| m.max(q.1.abs()));
     for (quantity, reference, temperature, h) in quantities(case) {
+        // A temperature is held to the same relative share as the heat rates.
+        let route = rate * if temperature { reference.abs() } else { largest };
         let Some(value) = res.value(h, temperature) else {
             let why = format!("the solve has no surface '{}'", h.surface);
             out.push(Check::without_value(&case.name, &quantity, label, Status::Fail(why)));
             continue;
         };
         match heat_tolerance(case, method, params, vf, h, reference) {
-            Some(tol) => out.push(Check::compared(&case.name, quantity, label, value, reference, tol, time)),
+            Some(tol) => {
+                out.push(Check::compared(&case.name, quantity, label, value, reference, tol + route, time))
+            }
             None => {
                 let mut c = Check::without_value(
                     &case.name,
@@ -174,7 +189,13 @@ fn checks(
     out
 }
 
-/// Heat checks with `method`'s view factors (`vf`: its surface-level result, for σ).
+/// Relative heat-rate tolerance of the clustered store in validation: tight enough that the
+/// links of a small case refine to its patch pairs, so the method's own error model holds.
+pub const CLUSTERED_RATE: f64 = 1e-6;
+
+/// Heat checks with `method`'s view factors (`vf`: its surface-level result, for σ) on every
+/// route the CLI can take: the sparse store (labelled by the method), the packed triangle
+/// (`METHOD packed`) and the clustered links (`METHOD clustered`) where they serve.
 pub fn method_checks(
     case: &Case,
     scene: &Scene,
@@ -186,9 +207,25 @@ pub fn method_checks(
     if case.reference.heat.is_empty() {
         return Vec::new();
     }
-    let start = Instant::now();
-    let result = solve(scene, Source::Method(params));
-    checks(case, method.name(), Some(method), Some(params), Some(vf), result, time + start.elapsed())
+    let mut out = Vec::new();
+    for (store, suffix, route, rate) in [
+        (Store::Sparse, "", Route::Sparse, 0.0),
+        (Store::Dense, " packed", Route::Packed, 0.0),
+        (Store::Hierarchical, " clustered", Route::Clustered, CLUSTERED_RATE),
+    ] {
+        let start = Instant::now();
+        let result = solve(scene, Source::Method(params), store, CLUSTERED_RATE);
+        let label = format!("{}{suffix}", method.name());
+        let result = match result {
+            Ok(Some((res, taken))) if taken == route => Ok(res),
+            // The store does not serve this method (the sparse run covers it).
+            Ok(_) => continue,
+            Err(e) => Err(e),
+        };
+        let t = time + start.elapsed();
+        out.extend(checks(case, &label, Some(method), Some(params), Some(vf), result, rate, t));
+    }
+    out
 }
 
 /// Heat checks with the case's exact view-factor file.
@@ -197,6 +234,8 @@ pub fn file_checks(case: &Case, scene: &Scene) -> Vec<Check> {
         return Vec::new();
     };
     let start = Instant::now();
-    let result = solve(scene, Source::File(&case.dir.join(file)));
-    checks(case, "vf-file", None, None, None, result, start.elapsed())
+    let result = solve(scene, Source::File(&case.dir.join(file)), Store::Sparse, 0.0).and_then(|r| {
+        r.map(|r| r.0).ok_or_else(|| Error::Compute("the sparse store is always served".into()))
+    });
+    checks(case, "vf-file", None, None, None, result, 0.0, start.elapsed())
 }
