@@ -174,12 +174,8 @@ pub struct SolveRun {
 
 /// `exchange=` as the plan's store.
 fn store_of(s: &str) -> Result<Store> {
-    match s {
-        "auto" => Ok(Store::Auto),
-        "dense" => Ok(Store::Dense),
-        "hierarchical" => Ok(Store::Hierarchical),
-        _ => Err(Error::Usage(format!("unknown exchange '{s}'; expected auto, dense or hierarchical"))),
-    }
+    Store::from_name(s)
+        .ok_or_else(|| Error::Usage(format!("unknown exchange '{s}'; expected auto, dense or hierarchical")))
 }
 
 /// `lambert solve` on `scene`; `saved`: view factors to use instead of computing them, with

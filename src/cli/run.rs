@@ -307,12 +307,9 @@ fn solve(a: SolveArgs) -> Result<()> {
 
 /// `solve --exchange` as the plan's store.
 fn store_of(s: &str) -> Result<Store> {
-    match s {
-        "auto" => Ok(Store::Auto),
-        "dense" => Ok(Store::Dense),
-        "hierarchical" => Ok(Store::Hierarchical),
-        _ => Err(Error::Usage(format!("unknown --exchange '{s}'; expected auto, dense or hierarchical"))),
-    }
+    Store::from_name(s).ok_or_else(|| {
+        Error::Usage(format!("unknown --exchange '{s}'; expected auto, dense or hierarchical"))
+    })
 }
 
 /// The plan's progress sink: prints the method's warnings and flags as they arrive.

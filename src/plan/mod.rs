@@ -63,6 +63,18 @@ pub enum Route {
     Sparse,
 }
 
+impl Store {
+    /// The store a user names ("auto", "dense" or "hierarchical"); `None` for any other name.
+    pub fn from_name(name: &str) -> Option<Store> {
+        match name {
+            "auto" => Some(Store::Auto),
+            "dense" => Some(Store::Dense),
+            "hierarchical" => Some(Store::Hierarchical),
+            _ => None,
+        }
+    }
+}
+
 impl fmt::Display for Route {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
