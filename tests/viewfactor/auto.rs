@@ -241,14 +241,15 @@ fn behind_a_concave_part_every_entry_meets_the_goal_both_ways() {
     // exchange area) would let the triangle's F carry 800 τ. Reference: the exact shadow
     // integration to 1e-7 relative. Integrated entries within τ both ways; sampled entries
     // within 5 reported standard errors, with 2σ ≤ τ both ways; no entry over its goal; and
-    // every row sums to 1 within 10 τ before enforcement (1e-3 at the default 1e-4). The coarser goal makes the sampled
-    // branch appear.
+    // every row sums to 1 within 10 τ before enforcement (1e-3 at the default 1e-4). The
+    // coarsest goal makes the sampled branch appear (the integration's cut emitters price it
+    // out at 3e-3).
     let scene = channel_in_a_room();
     assert_eq!(scene.patches.len(), 34);
     let kernel = AnalyticKernel::with_policy(&scene, GAUSS_REL_TOL, Policy::Exact { rel_tol: 1e-7 });
     let exact = engine::run(&scene, &kernel, &Params::default(), Level::Patch).unwrap();
     let mut seen = [0usize; 2];
-    for tol in [3e-3, 1e-4] {
+    for tol in [3e-2, 3e-3, 1e-4] {
         let vf = run(&scene, Method::Auto, tol, Level::Patch);
         assert!(vf.warnings.is_empty(), "{:?}", vf.warnings);
         for (i, row) in vf.rows.iter().enumerate() {

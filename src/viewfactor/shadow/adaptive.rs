@@ -9,7 +9,8 @@
 //!   [`AdaptParams::low`] and [`AdaptParams::high`] per direction, |high − low| being its error
 //!   estimate; globally adaptive: the cell with the largest estimate splits into four until
 //!   the estimates sum to the tolerance;
-//! - every cell is split down to [`AdaptParams::min_depth`] first;
+//! - no cell larger than the emitter's area over 4^[`AdaptParams::min_depth`] is accepted on
+//!   its own rules (root cells already cut smaller are not split again);
 //! - **blockers are re-classified per cell** with the exact penumbra/umbra planes
 //!   ([`super::volume`]): a blocker clear of the cell's penumbra is dropped, one whose umbra
 //!   holds the whole receiver makes g equal to the unobstructed integrand on that cell, and a
@@ -153,7 +154,8 @@ pub struct AdaptParams {
     pub low: usize,
     /// Gauss order per direction of the higher rule (the value kept).
     pub high: usize,
-    /// Every cell is split at least this many times.
+    /// No accepted cell is larger than the emitter over 4^min_depth (each quarter-split of
+    /// the whole emitter counts one).
     pub min_depth: u32,
     /// No cell is split more than this many times.
     pub max_depth: u32,
@@ -250,6 +252,22 @@ pub struct Integrator {
     low: Rule,
     high: Rule,
     solid_min: Option<usize>,
+    cuts: Cuts,
+}
+
+/// How many of the kink planes cut the emitter into root cells ([`split_cells`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cuts {
+    /// Most root pieces; the planes past the cap are left to the adaptivity.
+    pub max_pieces: usize,
+    /// Cut along the blockers' own planes after the edge and event planes instead of before.
+    pub faces_last: bool,
+}
+
+impl Cuts {
+    /// Every kink plane first, up to [`MAX_PIECES`] pieces, the blockers' planes first
+    /// (`analytic`: each root smooth).
+    pub const ALL: Self = Self { max_pieces: MAX_PIECES, faces_last: false };
 }
 
 impl Integrator {
@@ -260,7 +278,13 @@ impl Integrator {
             low: Rule::new(params.low.max(1)),
             high: Rule::new(params.high.max(1)),
             solid_min: None,
+            cuts: Cuts::ALL,
         }
+    }
+    /// Which kink planes cut the emitter into root cells.
+    pub fn with_cuts(mut self, cuts: Cuts) -> Self {
+        self.cuts = Cuts { max_pieces: cuts.max_pieces.max(1), ..cuts };
+        self
     }
     /// Pairs whose partial blockers are all faces of one convex solid of at least `min_faces`
     /// faces take the facet sum ([`super::solid`]) instead of the shadow integration.
@@ -293,7 +317,7 @@ impl Integrator {
         s: &mut AdaptScratch,
     ) -> AdaptInfo {
         let mut info = AdaptInfo::default();
-        let roots = split_cells(geo);
+        let roots = split_cells(geo, self.cuts);
         let total_area: f64 = roots.iter().map(Cell::area).sum();
         info.roots = roots.len() as u32;
         if !(total_area > 0.0) || geo.blockers().is_empty() {
@@ -306,6 +330,9 @@ impl Integrator {
         let n = s.pool.len();
         let several = roots.len() > 1;
         let groups = fold_groups(geo);
+        // A cell larger than this is split whatever its rules say (the 1e-9 keeps the exact
+        // quarters of the emitter below it).
+        let forced_area = total_area * 0.25f64.powi(self.params.min_depth as i32) * (1.0 + 1e-9);
         // Open leaves: error (∞ while a split is forced), ordered largest first.
         let (mut open_err, mut forced) = (0.0, 0usize);
         let push = |item: Item, this: &Self, s: &mut AdaptScratch, info: &mut AdaptInfo| {
@@ -333,7 +360,7 @@ impl Integrator {
                 active.iter().all(|&b| hit >> (groups[b as usize] % 64) & 1 == 1)
             };
             let must_split =
-                (!all_seen || item.depth < this.params.min_depth) && item.depth < this.params.max_depth;
+                (!all_seen || item.cell.area() > forced_area) && item.depth < this.params.max_depth;
             let err = (hi - lo).abs();
             let key = if must_split { f64::INFINITY } else { err };
             let k = s.leaves.len();
@@ -571,10 +598,15 @@ const MAX_PIECES: usize = 256;
 ///
 /// Only edges that can bound the blockers' joint shadow count (`silhouette_edges`): an edge
 /// two faces of one mesh share is skipped when, from the whole emitter, they fold away on the
-/// same side. Within each piece g is then smooth (up to `MAX_PIECES` pieces).
-pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
+/// same side. Within each piece g is then smooth (up to `cuts.max_pieces` pieces).
+///
+/// With [`Cuts::faces_last`] the blockers' planes come after the others: a facet turning
+/// edge-on starts its shadow from zero width, so its kink scales with the facet, while a
+/// shadow edge sliding along a receiver edge kinks g along a whole line.
+pub fn split_cells(geo: &ShadowGeometry, cuts: Cuts) -> Vec<Cell> {
     let snap = geo.snap();
     let mut planes: Vec<Plane> = geo.blockers().iter().filter_map(|b| plane_of(b)).collect();
+    let faces = planes.len();
     let recv = geo.receiver_edges();
     let silhouette = silhouette_edges(geo);
     for (b, sil) in geo.blockers().iter().zip(&silhouette) {
@@ -595,7 +627,10 @@ pub fn split_cells(geo: &ShadowGeometry) -> Vec<Cell> {
         }
     }
     event_planes(geo, &silhouette, &mut planes);
-    let pieces = cut_along(geo.emitter(), &planes, snap, MAX_PIECES);
+    if cuts.faces_last {
+        planes.rotate_left(faces);
+    }
+    let pieces = cut_along(geo.emitter(), &planes, snap, cuts.max_pieces);
     pieces.iter().flat_map(|piece| emitter_cells(piece, geo.emitter_normal())).collect()
 }
 
@@ -905,6 +940,60 @@ mod tests {
         let info = shaded(&sq(0.5, 0.25, 0.25, 0.5, true), 1e-11, 1);
         let f = PARALLEL_UNIT - info.shaded;
         assert!((f - 0.099_506_294_6).abs() < 1e-9, "F = {f}, {info:?}");
+    }
+
+    #[test]
+    fn the_minimum_depth_bounds_cell_area_not_the_splits_of_cut_roots() {
+        // The centred plate's kink planes cut the emitter into its four quarters: at a loose
+        // tolerance each is accepted on its own rules (a forced split per root made 16 cells),
+        // while an emitter left in one root (cuts capped at one piece) is still split in four.
+        let e = sq(0.0, 0.0, 0.0, 1.0, true);
+        let r = sq(1.0, 0.0, 0.0, 1.0, false);
+        let b = sq(0.5, 0.25, 0.25, 0.5, true);
+        let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&b]).unwrap();
+        let it = Integrator::new(AdaptParams { low: 2, high: 3, min_depth: 1, max_depth: 8 });
+        let mut s = AdaptScratch::default();
+        let cut = it.shaded(&geo, 1.0, &mut s);
+        let largest = split_cells(&geo, Cuts::ALL).iter().map(Cell::area).fold(0.0, f64::max);
+        assert!(cut.roots == 4 && (largest - 0.25).abs() < 1e-12, "{cut:?}, largest root {largest}");
+        assert_eq!(cut.cells, cut.roots, "{cut:?}");
+        let one = it.with_cuts(Cuts { max_pieces: 1, faces_last: true }).shaded(&geo, 1.0, &mut s);
+        assert_eq!((one.roots, one.cells), (1, 4), "{one:?}");
+        // Both within the loose goal of the exact value (C-11 minus the centred plate).
+        for info in [cut, one] {
+            assert!((PARALLEL_UNIT - info.shaded - 0.099_506_294_6).abs() < 1e-3, "{info:?}");
+        }
+    }
+
+    #[test]
+    fn faces_last_keeps_the_receiver_edge_planes_under_a_cap() {
+        // A plate tilted about x (its plane z = y − 0.1 crosses the emitter) with edges parallel
+        // to the receiver's: capped at two pieces, the blockers' planes first cut along the plate's
+        // plane; faces last cut along a plane through a receiver edge instead.
+        let e = sq(0.0, 0.0, 0.0, 1.0, true);
+        let r = sq(1.0, 0.0, 0.0, 1.0, false);
+        let b = vec![
+            DVec3::new(0.3, 0.3, 0.2),
+            DVec3::new(0.7, 0.3, 0.2),
+            DVec3::new(0.7, 0.7, 0.6),
+            DVec3::new(0.3, 0.7, 0.6),
+        ];
+        let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&b]).unwrap();
+        let plane = plane_of(&geo.blockers()[0]).unwrap();
+        let on_plate_plane = |cells: &[Cell]| {
+            let mut ring = Vec::new();
+            cells.iter().all(|c| {
+                c.ring(&mut ring);
+                let (lo, hi) = ring
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(plane.eval(v)), h.max(plane.eval(v))));
+                lo >= -1e-9 || hi <= 1e-9
+            })
+        };
+        let first = split_cells(&geo, Cuts { max_pieces: 2, faces_last: false });
+        let last = split_cells(&geo, Cuts { max_pieces: 2, faces_last: true });
+        assert!(on_plate_plane(&first), "{first:?}");
+        assert!(!on_plate_plane(&last), "{last:?}");
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
 //!   unobstructed value, rules [`EXACT_RULES`] per cell, minimum depth [`EXACT_MIN_DEPTH`];
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
-//!   depth [`AUTO_MIN_DEPTH`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
+//!   depth [`AUTO_MIN_DEPTH`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
 //!   the branch is built (see [`super::policy`]).
 //!
@@ -20,7 +20,7 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler, SegmentBlocker};
 use super::misses::{Miss, MissLog};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
-    pair_goal, Choice, CostModel, Policy, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH,
+    pair_goal, Choice, CostModel, Policy, AUTO_CUTS, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH,
     MC_MAX_SAMPLES, MC_SIGMAS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentTree;
@@ -88,6 +88,10 @@ impl<'s> Shadows<'s> {
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
         let integrator = integrator.with_solids(SOLID_MIN_FACES);
+        let integrator = match policy {
+            Policy::Exact { .. } => integrator,
+            Policy::Auto { .. } => integrator.with_cuts(AUTO_CUTS),
+        };
         let pad = blockers.pad();
         let (samplers, segments) = match policy {
             Policy::Auto { .. } => (

@@ -242,10 +242,15 @@ impl Part {
                 for &v in verts {
                     let Some(p) = Plane::through(a, c, v, min_len * (c - a).length()) else { continue };
                     let (elo, ehi) = extremes(e, &p);
+                    let (e_behind, e_ahead) = (ehi <= snap, elo >= -snap);
+                    if !(e_behind || e_ahead) {
+                        // E on both sides: not separating, whatever B does.
+                        continue;
+                    }
                     let (blo, bhi) = extremes(b, &p);
-                    let p = if ehi <= snap && blo >= -snap {
+                    let p = if e_behind && blo >= -snap {
                         p
-                    } else if elo >= -snap && bhi <= snap {
+                    } else if e_ahead && bhi <= snap {
                         p.flipped()
                     } else {
                         continue;
