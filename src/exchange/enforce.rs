@@ -19,7 +19,7 @@ use std::str::FromStr;
 /// Closure target: max |Σ_j F_ij − 1| after enforcement (a few hundred ulps of 1).
 pub const CLOSURE_TOL: f64 = 1e-12;
 /// The leak thresholds are the methods' own knowledge ([`crate::viewfactor::accuracy`]).
-pub use crate::viewfactor::accuracy::{LEAK_SIGMAS, LEAK_TOL, LEAK_TOL_SINGLE_PLANE};
+pub use crate::viewfactor::accuracy::{DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS, LEAK_TOL_SINGLE_PLANE};
 
 /// The SPEC.md enforcement modes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -422,10 +422,11 @@ impl Plan {
                 }
             }
         };
-        let rate = req.tolerance.unwrap_or(exchange::hierarchy::DEFAULT_TOLERANCE);
+        let rate = req.tolerance.unwrap_or(exchange::hierarchy::DEFAULT_HEAT_RATE_TOLERANCE);
         // The exact pairs keep `auto`'s own goal on each F, tightened with the heat-rate
         // tolerance (sampled pairs must not dominate the heat-rate error).
-        vf.tolerance = (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE);
+        vf.tolerance =
+            (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_FACTOR_TOLERANCE);
         Ok(Plan {
             goal: Goal::Solve,
             route: Route::Clustered,
@@ -540,7 +541,7 @@ impl Plan {
 fn factor_tolerance(scene: &Scene, req: &Request) -> f64 {
     match (req.tolerance, scene.run_defaults.tolerance) {
         (Some(t), _) | (None, Some(t)) => t,
-        (None, None) => viewfactor::DEFAULT_TOLERANCE,
+        (None, None) => viewfactor::DEFAULT_FACTOR_TOLERANCE,
     }
 }
 

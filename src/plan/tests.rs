@@ -16,7 +16,7 @@ fn auto_takes_the_packed_route_on_a_small_scene_and_says_why() {
     let plan = Plan::new(&s, &Request::default()).unwrap();
     assert_eq!(plan.route, Route::Packed);
     assert_eq!(plan.reason, Reason::Small { patches: s.patches.len() });
-    assert_eq!(plan.tolerance, Tolerance::Factor(viewfactor::DEFAULT_TOLERANCE));
+    assert_eq!(plan.tolerance, Tolerance::Factor(viewfactor::DEFAULT_FACTOR_TOLERANCE));
 }
 
 #[test]

@@ -188,7 +188,7 @@ pub const DEFAULT_SAMPLES: usize = 100_000;
 /// Default hemicube / single-plane resolution.
 pub const DEFAULT_RESOLUTION: usize = 256;
 /// Default `auto` tolerance: 1e-4 absolute on each F (issue brief, View3D's default eps).
-pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+pub const DEFAULT_FACTOR_TOLERANCE: f64 = 1e-4;
 
 impl Default for Params {
     fn default() -> Self {
@@ -196,7 +196,7 @@ impl Default for Params {
             method: Method::Auto,
             samples: DEFAULT_SAMPLES,
             resolution: DEFAULT_RESOLUTION,
-            tolerance: DEFAULT_TOLERANCE,
+            tolerance: DEFAULT_FACTOR_TOLERANCE,
             seed: 0,
             progress: false,
         }
