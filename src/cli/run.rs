@@ -335,6 +335,10 @@ fn say_route(plan: &Plan) {
             );
             return;
         }
+        Reason::NoExactKernel { .. } => {
+            eprintln!("lambert: exchange: dense ({})", plan.reason);
+            return;
+        }
         Reason::Asked if plan.route == Route::Clustered => "forced by --exchange hierarchical".to_string(),
         Reason::Large { .. } => format!("{}; --exchange dense for every pair", plan.reason),
         Reason::NoMemory { .. } => plan.reason.to_string(),

@@ -238,6 +238,12 @@ pub enum Reason {
         /// Patches.
         patches: usize,
     },
+    /// [`Store::Auto`]: more than [`HIERARCHICAL_MIN_PATCHES`] patches, but the method has no
+    /// exact kernel for the clustered links, so every pair goes in the dense store.
+    NoExactKernel {
+        /// Patches.
+        patches: usize,
+    },
     /// [`Store::Auto`]: the dense store would not fit in memory.
     NoMemory {
         /// Patches.
@@ -261,6 +267,11 @@ impl fmt::Display for Reason {
                 write!(f, "{patches} patches, tolerance below {HIERARCHICAL_MIN_TOLERANCE:e}")
             }
             Reason::Large { patches } => write!(f, "{patches} patches > {HIERARCHICAL_MIN_PATCHES}"),
+            Reason::NoExactKernel { patches } => write!(
+                f,
+                "{patches} patches > {HIERARCHICAL_MIN_PATCHES}, but the hierarchical store evaluates its near \
+                 pairs by an exact kernel only (auto or analytic)"
+            ),
             Reason::NoMemory { patches } => {
                 write!(f, "{patches} patches: the dense store would not fit in memory")
             }
@@ -405,7 +416,7 @@ impl Plan {
             Store::Sparse => return Ok(Plan { route: Route::Sparse, ..packed(Reason::Asked) }),
             Store::Dense => return Ok(packed(if served { Reason::Asked } else { Reason::OnlySparse })),
             // The links evaluate their near pairs with an exact kernel only.
-            Store::Hierarchical if !served || !matches!(req.method, Method::Auto | Method::Analytic) => {
+            Store::Hierarchical if !served || !clustered_kernel(req.method) => {
                 return Err(PlanError::ClusteredUnserved)
             }
             Store::Hierarchical => Reason::Asked,
@@ -414,10 +425,13 @@ impl Plan {
                 let fits = exchange::dense::check_fits(n, PACKED_BYTES_PER_PAIR, &scene.source).is_ok();
                 // A tight tolerance costs the links more than the dense store costs the pairs.
                 let tight = req.tolerance.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
+                let exact = clustered_kernel(req.method);
                 match (fits, tight, n <= HIERARCHICAL_MIN_PATCHES) {
                     (true, true, _) => return Ok(packed(Reason::Tight { patches })),
                     (true, false, true) => return Ok(packed(Reason::Small { patches })),
+                    (true, false, false) if !exact => return Ok(packed(Reason::NoExactKernel { patches })),
                     (true, false, false) => Reason::Large { patches },
+                    (false, ..) if !exact => return Err(no_store_serves(scene, req.method).into()),
                     (false, ..) => Reason::NoMemory { patches },
                 }
             }
@@ -543,6 +557,27 @@ fn factor_tolerance(scene: &Scene, req: &Request) -> f64 {
         (Some(t), _) | (None, Some(t)) => t,
         (None, None) => viewfactor::DEFAULT_FACTOR_TOLERANCE,
     }
+}
+
+/// True when the clustered links can evaluate their near pairs by `method`: they integrate
+/// them with an exact kernel only.
+fn clustered_kernel(method: Method) -> bool {
+    matches!(method, Method::Auto | Method::Analytic)
+}
+
+/// The refusal of [`Store::Auto`] when the dense store would not fit and `method` has no exact
+/// kernel for the clustered links: no store can run it.
+fn no_store_serves(scene: &Scene, method: Method) -> Error {
+    let n = scene.patches.len();
+    crate::error::InputError::file(
+        &scene.source,
+        format!(
+            "{n} patches by {method}: the dense store would not fit in memory, and the hierarchical store \
+             evaluates its near pairs by an exact kernel only (auto or analytic); use auto or analytic, or \
+             coarser patches"
+        ),
+    )
+    .into()
 }
 
 /// True when the packed dense triangle or the clustered links can serve the request.

@@ -524,6 +524,20 @@ fn exchange_choices_and_their_refusals() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("exchange: hierarchical") && err.contains("would not fit"), "{err}");
+    // ... but not for a method the clustered store cannot run: refused before any work.
+    for method in ["hemicube", "single-plane"] {
+        let out = lambert()
+            .args(["solve", "-m", method, "--resolution", "8"])
+            .arg(&path)
+            .env(dense::MEM_AVAILABLE_ENV, "1000")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{method}: {err}");
+        assert!(err.contains(&format!("by {method}")) && err.contains("would not fit"), "{method}: {err}");
+        assert!(err.contains("exact kernel") && !err.contains("exchange: hierarchical"), "{method}: {err}");
+        assert!(out.stdout.is_empty(), "{method}: nothing is written");
+    }
 }
 
 proptest! {
