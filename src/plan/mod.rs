@@ -36,19 +36,23 @@ use crate::{Error, Result};
 use std::fmt;
 use std::time::{Duration, Instant};
 
-/// Exchange store asked for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Exchange store asked for (named in [`crate::choice`]; the sparse store has no user name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Store {
     /// Dense up to [`HIERARCHICAL_MIN_PATCHES`] patches and while it fits, else clustered.
     #[default]
+    #[value(help = "By patch count, tolerance, memory and method")]
     Auto,
     /// Every patch pair (packed dense triangle, or the sparse store where the packed one
     /// cannot serve).
+    #[value(help = "Every patch pair")]
     Dense,
     /// Clustered links with heat-rate error control.
+    #[value(help = "Clustered links with heat-rate error control, for large scenes")]
     Hierarchical,
     /// Every patch pair in the sparse store, whatever the request (the reference route that
     /// validation compares the others with).
+    #[value(skip)]
     Sparse,
 }
 
@@ -63,15 +67,16 @@ pub enum Route {
     Sparse,
 }
 
-impl Store {
-    /// The store a user names ("auto", "dense" or "hierarchical"); `None` for any other name.
-    pub fn from_name(name: &str) -> Option<Store> {
-        match name {
-            "auto" => Some(Store::Auto),
-            "dense" => Some(Store::Dense),
-            "hierarchical" => Some(Store::Hierarchical),
-            _ => None,
-        }
+impl std::str::FromStr for Store {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        crate::choice::parse_or("exchange store", s)
+    }
+}
+
+impl fmt::Display for Store {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        crate::choice::write(self, f)
     }
 }
 

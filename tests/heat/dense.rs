@@ -506,7 +506,12 @@ fn exchange_choices_and_their_refusals() {
     let run = |args: &[&str]| lambert().arg("solve").arg(&path).args(args).output().unwrap();
     let out = run(&["--exchange", "sparse"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("auto, dense or hierarchical"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("invalid value 'sparse'")
+            && err.contains("[possible values: auto, dense, hierarchical]"),
+        "{err}"
+    );
     for bad in [
         &["--exchange", "hierarchical", "-m", "hemicube"][..],
         &["--exchange", "hierarchical", "--solver", "jacobi"],

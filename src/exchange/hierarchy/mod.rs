@@ -204,8 +204,7 @@ impl Hierarchy {
             Method::Auto => auto::kernel(scene, vf),
             m => {
                 return Err(Error::Usage(format!(
-                    "--exchange hierarchical evaluates its near pairs with `auto` or `analytic`, not `{}`",
-                    m.name()
+                    "the hierarchical store evaluates its near pairs with `auto` or `analytic`, not `{m}`"
                 )))
             }
         };
