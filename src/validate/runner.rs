@@ -39,13 +39,9 @@ pub fn run_case(case: &Case, budget: &Budget) -> Vec<Check> {
     // Heat-only cases (exact factors from a file) have no geometry worth running methods on.
     let methods = if case.reference.viewfactors.is_empty() { &[][..] } else { &METHODS[..] };
     for &method in methods {
-        if let Some(why) = case.reference.skip.get(&method.to_string()) {
-            checks.push(Check::without_value(
-                &case.name,
-                "all",
-                &method.to_string(),
-                Status::Skipped(why.clone()),
-            ));
+        let name = method.to_string();
+        if let Some(why) = case.reference.skip.get(&name) {
+            checks.push(Check::without_value(&case.name, "all", &name, Status::Skipped(why.clone())));
             continue;
         }
         checks.extend(run_method(case, &scene, method, budget));
@@ -60,39 +56,23 @@ fn run_method(case: &Case, scene: &Scene, method: Method, budget: &Budget) -> Ve
     let start = Instant::now();
     let result = viewfactor::compute(scene, &params, Level::Surface);
     let time = start.elapsed();
+    let name = method.to_string();
     let vf = match result {
         Ok(vf) => vf,
         Err(Error::Unsupported(why)) => {
-            return vec![Check::without_value(
-                &case.name,
-                "all",
-                &method.to_string(),
-                Status::NotApplicable(why),
-            )];
+            return vec![Check::without_value(&case.name, "all", &name, Status::NotApplicable(why))];
         }
-        Err(e) => {
-            return vec![Check::without_value(
-                &case.name,
-                "all",
-                &method.to_string(),
-                Status::Fail(e.to_string()),
-            )]
-        }
+        Err(e) => return vec![Check::without_value(&case.name, "all", &name, Status::Fail(e.to_string()))],
     };
     let mut checks = view_factor_checks(case, scene, method, &params, &vf, time);
     checks.extend(heat::method_checks(case, scene, method, &params, &vf, time));
-    match case.reference.known_issue.get(&method.to_string()) {
+    match case.reference.known_issue.get(&name) {
         Some(why) if checks.iter().any(|c| matches!(c.status, Status::Fail(_))) => {
             checks.into_iter().map(|c| c.with_known_issue(why)).collect()
         }
         Some(why) => {
             let stale = format!("every check passes: remove the [known_issue] marker ({why})");
-            checks.push(Check::without_value(
-                &case.name,
-                "known issue",
-                &method.to_string(),
-                Status::Fail(stale),
-            ));
+            checks.push(Check::without_value(&case.name, "known issue", &name, Status::Fail(stale)));
             checks
         }
         None => checks,
