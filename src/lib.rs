@@ -32,12 +32,14 @@
 //! - [`solve`]: the net-radiation system K = D − S and its solvers.
 //! - [`plan`]: the route to a `solve` result (store, tolerance meaning, refusals) and its run.
 //! - [`report`]: CSV writers and charts; the one place that turns results into bytes.
+//! - [`choice`]: the enums a user picks by name (method, store, solver, ...), named once.
 //! - [`distributed`]: runs under `mpirun` (feature `mpi`): rank, row blocks, gathers.
 //! - [`validate`]: the textbook validation suite, its error models and studies.
 #![warn(missing_docs)]
 // `!(x > tol)` is the NaN-safe way to reject degenerate or non-finite measures; keep it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod choice;
 pub mod distributed;
 pub mod error;
 pub mod exchange;

@@ -97,8 +97,7 @@ impl PyScene {
     ) -> PyResult<Self> {
         let scene = run(py, None, move || {
             let unit = match unit {
-                Some(u) => scene::mesh_model::Unit::parse(&u)
-                    .map_err(|e| lambert::Error::Usage(format!("unit: {e}")))?,
+                Some(u) => route::keyword("unit", &u)?,
                 None => scene::mesh_model::Unit::M,
             };
             let bare = scene::mesh_model::MeshOptions { unit, repair, ..Default::default() };

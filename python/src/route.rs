@@ -35,7 +35,7 @@ impl Options {
         patches: bool,
         enforce: Option<String>,
     ) -> Result<Self> {
-        let method: Method = method.parse()?;
+        let method: Method = keyword("method", method)?;
         let mut request = Request { method, seed, ..Request::default() };
         if let Some(s) = samples {
             if s == 0 || s > MAX_SAMPLES {
@@ -56,7 +56,7 @@ impl Options {
         if let Some(t) = tolerance {
             request.tolerance = Some(check_tolerance(t, "tolerance")?);
         }
-        request.enforce = enforce.as_deref().map(str::parse::<Enforce>).transpose()?;
+        request.enforce = enforce.as_deref().map(|e| keyword::<Enforce>("enforce", e)).transpose()?;
         Ok(Self { request, patches })
     }
 
@@ -172,10 +172,11 @@ pub struct SolveRun {
     pub said: Said,
 }
 
-/// `exchange=` as the plan's store.
-fn store_of(s: &str) -> Result<Store> {
-    Store::from_name(s)
-        .ok_or_else(|| Error::Usage(format!("unknown exchange '{s}'; expected auto, dense or hierarchical")))
+/// The value a keyword argument names, through the library's enum; an unknown name is refused
+/// with the keyword in the message ("unknown exchange 'x'; expected one of auto, dense,
+/// hierarchical").
+pub fn keyword<T: lambert::choice::ValueEnum>(name: &str, s: &str) -> Result<T> {
+    lambert::choice::parse(s).ok_or_else(|| Error::Usage(lambert::choice::unknown::<T>(name, s)))
 }
 
 /// `lambert solve` on `scene`; `saved`: view factors to use instead of computing them, with
@@ -186,8 +187,8 @@ pub fn solve(
     s: &SolveOptions,
     saved: Option<(ViewFactors, bool, Option<&Path>)>,
 ) -> Result<SolveRun> {
-    let solver: solve::Solver = s.solver.parse()?;
-    let store = store_of(&s.exchange)?;
+    let solver: solve::Solver = keyword("solver", &s.solver)?;
+    let store: Store = keyword("exchange", &s.exchange)?;
     let request = Request { store, solver, saved_viewfactors: saved.is_some(), ..opts.request };
     if let (None, Some(t)) = (request.tolerance, scene.run_defaults.tolerance) {
         check_tolerance(t, &format!("{}: View3D eps", scene.source.display()))?;

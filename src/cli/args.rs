@@ -1,5 +1,13 @@
-//! Low-level clap arguments, mirroring SPEC.md; no logic here.
+//! Low-level clap arguments, mirroring SPEC.md; no logic here. Every choice option is the
+//! library's own enum (clap's `ValueEnum`, [`lambert::choice`]), so `--help` lists its values.
 use clap::{Args, Parser, Subcommand};
+use lambert::exchange::Enforce;
+use lambert::plan::Store;
+use lambert::report::decks::DeckFormat;
+use lambert::report::render::values::Field;
+use lambert::scene::mesh_model::Unit;
+use lambert::solve::Solver;
+use lambert::viewfactor::Method;
 use std::path::PathBuf;
 
 /// Diffuse view factors and gray-body radiative exchange.
@@ -27,9 +35,9 @@ pub enum Command {
 /// Options of a bare mesh scene (.stl, .obj, .gltf, .glb).
 #[derive(Debug, Args)]
 pub struct MeshArgs {
-    /// Length unit of a bare STL or OBJ scene's coordinates: m, mm, cm, in or ft [default: m].
-    #[arg(long)]
-    pub unit: Option<String>,
+    /// Length unit of a bare STL or OBJ scene's coordinates [default: m].
+    #[arg(long, value_enum)]
+    pub unit: Option<Unit>,
     /// Repair a bare mesh scene: orient consistently and outward, drop duplicate faces and
     /// slivers (each change is reported).
     #[arg(long)]
@@ -45,10 +53,9 @@ pub struct CommonArgs {
     /// Bare mesh scene options.
     #[command(flatten)]
     pub mesh: MeshArgs,
-    /// View-factor method: auto, analytic, hemicube, single-plane, mc-area, mc-uniform,
-    /// mc-cosine.
-    #[arg(short, long, default_value = "auto")]
-    pub method: String,
+    /// View-factor method.
+    #[arg(short, long, value_enum, default_value_t = Method::Auto)]
+    pub method: Method,
     /// Rays or points per patch for the Monte Carlo methods (at most 100000000).
     #[arg(long, allow_negative_numbers = true)]
     pub samples: Option<usize>,
@@ -64,10 +71,10 @@ pub struct CommonArgs {
     /// Worker threads, 1 to 1024 (default: all cores).
     #[arg(long, allow_negative_numbers = true)]
     pub threads: Option<usize>,
-    /// none, reciprocity or closure [default: none for `viewfactors`; for `solve`, closure in a
-    /// closed scene and reciprocity in an open one, where the ambient takes the rest].
-    #[arg(long)]
-    pub enforce: Option<String>,
+    /// Enforcement of the view factors [default: none for `viewfactors`; for `solve`, closure in
+    /// a closed scene and reciprocity in an open one, where the ambient takes the rest].
+    #[arg(long, value_enum)]
+    pub enforce: Option<Enforce>,
     /// Report per patch (`surface#k`) instead of per surface.
     #[arg(long)]
     pub patches: bool,
@@ -110,16 +117,15 @@ pub struct SolveArgs {
     /// conductor block or an ESATAN GR block, chosen by the extension or --format.
     #[arg(long)]
     pub conductances: Option<PathBuf>,
-    /// Format of --conductances: csv, sinda or esatan [default: from the file extension].
-    #[arg(long)]
-    pub format: Option<String>,
-    /// direct, jacobi or gauss-seidel.
-    #[arg(long, default_value = "direct")]
-    pub solver: String,
-    /// Exchange store: auto (by patch count, tolerance and memory), dense (every patch pair) or
-    /// hierarchical (clustered links with heat-rate error control, for large scenes).
-    #[arg(long, default_value = "auto")]
-    pub exchange: String,
+    /// Format of --conductances [default: from the file extension].
+    #[arg(long, value_enum)]
+    pub format: Option<DeckFormat>,
+    /// Linear solver.
+    #[arg(long, value_enum, default_value_t = Solver::Direct)]
+    pub solver: Solver,
+    /// Exchange store.
+    #[arg(long, value_enum, default_value_t = Store::Auto)]
+    pub exchange: Store,
 }
 
 /// `lambert validate`.
@@ -148,10 +154,9 @@ pub struct RenderArgs {
     pub mesh: MeshArgs,
     /// A `solve` CSV, per surface or per patch (`--patches`).
     pub result: PathBuf,
-    /// Column to show: temperature, heat_flux, heat_rate, radiosity, irradiation, emissivity
-    /// or area.
-    #[arg(long, default_value = "temperature")]
-    pub field: String,
+    /// Column to show.
+    #[arg(long, value_enum, default_value_t = Field::Temperature)]
+    pub field: Field,
     /// PNG picture to write.
     #[arg(short, long)]
     pub output: PathBuf,

@@ -2,9 +2,10 @@
 //! work starts.
 use super::args::{CommonArgs, MeshArgs};
 use super::limits;
+use lambert::exchange::Enforce;
 use lambert::report::outputs::Output;
 use lambert::scene::mesh_model::{MeshOptions, Unit};
-use lambert::viewfactor::{Method, Params};
+use lambert::viewfactor::Params;
 use lambert::{Error, Result};
 use std::path::PathBuf;
 
@@ -18,7 +19,7 @@ pub struct Config {
     /// Report per patch.
     pub patches: bool,
     /// Enforcement choice as given (`None` = the subcommand's default).
-    pub enforce: Option<String>,
+    pub enforce: Option<Enforce>,
     /// The `-o` output (a file, or stdout when absent or `-`).
     pub output: Output,
     /// `--tolerance` as given (`None`: the default, or the scene file's).
@@ -30,19 +31,14 @@ pub struct Config {
 
 /// `--unit` and `--repair` as mesh options.
 pub fn mesh_options(a: &MeshArgs) -> Result<MeshOptions> {
-    let unit = match &a.unit {
-        Some(u) => Unit::parse(u).map_err(|e| Error::Usage(format!("--unit: {e}")))?,
-        None => Unit::M,
-    };
-    Ok(MeshOptions { unit, repair: a.repair, ..MeshOptions::default() })
+    Ok(MeshOptions { unit: a.unit.unwrap_or(Unit::M), repair: a.repair, ..MeshOptions::default() })
 }
 
 impl Config {
     /// Validates the shared arguments (ranges and caps of [`limits`]) and configures the thread
     /// pool.
     pub fn from_args(a: &CommonArgs) -> Result<Self> {
-        let method: Method = a.method.parse()?;
-        let mut params = Params { method, seed: a.seed, progress: !a.quiet, ..Params::default() };
+        let mut params = Params { method: a.method, seed: a.seed, progress: !a.quiet, ..Params::default() };
         if let Some(s) = a.samples {
             params.samples = limits::samples(s)?;
         }
@@ -60,13 +56,6 @@ impl Config {
         if let Some(t) = a.tolerance {
             params.tolerance = limits::tolerance(t, "--tolerance")?;
         }
-        if let Some(e) = &a.enforce {
-            if !["none", "reciprocity", "closure"].contains(&e.as_str()) {
-                return Err(Error::Usage(format!(
-                    "unknown --enforce '{e}'; expected none, reciprocity or closure"
-                )));
-            }
-        }
         if let Some(t) = a.threads {
             limits::threads(t)?;
         }
@@ -78,7 +67,7 @@ impl Config {
             scene: a.scene.clone(),
             params,
             patches: a.patches,
-            enforce: a.enforce.clone(),
+            enforce: a.enforce,
             output,
             tolerance_given: a.tolerance,
             load: lambert::scene::LoadOptions {

@@ -5,7 +5,7 @@ use super::limits;
 use lambert::exchange::{self, Enforce};
 use lambert::plan::{
     with_unstamped_note, Goal, Matrix, Outcome, Phase, Plan, PlanError, Progress, Reason, Request, Route,
-    Store, Tolerance, HIERARCHICAL_MIN_PATCHES,
+    Tolerance, HIERARCHICAL_MIN_PATCHES,
 };
 use lambert::report;
 use lambert::report::decks::{DeckFormat, DeckInfo};
@@ -131,7 +131,7 @@ fn request(cfg: &Config) -> Result<Request> {
         resolution: cfg.params.resolution,
         tolerance: cfg.tolerance_given,
         seed: cfg.params.seed,
-        enforce: cfg.enforce.as_deref().map(str::parse).transpose()?,
+        enforce: cfg.enforce,
         progress_bar: cfg.params.progress,
         ..Request::default()
     })
@@ -170,21 +170,7 @@ fn warn_facing_away(scene: &Scene) {
 /// The residuals before and after enforcement, on stderr.
 fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
     eprintln!("lambert: exchange before enforcement: {}", rep.before);
-    eprintln!(
-        "lambert: enforce {} ({}, {} iterations): {}",
-        mode_name(mode),
-        rep.method,
-        rep.iterations,
-        rep.after
-    );
-}
-
-fn mode_name(m: Enforce) -> &'static str {
-    match m {
-        Enforce::None => "none",
-        Enforce::Reciprocity => "reciprocity",
-        Enforce::Closure => "closure",
-    }
+    eprintln!("lambert: enforce {mode} ({}, {} iterations): {}", rep.method, rep.iterations, rep.after);
 }
 
 /// A bad `--vtk` extension is refused before any work starts; the file type otherwise.
@@ -195,16 +181,14 @@ fn check_vtk(path: &Option<std::path::PathBuf>) -> Result<Option<report::vtk::Vt
 fn solve(a: SolveArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
-    let solver: solve::Solver = a.solver.parse()?;
-    let deck = match (&a.format, &a.conductances) {
-        (Some(f), Some(_)) => DeckFormat::from_name(f)?,
+    let deck = match (a.format, &a.conductances) {
+        (Some(f), Some(_)) => f,
         (Some(_), None) => {
             return Err(Error::Usage("--format applies to --conductances, which is not given".into()))
         }
         (None, Some(path)) => DeckFormat::from_path(path)?,
         (None, None) => DeckFormat::Csv,
     };
-    let store = store_of(&a.exchange)?;
     let saved: Vec<Input> = a.viewfactors.iter().map(|p| Input::new("the --viewfactors input", p)).collect();
     let mut outs =
         plan_outputs(&cfg, "results CSV", a.common.vtk.as_deref(), a.conductances.as_deref(), &saved)?;
@@ -225,8 +209,8 @@ fn solve(a: SolveArgs) -> Result<()> {
         solve::conductance::check_deck(&scene, level, cfg.patches)?;
     }
     let request = Request {
-        store,
-        solver,
+        store: a.exchange,
+        solver: a.solver,
         saved_viewfactors: a.viewfactors.is_some(),
         conductances: a.conductances.is_some(),
         ..request(&cfg)?
@@ -305,13 +289,6 @@ fn solve(a: SolveArgs) -> Result<()> {
     outs.commit()
 }
 
-/// `solve --exchange` as the plan's store.
-fn store_of(s: &str) -> Result<Store> {
-    Store::from_name(s).ok_or_else(|| {
-        Error::Usage(format!("unknown --exchange '{s}'; expected auto, dense or hierarchical"))
-    })
-}
-
 /// The plan's progress sink: prints the method's warnings and flags as they arrive.
 struct Sink<'a> {
     scene: &'a Scene,
@@ -333,6 +310,10 @@ fn say_route(plan: &Plan) {
                 "lambert: exchange: dense ({}; --exchange hierarchical for clustered links)",
                 plan.reason
             );
+            return;
+        }
+        Reason::NoExactKernel { .. } => {
+            eprintln!("lambert: exchange: dense ({})", plan.reason);
             return;
         }
         Reason::Asked if plan.route == Route::Clustered => "forced by --exchange hierarchical".to_string(),
@@ -465,7 +446,7 @@ fn validate(a: ValidateArgs) -> Result<()> {
 
 fn render(a: RenderArgs) -> Result<()> {
     use report::render::{self, camera::Camera, values};
-    let unit = values::unit(&a.field)?;
+    let unit = a.field.unit();
     if !a.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
         return Err(Error::Usage(format!(
             "-o {}: the picture is written as PNG; name it .png",
@@ -488,7 +469,7 @@ fn render(a: RenderArgs) -> Result<()> {
         Some(spec) => Camera::frame(&scene).with_spec(spec)?,
         None => Camera::frame(&scene),
     };
-    let v = values::read(&a.result, &scene, &a.field)?;
+    let v = values::read(&a.result, &scene, a.field)?;
     let title = scene.title.clone().unwrap_or_else(|| a.scene.display().to_string());
     let caption = format!("{} per {}: {title}", a.field, if v.per_patch { "patch" } else { "surface" });
     let opts = render::Options {
@@ -496,7 +477,7 @@ fn render(a: RenderArgs) -> Result<()> {
         camera,
         two_sided: a.two_sided,
         range,
-        field: a.field.clone(),
+        field: a.field.to_string(),
         unit: unit.to_string(),
         caption,
         flat: a.flat,

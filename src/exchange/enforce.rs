@@ -19,10 +19,10 @@ use std::str::FromStr;
 /// Closure target: max |Σ_j F_ij − 1| after enforcement (a few hundred ulps of 1).
 pub const CLOSURE_TOL: f64 = 1e-12;
 /// The leak thresholds are the methods' own knowledge ([`crate::viewfactor::accuracy`]).
-pub use crate::viewfactor::accuracy::{LEAK_SIGMAS, LEAK_TOL, LEAK_TOL_SINGLE_PLANE};
+pub use crate::viewfactor::accuracy::{DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS, LEAK_TOL_SINGLE_PLANE};
 
-/// The SPEC.md enforcement modes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The SPEC.md enforcement modes (named in [`crate::choice`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Enforce {
     /// Raw factors.
     None,
@@ -35,12 +35,13 @@ pub enum Enforce {
 impl FromStr for Enforce {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "none" => Ok(Enforce::None),
-            "reciprocity" => Ok(Enforce::Reciprocity),
-            "closure" => Ok(Enforce::Closure),
-            _ => Err(Error::Usage(format!("unknown --enforce '{s}'; expected none, reciprocity or closure"))),
-        }
+        crate::choice::parse_or("enforcement", s)
+    }
+}
+
+impl std::fmt::Display for Enforce {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        crate::choice::write(self, f)
     }
 }
 

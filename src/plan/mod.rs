@@ -36,19 +36,23 @@ use crate::{Error, Result};
 use std::fmt;
 use std::time::{Duration, Instant};
 
-/// Exchange store asked for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Exchange store asked for (named in [`crate::choice`]; the sparse store has no user name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Store {
     /// Dense up to [`HIERARCHICAL_MIN_PATCHES`] patches and while it fits, else clustered.
     #[default]
+    #[value(help = "By patch count, tolerance, memory and method")]
     Auto,
     /// Every patch pair (packed dense triangle, or the sparse store where the packed one
     /// cannot serve).
+    #[value(help = "Every patch pair")]
     Dense,
     /// Clustered links with heat-rate error control.
+    #[value(help = "Clustered links with heat-rate error control, for large scenes")]
     Hierarchical,
     /// Every patch pair in the sparse store, whatever the request (the reference route that
     /// validation compares the others with).
+    #[value(skip)]
     Sparse,
 }
 
@@ -63,15 +67,16 @@ pub enum Route {
     Sparse,
 }
 
-impl Store {
-    /// The store a user names ("auto", "dense" or "hierarchical"); `None` for any other name.
-    pub fn from_name(name: &str) -> Option<Store> {
-        match name {
-            "auto" => Some(Store::Auto),
-            "dense" => Some(Store::Dense),
-            "hierarchical" => Some(Store::Hierarchical),
-            _ => None,
-        }
+impl std::str::FromStr for Store {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        crate::choice::parse_or("exchange store", s)
+    }
+}
+
+impl fmt::Display for Store {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        crate::choice::write(self, f)
     }
 }
 
@@ -238,6 +243,12 @@ pub enum Reason {
         /// Patches.
         patches: usize,
     },
+    /// [`Store::Auto`]: more than [`HIERARCHICAL_MIN_PATCHES`] patches, but the method has no
+    /// exact kernel for the clustered links, so every pair goes in the dense store.
+    NoExactKernel {
+        /// Patches.
+        patches: usize,
+    },
     /// [`Store::Auto`]: the dense store would not fit in memory.
     NoMemory {
         /// Patches.
@@ -261,6 +272,11 @@ impl fmt::Display for Reason {
                 write!(f, "{patches} patches, tolerance below {HIERARCHICAL_MIN_TOLERANCE:e}")
             }
             Reason::Large { patches } => write!(f, "{patches} patches > {HIERARCHICAL_MIN_PATCHES}"),
+            Reason::NoExactKernel { patches } => write!(
+                f,
+                "{patches} patches > {HIERARCHICAL_MIN_PATCHES}, but the hierarchical store evaluates its near \
+                 pairs by an exact kernel only (auto or analytic)"
+            ),
             Reason::NoMemory { patches } => {
                 write!(f, "{patches} patches: the dense store would not fit in memory")
             }
@@ -405,7 +421,7 @@ impl Plan {
             Store::Sparse => return Ok(Plan { route: Route::Sparse, ..packed(Reason::Asked) }),
             Store::Dense => return Ok(packed(if served { Reason::Asked } else { Reason::OnlySparse })),
             // The links evaluate their near pairs with an exact kernel only.
-            Store::Hierarchical if !served || !matches!(req.method, Method::Auto | Method::Analytic) => {
+            Store::Hierarchical if !served || !clustered_kernel(req.method) => {
                 return Err(PlanError::ClusteredUnserved)
             }
             Store::Hierarchical => Reason::Asked,
@@ -414,18 +430,22 @@ impl Plan {
                 let fits = exchange::dense::check_fits(n, PACKED_BYTES_PER_PAIR, &scene.source).is_ok();
                 // A tight tolerance costs the links more than the dense store costs the pairs.
                 let tight = req.tolerance.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
+                let exact = clustered_kernel(req.method);
                 match (fits, tight, n <= HIERARCHICAL_MIN_PATCHES) {
                     (true, true, _) => return Ok(packed(Reason::Tight { patches })),
                     (true, false, true) => return Ok(packed(Reason::Small { patches })),
+                    (true, false, false) if !exact => return Ok(packed(Reason::NoExactKernel { patches })),
                     (true, false, false) => Reason::Large { patches },
+                    (false, ..) if !exact => return Err(no_store_serves(scene, req.method).into()),
                     (false, ..) => Reason::NoMemory { patches },
                 }
             }
         };
-        let rate = req.tolerance.unwrap_or(exchange::hierarchy::DEFAULT_TOLERANCE);
+        let rate = req.tolerance.unwrap_or(exchange::hierarchy::DEFAULT_HEAT_RATE_TOLERANCE);
         // The exact pairs keep `auto`'s own goal on each F, tightened with the heat-rate
         // tolerance (sampled pairs must not dominate the heat-rate error).
-        vf.tolerance = (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_TOLERANCE);
+        vf.tolerance =
+            (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_FACTOR_TOLERANCE);
         Ok(Plan {
             goal: Goal::Solve,
             route: Route::Clustered,
@@ -540,8 +560,29 @@ impl Plan {
 fn factor_tolerance(scene: &Scene, req: &Request) -> f64 {
     match (req.tolerance, scene.run_defaults.tolerance) {
         (Some(t), _) | (None, Some(t)) => t,
-        (None, None) => viewfactor::DEFAULT_TOLERANCE,
+        (None, None) => viewfactor::DEFAULT_FACTOR_TOLERANCE,
     }
+}
+
+/// True when the clustered links can evaluate their near pairs by `method`: they integrate
+/// them with an exact kernel only.
+fn clustered_kernel(method: Method) -> bool {
+    matches!(method, Method::Auto | Method::Analytic)
+}
+
+/// The refusal of [`Store::Auto`] when the dense store would not fit and `method` has no exact
+/// kernel for the clustered links: no store can run it.
+fn no_store_serves(scene: &Scene, method: Method) -> Error {
+    let n = scene.patches.len();
+    crate::error::InputError::file(
+        &scene.source,
+        format!(
+            "{n} patches by {method}: the dense store would not fit in memory, and the hierarchical store \
+             evaluates its near pairs by an exact kernel only (auto or analytic); use auto or analytic, or \
+             coarser patches"
+        ),
+    )
+    .into()
 }
 
 /// True when the packed dense triangle or the clustered links can serve the request.

@@ -16,7 +16,7 @@ fn auto_takes_the_packed_route_on_a_small_scene_and_says_why() {
     let plan = Plan::new(&s, &Request::default()).unwrap();
     assert_eq!(plan.route, Route::Packed);
     assert_eq!(plan.reason, Reason::Small { patches: s.patches.len() });
-    assert_eq!(plan.tolerance, Tolerance::Factor(viewfactor::DEFAULT_TOLERANCE));
+    assert_eq!(plan.tolerance, Tolerance::Factor(viewfactor::DEFAULT_FACTOR_TOLERANCE));
 }
 
 #[test]
@@ -167,4 +167,49 @@ fn enforced_view_factors_report_their_enforcement_and_hear_its_phase() {
         let (worst, ..) = out.worst_row.expect("closed");
         assert!(worst < 1e-9, "closure enforced: {worst}");
     }
+}
+
+/// A closed scene of `n` small triangles, one patch each (only the patch count matters to the
+/// store choice).
+fn triangles(n: usize) -> Scene {
+    use crate::geometry::{DVec3, Polygon};
+    use crate::scene::Shape;
+    let tri = |k: usize| {
+        let x = k as f64;
+        Polygon::new(vec![DVec3::new(x, 0.0, 0.0), DVec3::new(x + 1.0, 0.0, 0.0), DVec3::new(x, 1.0, 0.0)])
+            .unwrap()
+    };
+    let mut b = Scene::builder();
+    b.push_surface("part", Shape::Mesh, (0..n).map(tri).collect(), 1.0, None);
+    b.build()
+}
+
+#[test]
+fn auto_never_clusters_a_method_the_clustered_store_refuses() {
+    let n = HIERARCHICAL_MIN_PATCHES + 1;
+    let s = triangles(n);
+    // An exact kernel above the threshold is clustered (when the dense store fits, it is by
+    // size; when it does not, by memory).
+    let auto = Plan::new(&s, &Request::default()).unwrap();
+    assert_eq!(auto.route, Route::Clustered);
+    let fits = exchange::dense::check_fits(n, PACKED_BYTES_PER_PAIR, &s.source).is_ok();
+    for method in [Method::Hemicube, Method::SinglePlane] {
+        let plan = Plan::new(&s, &Request { method, ..Request::default() });
+        if fits {
+            // Every pair in the dense store, said in the library's words.
+            let plan = plan.unwrap();
+            assert_eq!((plan.route, plan.reason), (Route::Packed, Reason::NoExactKernel { patches: n }));
+            let why = plan.reason.to_string();
+            assert!(why.contains("exact kernel") && !why.contains("--"), "{why}");
+        } else {
+            // No store can run it: refused before any work, naming the method.
+            let e = Error::from(plan.unwrap_err()).to_string();
+            assert!(e.contains(&method.to_string()) && e.contains("would not fit"), "{e}");
+        }
+    }
+    // Named stores keep their meaning: `dense` is served, `hierarchical` refused.
+    let dense = Request { method: Method::Hemicube, store: Store::Dense, ..Request::default() };
+    assert_eq!(Plan::new(&s, &dense).unwrap().route, Route::Packed);
+    let clustered = Request { method: Method::Hemicube, store: Store::Hierarchical, ..Request::default() };
+    assert!(matches!(Plan::new(&s, &clustered), Err(PlanError::ClusteredUnserved)));
 }

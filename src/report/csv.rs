@@ -10,7 +10,7 @@
 //!
 //! `std_error` is empty where a projection method (hemicube, single-plane) took part: their
 //! error is a bias they do not estimate, and a 0 would read as exact ([`std_error_field`]).
-use crate::viewfactor::{MethodSet, ViewFactors};
+use crate::viewfactor::{Entry, MethodSet, ViewFactors};
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
@@ -51,16 +51,36 @@ pub fn write_viewfactors<W: Write>(
     path: &Path,
 ) -> Result<()> {
     crate::viewfactor::range::check(vf)?;
+    write_rows(out, &Rows { from: &vf.names, to: &vf.names, rows: &vf.rows }, open, geometry, path)
+}
+
+/// Sparse factor rows with their names: row `i` is `from[i]`, an entry's column `to[e.to]`.
+#[derive(Debug, Clone, Copy)]
+pub struct Rows<'a> {
+    /// Row names (surfaces, patches or points).
+    pub from: &'a [String],
+    /// Column names (surfaces or patches).
+    pub to: &'a [String],
+    /// The non-zero entries of each row, sorted by column.
+    pub rows: &'a [Vec<Entry>],
+}
+
+/// The one writer of the `viewfactors` columns `from,to,factor,std_error,method,geometry`
+/// (the matrix and the point factors): the fingerprint `geometry` on the first data row, and in
+/// an open scene a `to = ambient` row per source with the rest of its hemisphere, whose
+/// standard error is the root sum of squares of the row's.
+pub fn write_rows<W: Write>(out: W, t: &Rows<'_>, open: bool, geometry: &str, path: &Path) -> Result<()> {
+    debug_assert_eq!(t.from.len(), t.rows.len(), "one name per row");
     let mut w = csv::Writer::from_writer(out);
     let err = |e| csv_err(path, e);
     w.write_record(HEADER).map_err(err)?;
     let mut stamp = Some(geometry);
     let mut stamp = move || stamp.take().unwrap_or("");
-    for (i, row) in vf.rows.iter().enumerate() {
+    for (from, row) in t.from.iter().zip(t.rows) {
         for e in row {
             w.write_record([
-                vf.names[i].as_str(),
-                vf.names[e.to as usize].as_str(),
+                from.as_str(),
+                t.to[e.to as usize].as_str(),
                 &super::fmt_f64(e.factor),
                 &std_error_field(e.method, e.std_error),
                 &e.method.to_string(),
@@ -74,7 +94,7 @@ pub fn write_viewfactors<W: Write>(
             let method = row.iter().fold(MethodSet::default(), |m, e| m.union(e.method));
             if rest > 0.0 {
                 w.write_record([
-                    vf.names[i].as_str(),
+                    from.as_str(),
                     AMBIENT,
                     &super::fmt_f64(rest),
                     &std_error_field(method, var.sqrt()),

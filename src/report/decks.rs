@@ -19,8 +19,8 @@ use std::path::Path;
 /// Node number of the ambient / deep-space node (a boundary node in both solvers).
 pub const SPACE_NODE: usize = 99999;
 
-/// The `--conductances` file formats.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The conductance file formats (named in [`crate::choice`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum DeckFormat {
     /// `from,to,radk`, both directions.
     Csv,
@@ -30,20 +30,20 @@ pub enum DeckFormat {
     Esatan,
 }
 
-impl DeckFormat {
-    /// `--format` names.
-    pub const NAMES: [&'static str; 3] = ["csv", "sinda", "esatan"];
-
-    /// The format named by `--format`.
-    pub fn from_name(s: &str) -> Result<Self> {
-        match s {
-            "csv" => Ok(DeckFormat::Csv),
-            "sinda" => Ok(DeckFormat::Sinda),
-            "esatan" => Ok(DeckFormat::Esatan),
-            _ => Err(Error::Usage(format!("unknown --format '{s}'; expected {}", Self::NAMES.join(", ")))),
-        }
+impl std::str::FromStr for DeckFormat {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        crate::choice::parse_or("conductance format", s)
     }
+}
 
+impl std::fmt::Display for DeckFormat {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        crate::choice::write(self, f)
+    }
+}
+
+impl DeckFormat {
     /// The format implied by the file extension: `.csv`; `.sin`, `.sinda`, `.inp` (SINDA);
     /// `.d`, `.esa`, `.esatan` (ESATAN). Stdout (`-`) is CSV.
     pub fn from_path(p: &Path) -> Result<Self> {
@@ -193,8 +193,8 @@ mod tests {
         }
         assert_eq!(DeckFormat::from_path(Path::new("m.d")).unwrap(), DeckFormat::Esatan);
         assert!(DeckFormat::from_path(Path::new("m.txt")).is_err());
-        assert!(DeckFormat::from_name("nastran").is_err());
-        assert_eq!(DeckFormat::from_name("esatan").unwrap(), DeckFormat::Esatan);
+        assert!("nastran".parse::<DeckFormat>().is_err());
+        assert_eq!("esatan".parse::<DeckFormat>().unwrap(), DeckFormat::Esatan);
     }
 
     #[test]

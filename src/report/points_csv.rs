@@ -13,10 +13,9 @@
 //! factor, then in an open scene a `to = ambient` row with the rest of the hemisphere.
 //! `std_error` is 0 (the factors are exact) and `geometry` holds the scene's fingerprint on the
 //! first row, as in the matrix file.
-use super::csv::{std_error_field, AMBIENT, HEADER};
+use super::csv::{write_rows, Rows};
 use crate::error::InputError;
 use crate::viewfactor::points::{PointFactors, ViewPoint};
-use crate::viewfactor::MethodSet;
 use crate::{Error, Result};
 use std::collections::HashMap;
 use std::io::Write;
@@ -129,7 +128,8 @@ fn csv_problem(e: &csv::Error) -> String {
 }
 
 /// Writes `from,to,factor,std_error,method,geometry` for the point factors `pf` of the points
-/// `names`; open scenes get a `to = ambient` row per point with the rest of its hemisphere.
+/// `names` ([`super::csv::write_rows`]); open scenes get a `to = ambient` row per point with
+/// the rest of its hemisphere.
 pub fn write_point_factors<W: Write>(
     out: W,
     pf: &PointFactors,
@@ -138,38 +138,5 @@ pub fn write_point_factors<W: Write>(
     geometry: &str,
     path: &Path,
 ) -> Result<()> {
-    let err = |e: csv::Error| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) };
-    let mut w = csv::Writer::from_writer(out);
-    w.write_record(HEADER).map_err(err)?;
-    let mut stamp = Some(geometry);
-    let mut stamp = move || stamp.take().unwrap_or("");
-    for (i, row) in pf.rows.iter().enumerate() {
-        for e in row {
-            w.write_record([
-                names[i].as_str(),
-                pf.names[e.to as usize].as_str(),
-                &super::fmt_f64(e.factor),
-                &std_error_field(e.method, e.std_error),
-                &e.method.to_string(),
-                stamp(),
-            ])
-            .map_err(err)?;
-        }
-        if open {
-            let rest = (1.0 - row.iter().map(|e| e.factor).sum::<f64>()).max(0.0);
-            let method = row.iter().fold(MethodSet::default(), |m, e| m.union(e.method));
-            if rest > 0.0 {
-                w.write_record([
-                    names[i].as_str(),
-                    AMBIENT,
-                    &super::fmt_f64(rest),
-                    &std_error_field(method, 0.0),
-                    &method.to_string(),
-                    stamp(),
-                ])
-                .map_err(err)?;
-            }
-        }
-    }
-    w.flush().map_err(|e| Error::Io { path: path.to_path_buf(), source: e })
+    write_rows(out, &Rows { from: names, to: &pf.names, rows: &pf.rows }, open, geometry, path)
 }

@@ -15,8 +15,8 @@ use crate::error::InputError;
 use crate::geometry::{DVec3, Polygon};
 use std::path::Path;
 
-/// A length unit of model coordinates.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// A length unit of model coordinates (named in [`crate::choice`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, clap::ValueEnum)]
 pub enum Unit {
     /// Metres (the default).
     #[default]
@@ -31,17 +31,21 @@ pub enum Unit {
     Ft,
 }
 
+impl std::fmt::Display for Unit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        crate::choice::write(self, f)
+    }
+}
+
 impl Unit {
     /// Parses `m`, `mm`, `cm`, `in` or `ft`.
     pub fn parse(s: &str) -> Result<Unit, String> {
-        match s {
-            "m" => Ok(Unit::M),
-            "mm" => Ok(Unit::Mm),
-            "cm" => Ok(Unit::Cm),
-            "in" => Ok(Unit::In),
-            "ft" => Ok(Unit::Ft),
-            _ => Err(format!("unknown unit '{s}'; expected \"m\", \"mm\", \"cm\", \"in\" or \"ft\"")),
-        }
+        crate::choice::parse(s).ok_or_else(|| {
+            let names: Vec<String> =
+                crate::choice::names::<Unit>().iter().map(|n| format!("\"{n}\"")).collect();
+            let (last, rest) = names.split_last().expect("units exist");
+            format!("unknown unit '{s}'; expected {} or {last}", rest.join(", "))
+        })
     }
     /// Metres per unit.
     pub fn metres(self) -> f64 {

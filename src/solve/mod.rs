@@ -41,8 +41,8 @@ pub const ITERATIVE_TOL: f64 = 1e-12;
 /// Default iteration cap of the iterative solvers.
 pub const MAX_ITERATIONS: usize = 100_000;
 
-/// `--solver`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// The linear solver (named in [`crate::choice`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Solver {
     /// Dense or sparse Cholesky, LU fallback.
     #[default]
@@ -56,14 +56,13 @@ pub enum Solver {
 impl FromStr for Solver {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "direct" => Ok(Solver::Direct),
-            "jacobi" => Ok(Solver::Jacobi),
-            "gauss-seidel" => Ok(Solver::GaussSeidel),
-            _ => {
-                Err(Error::Usage(format!("unknown --solver '{s}'; expected direct, jacobi or gauss-seidel")))
-            }
-        }
+        crate::choice::parse_or("solver", s)
+    }
+}
+
+impl std::fmt::Display for Solver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        crate::choice::write(self, f)
     }
 }
 

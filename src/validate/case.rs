@@ -163,7 +163,7 @@ impl Case {
 
     /// True when `method` runs on this case (not listed under `skip`).
     pub fn runs(&self, method: Method) -> bool {
-        !self.reference.skip.contains_key(method.name())
+        !self.reference.skip.contains_key(&method.to_string())
     }
 }
 

@@ -215,7 +215,7 @@ pub fn method_checks(
     ] {
         let start = Instant::now();
         let result = solve(scene, Source::Method(params), store, CLUSTERED_RATE);
-        let label = format!("{}{suffix}", method.name());
+        let label = format!("{}{suffix}", method);
         let result = match result {
             Ok(Some((res, taken))) if taken == route => Ok(res),
             // The store does not serve this method (the sparse run covers it).

@@ -39,8 +39,9 @@ pub fn run_case(case: &Case, budget: &Budget) -> Vec<Check> {
     // Heat-only cases (exact factors from a file) have no geometry worth running methods on.
     let methods = if case.reference.viewfactors.is_empty() { &[][..] } else { &METHODS[..] };
     for &method in methods {
-        if let Some(why) = case.reference.skip.get(method.name()) {
-            checks.push(Check::without_value(&case.name, "all", method.name(), Status::Skipped(why.clone())));
+        let name = method.to_string();
+        if let Some(why) = case.reference.skip.get(&name) {
+            checks.push(Check::without_value(&case.name, "all", &name, Status::Skipped(why.clone())));
             continue;
         }
         checks.extend(run_method(case, &scene, method, budget));
@@ -55,24 +56,23 @@ fn run_method(case: &Case, scene: &Scene, method: Method, budget: &Budget) -> Ve
     let start = Instant::now();
     let result = viewfactor::compute(scene, &params, Level::Surface);
     let time = start.elapsed();
+    let name = method.to_string();
     let vf = match result {
         Ok(vf) => vf,
         Err(Error::Unsupported(why)) => {
-            return vec![Check::without_value(&case.name, "all", method.name(), Status::NotApplicable(why))];
+            return vec![Check::without_value(&case.name, "all", &name, Status::NotApplicable(why))];
         }
-        Err(e) => {
-            return vec![Check::without_value(&case.name, "all", method.name(), Status::Fail(e.to_string()))]
-        }
+        Err(e) => return vec![Check::without_value(&case.name, "all", &name, Status::Fail(e.to_string()))],
     };
     let mut checks = view_factor_checks(case, scene, method, &params, &vf, time);
     checks.extend(heat::method_checks(case, scene, method, &params, &vf, time));
-    match case.reference.known_issue.get(method.name()) {
+    match case.reference.known_issue.get(&name) {
         Some(why) if checks.iter().any(|c| matches!(c.status, Status::Fail(_))) => {
             checks.into_iter().map(|c| c.with_known_issue(why)).collect()
         }
         Some(why) => {
             let stale = format!("every check passes: remove the [known_issue] marker ({why})");
-            checks.push(Check::without_value(&case.name, "known issue", method.name(), Status::Fail(stale)));
+            checks.push(Check::without_value(&case.name, "known issue", &name, Status::Fail(stale)));
             checks
         }
         None => checks,
@@ -103,17 +103,17 @@ fn view_factor_checks(
             (vf.names.iter().position(|n| *n == r.from), vf.names.iter().position(|n| *n == r.to))
         else {
             let why = format!("reference names a surface the scene lacks ({} or {})", r.from, r.to);
-            checks.push(Check::without_value(&case.name, &quantity, method.name(), Status::Fail(why)));
+            checks.push(Check::without_value(&case.name, &quantity, &method.to_string(), Status::Fail(why)));
             continue;
         };
         let entry = vf.rows[i].iter().find(|e| e.to as usize == j);
         let (value, sigma) = entry.map(|e| (e.factor, e.std_error)).unwrap_or((0.0, 0.0));
         let rays = params.samples as f64 * scene.surfaces[i].patches.len() as f64;
-        let tol = match case.reference.tolerance.get(method.name()) {
+        let tol = match case.reference.tolerance.get(&method.to_string()) {
             Some(o) => o.abs,
             None => tolerance::view_factor(method, params, r, sigma, rays),
         };
-        checks.push(Check::compared(&case.name, quantity, method.name(), value, r.value, tol, time));
+        checks.push(Check::compared(&case.name, quantity, &method.to_string(), value, r.value, tol, time));
     }
     checks
 }

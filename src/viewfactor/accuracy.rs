@@ -8,7 +8,7 @@
 //! - how entries are produced: [`Method::is_symmetric`], [`Method::counts_hits`].
 //!
 //! A new method adds its arms here (and its kernel in `viewfactor`), nowhere else.
-use super::analytic::kernel::LEAK_TOL as ANALYTIC_LEAK_TOL;
+use super::analytic::kernel::ANALYTIC_LEAK_TOL;
 use super::auto::LADDER_SHARE;
 use super::closed_form::element_to_rectangle_corner;
 use super::single_plane::DEFAULT_HALF_WIDTH;
@@ -16,12 +16,12 @@ use super::{Method, MethodSet, Params};
 
 /// Leak threshold for deterministic methods: analytic and hemicube rows close to ~1e-5 or
 /// better, so a shortfall above 1e-3 is geometry, not method error.
-pub const LEAK_TOL: f64 = 1e-3;
+pub const DETERMINISTIC_LEAK_TOL: f64 = 1e-3;
 /// Leak threshold for single-plane, whose finite plane misses up to ~1 % of grazing
 /// directions (literature.md §4: the plane captures 0.9919 at half-width 10).
 pub const LEAK_TOL_SINGLE_PLANE: f64 = 2e-2;
 /// Monte Carlo rows leak when short by more than this many standard errors of the row sum
-/// (and by more than [`LEAK_TOL`]): a false alarm needs a 4σ event.
+/// (and by more than [`DETERMINISTIC_LEAK_TOL`]): a false alarm needs a 4σ event.
 pub const LEAK_SIGMAS: f64 = 4.0;
 
 /// Analytic relative error bound: the contour integral is exact to ~1e-12; 1e-9 leaves room for
@@ -125,12 +125,12 @@ impl Method {
 
 impl MethodSet {
     /// The deterministic leak threshold of a row produced by these methods: single-plane's
-    /// alone when it produced every entry, else [`LEAK_TOL`].
+    /// alone when it produced every entry, else [`DETERMINISTIC_LEAK_TOL`].
     pub fn leak_tol(self) -> f64 {
         if self.union(MethodSet::SINGLE_PLANE) == self && !self.is_empty() {
             LEAK_TOL_SINGLE_PLANE
         } else {
-            LEAK_TOL
+            DETERMINISTIC_LEAK_TOL
         }
     }
 }

@@ -41,8 +41,9 @@ pub mod triangle;
 pub use flags::Flag;
 pub use sink::{Entry, Level, ViewFactors};
 
-/// The view-factor methods of SPEC.md.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// The view-factor methods of SPEC.md; their names ([`crate::choice`]) are the variants in
+/// kebab case (`single-plane`, `mc-area`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Method {
     /// Cheapest method per pair that meets the tolerance.
     #[default]
@@ -62,28 +63,6 @@ pub enum Method {
 }
 
 impl Method {
-    /// Every method, in SPEC.md order.
-    pub const ALL: [Method; 7] = [
-        Method::Auto,
-        Method::Analytic,
-        Method::Hemicube,
-        Method::SinglePlane,
-        Method::McArea,
-        Method::McUniform,
-        Method::McCosine,
-    ];
-    /// The SPEC.md name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Auto => "auto",
-            Method::Analytic => "analytic",
-            Method::Hemicube => "hemicube",
-            Method::SinglePlane => "single-plane",
-            Method::McArea => "mc-area",
-            Method::McUniform => "mc-uniform",
-            Method::McCosine => "mc-cosine",
-        }
-    }
     /// True for the Monte Carlo estimators (they report a standard error).
     pub fn is_monte_carlo(self) -> bool {
         matches!(self, Method::McArea | Method::McUniform | Method::McCosine)
@@ -92,17 +71,14 @@ impl Method {
 
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        crate::choice::write(self, f)
     }
 }
 
 impl FromStr for Method {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        Method::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
-            let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
-            Error::Usage(format!("unknown method '{s}'; expected one of {}", names.join(", ")))
-        })
+        crate::choice::parse_or("method", s)
     }
 }
 
@@ -188,7 +164,7 @@ pub const DEFAULT_SAMPLES: usize = 100_000;
 /// Default hemicube / single-plane resolution.
 pub const DEFAULT_RESOLUTION: usize = 256;
 /// Default `auto` tolerance: 1e-4 absolute on each F (issue brief, View3D's default eps).
-pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+pub const DEFAULT_FACTOR_TOLERANCE: f64 = 1e-4;
 
 impl Default for Params {
     fn default() -> Self {
@@ -196,7 +172,7 @@ impl Default for Params {
             method: Method::Auto,
             samples: DEFAULT_SAMPLES,
             resolution: DEFAULT_RESOLUTION,
-            tolerance: DEFAULT_TOLERANCE,
+            tolerance: DEFAULT_FACTOR_TOLERANCE,
             seed: 0,
             progress: false,
         }

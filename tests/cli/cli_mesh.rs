@@ -153,7 +153,8 @@ fn every_new_error_is_exit_2_and_names_the_file() {
     let stl = write(d, "ok.stl", binary_stl(&cube(DVec3::ZERO, 1.0, true)));
     let o = run(&["viewfactors", stl.to_str().unwrap(), "--unit", "furlong"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(err(&o).contains("--unit: unknown unit 'furlong'; expected \"m\", \"mm\""), "{}", err(&o));
+    assert!(err(&o).contains("invalid value 'furlong' for '--unit <UNIT>'"), "{}", err(&o));
+    assert!(err(&o).contains("[possible values: m, mm, cm, in, ft]"), "{}", err(&o));
     let bad = |name: &str, key: &str| write(d, name, format!("[[model]]\nfile = \"ok.stl\"\n{key}\n"));
     let p = bad("u.toml", "unit = \"furlong\"");
     refused(&[p.to_str().unwrap()], &p, "u.toml:3: [[model]] 'ok.stl': unknown unit 'furlong'");

@@ -348,7 +348,7 @@ fn conductances_as_sinda_and_esatan_decks_match_the_csv() {
         "--format",
         "nastran",
     ]);
-    assert_exit(&o, 2, &["unknown --format 'nastran'"]);
+    assert_exit(&o, 2, &["invalid value 'nastran' for '--format", "[possible values: csv, sinda, esatan]"]);
     let o = run(&["solve", &scene, "--viewfactors", &vf, "--format", "sinda"]);
     assert_exit(&o, 2, &["--format applies to --conductances"]);
 }

@@ -506,7 +506,12 @@ fn exchange_choices_and_their_refusals() {
     let run = |args: &[&str]| lambert().arg("solve").arg(&path).args(args).output().unwrap();
     let out = run(&["--exchange", "sparse"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("auto, dense or hierarchical"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("invalid value 'sparse'")
+            && err.contains("[possible values: auto, dense, hierarchical]"),
+        "{err}"
+    );
     for bad in [
         &["--exchange", "hierarchical", "-m", "hemicube"][..],
         &["--exchange", "hierarchical", "--solver", "jacobi"],
@@ -524,6 +529,20 @@ fn exchange_choices_and_their_refusals() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("exchange: hierarchical") && err.contains("would not fit"), "{err}");
+    // ... but not for a method the clustered store cannot run: refused before any work.
+    for method in ["hemicube", "single-plane"] {
+        let out = lambert()
+            .args(["solve", "-m", method, "--resolution", "8"])
+            .arg(&path)
+            .env(dense::MEM_AVAILABLE_ENV, "1000")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{method}: {err}");
+        assert!(err.contains(&format!("by {method}")) && err.contains("would not fit"), "{method}: {err}");
+        assert!(err.contains("exact kernel") && !err.contains("exchange: hierarchical"), "{method}: {err}");
+        assert!(out.stdout.is_empty(), "{method}: nothing is written");
+    }
 }
 
 proptest! {

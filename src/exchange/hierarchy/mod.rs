@@ -14,7 +14,7 @@
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
 use super::dense::{capped_scales, closure_scales};
-use super::enforce::{EnforceReport, LEAK_SIGMAS, LEAK_TOL};
+use super::enforce::{EnforceReport, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
 use super::operator::Operator;
 use super::{Diagnostics, Enforce};
 use crate::error::InputError;
@@ -35,7 +35,7 @@ pub use refine::Link;
 use tree::Tree;
 
 /// A closed scene's row may fall short of 1 by this many times its links' error bound (plus
-/// [`LEAK_TOL`]) before it counts as a leak.
+/// [`DETERMINISTIC_LEAK_TOL`]) before it counts as a leak.
 pub const LEAK_ERR_SIGMAS: f64 = 3.0;
 
 /// `auto`'s goal on each F of the exact patch pairs, as a share of the heat-rate tolerance
@@ -45,7 +45,7 @@ pub const PAIR_TOLERANCE_SHARE: f64 = 0.01;
 /// Default relative heat-rate tolerance of the hierarchical path: a bound on each surface's
 /// heat-rate error relative to the largest heat rate (measured errors are 20–100× smaller,
 /// validation/scale.md).
-pub const DEFAULT_TOLERANCE: f64 = 1e-2;
+pub const DEFAULT_HEAT_RATE_TOLERANCE: f64 = 1e-2;
 
 /// What the build measured.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -204,8 +204,7 @@ impl Hierarchy {
             Method::Auto => auto::kernel(scene, vf),
             m => {
                 return Err(Error::Usage(format!(
-                    "--exchange hierarchical evaluates its near pairs with `auto` or `analytic`, not `{}`",
-                    m.name()
+                    "the hierarchical store evaluates its near pairs with `auto` or `analytic`, not `{m}`"
                 )))
             }
         };
@@ -635,7 +634,7 @@ impl Hierarchy {
                 let p = s_sum[k] / s_area[k];
                 // Links by their bounds (and what unanimous rays may have missed), sampled
                 // pairs by their standard errors (as the dense path's leak check).
-                let allowed = LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k])
+                let allowed = DETERMINISTIC_LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k])
                     + s_unsure[k] / s_area[k]
                     + LEAK_SIGMAS * s_var[k].sqrt() / s_area[k];
                 (1.0 - p > allowed).then_some((k, p))

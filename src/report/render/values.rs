@@ -8,23 +8,51 @@ use crate::{Error, Result};
 use std::collections::HashMap;
 use std::path::Path;
 
-/// The columns of a `solve` CSV that can be shown, with their units.
-pub const FIELDS: [(&str, &str); 7] = [
-    ("temperature", "K"),
-    ("heat_flux", "W/m²"),
-    ("heat_rate", "W"),
-    ("radiosity", "W/m²"),
-    ("irradiation", "W/m²"),
-    ("emissivity", "–"),
-    ("area", "m²"),
-];
+/// The columns of a `solve` CSV that can be shown (named in [`crate::choice`]: the column
+/// names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[value(rename_all = "snake_case")]
+pub enum Field {
+    /// Temperature, K.
+    Temperature,
+    /// Net outgoing heat flux, W/m².
+    HeatFlux,
+    /// Net outgoing heat rate, W.
+    HeatRate,
+    /// Radiosity, W/m².
+    Radiosity,
+    /// Irradiation, W/m².
+    Irradiation,
+    /// Emissivity.
+    Emissivity,
+    /// Area, m².
+    Area,
+}
 
-/// Unit of a field, or a usage error listing the known fields.
-pub fn unit(field: &str) -> Result<&'static str> {
-    FIELDS.iter().find(|f| f.0 == field).map(|f| f.1).ok_or_else(|| {
-        let names: Vec<&str> = FIELDS.iter().map(|f| f.0).collect();
-        Error::Usage(format!("unknown --field '{field}'; expected one of {}", names.join(", ")))
-    })
+impl Field {
+    /// The unit of the column.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Field::Temperature => "K",
+            Field::HeatFlux | Field::Radiosity | Field::Irradiation => "W/m²",
+            Field::HeatRate => "W",
+            Field::Emissivity => "–",
+            Field::Area => "m²",
+        }
+    }
+}
+
+impl std::fmt::Display for Field {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        crate::choice::write(self, f)
+    }
+}
+
+impl std::str::FromStr for Field {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        crate::choice::parse_or("field", s)
+    }
 }
 
 /// One value per patch, and whether the file was per patch.
@@ -37,7 +65,8 @@ pub struct PatchValues {
 }
 
 /// Reads `field` from the `solve` CSV at `path` for the patches of `scene`.
-pub fn read(path: &Path, scene: &Scene, field: &str) -> Result<PatchValues> {
+pub fn read(path: &Path, scene: &Scene, field: Field) -> Result<PatchValues> {
+    let field = field.to_string();
     let err = |line: Option<u64>, msg: String| {
         let e = InputError::file(path, msg);
         Error::Input(match line {

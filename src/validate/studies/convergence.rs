@@ -60,9 +60,9 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
         }
         if !pts.is_empty() {
             series.push(Series {
-                name: method.name().into(),
+                name: method.to_string(),
                 points: pts,
-                color: method_color(method.name()),
+                color: method_color(&method.to_string()),
                 style: Style::LinePoints,
             });
         }

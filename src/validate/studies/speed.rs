@@ -55,7 +55,7 @@ fn sweep(
             let stop = p.error.is_none() || p.seconds > TIME_CAP_S;
             progress(&format!(
                 "  {:<13} knob {:<8e} {:>8.3} s  error {}",
-                method.name(),
+                method,
                 knob,
                 p.seconds,
                 p.error.map(|e| format!("{e:.2e}")).unwrap_or_else(|| p.note.clone().unwrap_or_default())

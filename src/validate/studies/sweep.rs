@@ -47,9 +47,9 @@ pub fn series(
             // `auto` often coincides with analytic: dashed, drawn over it, both stay visible.
             let style = if m == Method::Auto { Style::Dashed } else { Style::LinePoints };
             (!pts.is_empty()).then(|| Series {
-                name: m.name().to_string(),
+                name: m.to_string(),
                 points: pts,
-                color: method_color(m.name()),
+                color: method_color(&m.to_string()),
                 style,
             })
         })

@@ -40,9 +40,9 @@ use std::sync::OnceLock;
 /// A closed scene's row computed by this method alone that falls short of 1 by more than this
 /// leaks (a gap, a flipped normal): every pair is exact or within [`GAUSS_REL_TOL`], so rows
 /// close to 5e-8; 1e-6 leaves a 20× margin.
-pub const LEAK_TOL: f64 = 1e-6;
+pub const ANALYTIC_LEAK_TOL: f64 = 1e-6;
 
-/// Output rows of `vf` whose sum falls short of 1 by more than `tol` ([`LEAK_TOL`] for this
+/// Output rows of `vf` whose sum falls short of 1 by more than `tol` ([`ANALYTIC_LEAK_TOL`] for this
 /// method's own rows), worst first, with their sums. Meaningful for closed scenes only.
 pub fn leaks(vf: &ViewFactors, tol: f64) -> Vec<(usize, f64)> {
     let mut out: Vec<(usize, f64)> =
