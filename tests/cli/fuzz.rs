@@ -14,7 +14,7 @@
 //! `LAMBERT_FUZZ_SEED` picks the campaign (default 0), `LAMBERT_FUZZ_TIMEOUT_S` the per-input
 //! bound, `LAMBERT_FUZZ_KEEP_GOING=1` reports every failing input instead of stopping at the
 //! first. A long campaign: `LAMBERT_FUZZ_CASES=20000 LAMBERT_FUZZ_SEED=1
-//! LAMBERT_FUZZ_KEEP_GOING=1 cargo test --release --test cli fuzz:: -- --nocapture` (validation/reliability.md).
+//! LAMBERT_FUZZ_KEEP_GOING=1 cargo test --release --test integration cli::fuzz:: -- --nocapture` (validation/reliability.md).
 use lambert::scene::{self, toml_scene, Scene};
 use lambert::viewfactor::{self, Level, Method, Params};
 use lambert::Error;

@@ -1,7 +1,8 @@
 //! Integration tests of the `lambert` command line: errors and hints, outputs, rendering, progress, determinism and fuzzing.
 //!
-//! One test binary per area (each links the whole crate once); every file under `tests/cli/` is
-//! a module here. Run one with `cargo test --release --test cli <module>::`.
+//! Every file under `tests/cli/` is a module here, and this area a module of the one
+//! integration-test binary (`tests/integration.rs`). Run one with
+//! `cargo test --release --test integration cli::<module>::`.
 mod cli_errors;
 mod cli_hints;
 mod cli_mesh;
@@ -11,8 +12,6 @@ mod cli_render;
 mod cli_rough_edges;
 mod cli_solve;
 mod cli_vs3;
-#[path = "../common/mod.rs"]
-mod common;
 mod determinism;
 mod fuzz;
 mod points;

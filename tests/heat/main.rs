@@ -1,9 +1,8 @@
 //! Integration tests of the exchange and the solve: sparse, dense and clustered stores, bands, conductances and decks.
 //!
-//! One test binary per area (each links the whole crate once); every file under `tests/heat/` is
-//! a module here. Run one with `cargo test --release --test heat <module>::`.
-#[path = "../common/mod.rs"]
-mod common;
+//! Every file under `tests/heat/` is a module here, and this area a module of the one
+//! integration-test binary (`tests/integration.rs`). Run one with
+//! `cargo test --release --test integration heat::<module>::`.
 mod decks_agree;
 mod dense;
 mod exchange;

@@ -1,9 +1,8 @@
 //! Integration tests of scene loading: TOML, glTF/GLB, STL/OBJ meshes, .vs3, patching and their errors.
 //!
-//! One test binary per area (each links the whole crate once); every file under `tests/scene/` is
-//! a module here. Run one with `cargo test --release --test scene <module>::`.
-#[path = "../common/mod.rs"]
-mod common;
+//! Every file under `tests/scene/` is a module here, and this area a module of the one
+//! integration-test binary (`tests/integration.rs`). Run one with
+//! `cargo test --release --test integration scene::<module>::`.
 mod gltf_malformed;
 mod scene_errors;
 mod scene_fuzz;

@@ -2,9 +2,9 @@
 //! rectangles, the centre of a closed cube, closure in a room with re-entrant walls, exact
 //! shadows against their closed form and against a cosine-ray Monte Carlo of this file,
 //! sensors on and behind surfaces, rigid motion and thread counts.
-use super::common::analytic_scenes::{grid, l_room};
-use super::common::concave_meshes::{extruded, L_PROFILE};
-use super::common::{cube_interior, rect};
+use crate::common::analytic_scenes::{grid, l_room};
+use crate::common::concave_meshes::{extruded, L_PROFILE};
+use crate::common::{cube_interior, rect};
 use glam::{DQuat, DVec2};
 use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame};
 use lambert::geometry::{DVec3, Polygon};
@@ -120,7 +120,7 @@ fn a_sensor_on_the_floor_sees_no_floor_and_typed_digits_keep_it_on_it() {
 fn room(table: bool) -> Scene {
     let mut b = Scene::builder();
     let names = ["x+", "x-", "y+", "y-", "z+", "z-"];
-    for (name, face) in names.iter().zip(super::common::cube_faces(DVec3::splat(1.5), 3.0, true, 1)) {
+    for (name, face) in names.iter().zip(crate::common::cube_faces(DVec3::splat(1.5), 3.0, true, 1)) {
         b = b.surface(name, face, 0.9, None);
     }
     if table {
