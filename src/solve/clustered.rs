@@ -11,6 +11,7 @@
 //! between surfaces of nearly equal radiosity stay coarse. The first pass's patch pairs are
 //! reused.
 use super::{Params, Solution};
+use crate::exchange::enforce::CLOSURE_TOL;
 use crate::exchange::hierarchy::{radiosity_bounds, Hierarchy, Stats};
 use crate::exchange::{Enforce, EnforceReport};
 use crate::scene::Scene;
@@ -29,8 +30,6 @@ pub struct ClusteredRun {
     pub first: Option<(f64, Stats)>,
 }
 
-/// Closure tolerance of the enforcement (as the dense path's default).
-const CLOSURE_TOL: f64 = 1e-12;
 /// Tolerances at or below this take two passes (above it the first pass would cost more
 /// than its sharper radiosity ranges save; validation/scale.md).
 pub const TWO_PASS_BELOW: f64 = 3e-3;
