@@ -300,10 +300,10 @@ pub fn propagate_shift(scene: &Scene, t: &dyn Operator, c: &[f64]) -> Result<Vec
 /// Relative residual of the error propagation solve (an estimate needs two digits).
 const ERROR_CG_TOL: f64 = 1e-6;
 
-/// Refuses a group of unknowns without a temperature anchor (as
-/// [`super::system::check_anchored`]): heat-flux rows whose dominance margin
-/// D_i − Σ_{j unknown} s̄_ij is at round-off level, connected only to such rows. A given
-/// temperature anchors its group whatever its emissivity.
+/// Refuses a group of unknowns without a temperature anchor ([`super::system::unanchored`],
+/// as the sparse store's [`super::system::check_anchored`]): heat-flux rows whose dominance
+/// margin D_i − Σ_{j unknown} s̄_ij is at round-off level, connected only to such rows. A
+/// given temperature anchors its group whatever its emissivity; known rows anchor themselves.
 fn check_anchored(
     scene: &Scene,
     t: &dyn Operator,
@@ -317,32 +317,19 @@ fn check_anchored(
     let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
     let su = t.matvec_scaled(None, &mask);
     let anchored: Vec<bool> = (0..n)
-        .map(|i| matches!(rows[i], RowKind::Temperature(_)) || d[i] - su[i] > ANCHOR_TOL * diag[i].abs())
+        .map(|i| {
+            !unknown[i]
+                || matches!(rows[i], RowKind::Temperature(_))
+                || d[i] - su[i] > ANCHOR_TOL * diag[i].abs()
+        })
         .collect();
-    if (0..n).all(|i| !unknown[i] || anchored[i]) {
-        return Ok(());
-    }
-    // Union-find over coupled unknown pairs.
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    t.couplings(&mut |i, j| {
-        if unknown[i] && unknown[j] {
-            let (a, b) = (find(&mut parent, i), find(&mut parent, j));
-            parent[a] = b;
-        }
+    let bad = super::system::unanchored(&anchored, |join| {
+        t.couplings(&mut |i, j| {
+            if unknown[i] && unknown[j] {
+                join(i, j);
+            }
+        })
     });
-    let mut root_ok = vec![false; n];
-    for i in (0..n).filter(|&i| unknown[i] && anchored[i]) {
-        let r = find(&mut parent, i);
-        root_ok[r] = true;
-    }
-    let bad: Vec<usize> = (0..n).filter(|&i| unknown[i] && !root_ok[find(&mut parent, i)]).collect();
     let Some(&first) = bad.first() else { return Ok(()) };
     let surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
     Err(super::system::no_anchor(scene, names[first].clone(), surfaces))
