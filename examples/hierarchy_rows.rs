@@ -10,7 +10,7 @@ fn main() {
     let tol: f64 = std::env::args().nth(2).map_or(1e-3, |s| s.parse().unwrap());
     let scene = lambert::scene::load(std::path::Path::new(&path)).unwrap();
     let vf = lambert::viewfactor::Params::default();
-    let h = Hierarchy::build(&scene, &vf, tol).unwrap();
+    let h = Hierarchy::build(&scene, &vf, tol, &lambert::solve::clustered::budget(&scene)).unwrap();
     eprintln!("{:?}", h.stats);
     let n = scene.patches.len();
     let sums = h.matvec_scaled(None, &vec![1.0; n]);

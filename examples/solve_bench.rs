@@ -51,13 +51,13 @@ fn main() {
             }
             let mut cache = None;
             let t = Instant::now();
-            let f = direct::factor(&sys.k, dense_max, dense_max, &mut cache).unwrap();
+            let f = direct::factor(&sys.k, sys.symmetric, dense_max, dense_max, &mut cache).unwrap();
             let t_f = t.elapsed();
             let t = Instant::now();
             let _ = f.solve(&sys.b);
             let t_s = t.elapsed();
             let t = Instant::now();
-            let _ = direct::factor(&sys.k, dense_max, dense_max, &mut cache).unwrap();
+            let _ = direct::factor(&sys.k, sys.symmetric, dense_max, dense_max, &mut cache).unwrap();
             let t_re = t.elapsed();
             println!(
                 "{label:>7} stages: assemble K {:.3} s, factor {:.3} s ({}), refactor reusing symbolic {:.3} s, solve {:.3} s",

@@ -9,7 +9,7 @@
 //! The triangle already holds s̄ = ½(s + sᵀ): reciprocity is exact by storage.
 use super::diagnostics::{Diagnostics, WORST_ROWS};
 use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS};
-use super::linalg::{dot, norm};
+use super::linalg::{cg, max_iter, Linear, CG_TOL};
 use super::operator::Operator;
 use crate::error::InputError;
 use crate::viewfactor::triangle::Triangle;
@@ -19,13 +19,8 @@ use rayon::prelude::*;
 
 /// Newton steps allowed (as [`super::scaling`]).
 const MAX_NEWTON: usize = 50;
-/// CG stopping rule of each Newton step (as [`super::lsq::CG_TOL`]).
-const CG_TOL: f64 = 1e-14;
 /// Loosest relative CG residual of a Newton step (inexact Newton forcing term).
 const NEWTON_FORCING: f64 = 1e-2;
-/// CG iterations per Newton step: floor plus per node (as [`super::lsq`]).
-const CG_ITER_FLOOR: usize = 2000;
-const CG_ITER_PER_NODE: usize = 4;
 /// Fixed-point sweeps allowed for the capped scaling of open scenes.
 const MAX_CAPPED: usize = 10_000;
 
@@ -171,14 +166,18 @@ pub fn closure_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
         let r: Vec<f64> = areas.iter().zip(&sums).map(|(a, s)| a - s).collect();
         // Operator diagonal Σ_j w_ij + w_ii.
         let diag: Vec<f64> = (0..n).map(|i| sums[i] + t.self_term(i) * g[i] * g[i]).collect();
-        let apply = |x: &[f64]| -> Vec<f64> {
-            let wx = t.matvec_scaled(Some(&g), x);
-            wx.iter().zip(&sums).zip(x).map(|((w, s), x)| w + s * x).collect()
+        let apply = Linear {
+            n,
+            apply: |x: &[f64], y: &mut [f64]| {
+                let wx = t.matvec_scaled(Some(&g), x);
+                y.iter_mut().zip(wx).zip(&sums).zip(x).for_each(|(((y, w), s), x)| *y = w + s * x);
+            },
         };
         // Inexact Newton: each step solved to the current closure error (quadratic
         // convergence is kept), never looser than NEWTON_FORCING.
         let goal = err.clamp(CG_TOL, NEWTON_FORCING);
-        let (u, it, res) = pcg(&apply, &diag, &r, goal, CG_ITER_FLOOR + CG_ITER_PER_NODE * n);
+        let (u, info) = cg(&apply, &diag, &r, goal, max_iter(n));
+        let (it, res) = (info.iterations, info.residual);
         total += it;
         if res > goal && res > 1e-8 {
             return Err(Error::Compute(format!(
@@ -235,49 +234,6 @@ pub fn capped_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
         }
     }
     Err(Error::Compute(format!("capped scaling of over-full rows did not converge in {MAX_CAPPED} sweeps")))
-}
-
-/// Jacobi-preconditioned CG for a symmetric positive (semi-)definite operator, from x = 0;
-/// returns (x, iterations, final ‖b − Ax‖/‖b‖). Deterministic reductions ([`dot`]).
-pub fn pcg(
-    apply: &dyn Fn(&[f64]) -> Vec<f64>,
-    diag: &[f64],
-    b: &[f64],
-    tol: f64,
-    max_iter: usize,
-) -> (Vec<f64>, usize, f64) {
-    let n = b.len();
-    let inv: Vec<f64> = diag.iter().map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 }).collect();
-    let bnorm = norm(b);
-    let mut x = vec![0.0; n];
-    if bnorm == 0.0 {
-        return (x, 0, 0.0);
-    }
-    let mut r = b.to_vec();
-    let mut z: Vec<f64> = r.iter().zip(&inv).map(|(r, d)| r * d).collect();
-    let mut p = z.clone();
-    let mut rz = dot(&r, &z);
-    let mut res = 1.0;
-    for it in 1..=max_iter {
-        let ap = apply(&p);
-        let pap = dot(&p, &ap);
-        if pap <= 0.0 {
-            return (x, it, res);
-        }
-        let alpha = rz / pap;
-        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
-        r.iter_mut().zip(&ap).for_each(|(r, ap)| *r -= alpha * ap);
-        res = norm(&r) / bnorm;
-        if res <= tol {
-            return (x, it, res);
-        }
-        z.iter_mut().zip(&r).zip(&inv).for_each(|((z, r), d)| *z = r * d);
-        let rz_new = dot(&r, &z);
-        let beta = rz_new / rz;
-        rz = rz_new;
-        p.iter_mut().zip(&z).for_each(|(p, z)| *p = z + beta * *p);
-    }
-    (x, max_iter, res)
 }
 
 /// Environment variable overriding the available memory in bytes (tests, batch schedulers).

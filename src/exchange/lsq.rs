@@ -7,16 +7,9 @@
 //! Weights: w = s̄ (the linearisation of symmetric scaling; keeps structural zeros and, for
 //! small corrections, signs) and w = 1 on the stored pattern (Larsen & Howell, zeros masked;
 //! may create negatives, which the diagnostics count).
-use super::linalg::{cg, SignlessLaplacian};
+use super::linalg::{cg, max_iter, Linear, SignlessLaplacian, CG_TOL};
 use super::Exchange;
 use crate::{Error, Result};
-
-/// CG stopping rule relative to ‖A − s̄·1‖: closure to ~1e-14 of the correction.
-pub const CG_TOL: f64 = 1e-14;
-/// CG iterations allowed per node (plus a floor): a signless Laplacian of a view-factor graph
-/// converges in tens of iterations; this only stops a runaway.
-const CG_ITER_PER_NODE: usize = 4;
-const CG_ITER_FLOOR: usize = 2000;
 
 /// Weight choice for [`weighted_least_squares`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -30,8 +23,8 @@ pub enum Weight {
 /// Solves Σ_j w_ij(λ_i + λ_j) = r_i on the pattern of `ex`; errors when infeasible.
 pub fn solve_constraints(ex: &Exchange, w: &[f64], r: &[f64]) -> Result<(Vec<f64>, usize)> {
     let op = SignlessLaplacian { indptr: ex.indptr(), indices: ex.s.indices(), w };
-    let max_iter = CG_ITER_FLOOR + CG_ITER_PER_NODE * ex.len();
-    let (x, info) = cg(&op, r, CG_TOL, max_iter);
+    let lin = Linear { n: ex.len(), apply: |x: &[f64], y: &mut [f64]| op.apply(x, y) };
+    let (x, info) = cg(&lin, &op.diagonal(), r, CG_TOL, max_iter(ex.len()));
     // Near-consistency is enough when the right-hand side itself is at round-off level.
     if !info.converged && info.residual > 1e-8 {
         return Err(Error::Compute(format!(

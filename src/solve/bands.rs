@@ -146,7 +146,8 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
     for (k, b) in spec.bands.iter().enumerate() {
         let eps: Vec<f64> = nodes.iter().map(|nd| spec.emissivity[nd.surface][k]).collect();
         let sys = system::assemble(ex, &eps, &vec![RowKind::Temperature(0.0); n], 0.0);
-        let factor = direct::factor(&sys.k, params.dense_max, params.dense_full_max, &mut cache)?;
+        let factor =
+            direct::factor(&sys.k, sys.symmetric, params.dense_max, params.dense_full_max, &mut cache)?;
         bands.push(BandSystem { eps, sys, factor, lower: b.lower, upper: b.upper });
     }
     let t_amb = scene.ambient.map(|a| a.temperature);

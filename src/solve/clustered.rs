@@ -10,11 +10,15 @@
 //! final links are weighed against those ranges instead of the a-priori ones, so links
 //! between surfaces of nearly equal radiosity stay coarse. The first pass's patch pairs are
 //! reused.
+//!
+//! The boundary conditions reach the links only through a [`Budget`] built here ([`budget`]:
+//! a-priori radiosity bounds and the heat-rate scale of the tolerance).
 use super::{Params, Solution};
-use crate::exchange::hierarchy::{radiosity_bounds, Hierarchy, Stats};
+use crate::exchange::enforce::CLOSURE_TOL;
+use crate::exchange::hierarchy::{Budget, Hierarchy, Stats};
 use crate::exchange::{Enforce, EnforceReport};
-use crate::scene::Scene;
-use crate::Result;
+use crate::scene::{BoundaryCondition, Scene};
+use crate::{Result, SIGMA};
 
 /// Everything the hierarchical `solve` run produced.
 #[derive(Debug, Clone)]
@@ -29,8 +33,6 @@ pub struct ClusteredRun {
     pub first: Option<(f64, Stats)>,
 }
 
-/// Closure tolerance of the enforcement (as the dense path's default).
-const CLOSURE_TOL: f64 = 1e-12;
 /// Tolerances at or below this take two passes (above it the first pass would cost more
 /// than its sharper radiosity ranges save; validation/scale.md).
 pub const TWO_PASS_BELOW: f64 = 3e-3;
@@ -61,10 +63,11 @@ pub fn solve_scene(
         let (bounds, h1) = radiosity_ranges(scene, vf, mode, loose, params)?;
         let stats = h1.stats.clone();
         let pairs = h1.into_pairs();
-        let h = Hierarchy::build_bounded(scene, vf, tol, &bounds, Some(pairs))?;
+        let budget = Budget { radiosity: bounds, heat_rate_scale: heat_rate_scale(scene) };
+        let h = Hierarchy::build_bounded(scene, vf, tol, &budget, Some(pairs))?;
         (h, Some((loose, stats)))
     } else {
-        (Hierarchy::build(scene, vf, tol)?, None)
+        (Hierarchy::build(scene, vf, tol, &budget(scene))?, None)
     };
     let report = h.enforce(scene, mode, !scene.is_closed(), CLOSURE_TOL)?;
     let mut solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
@@ -96,8 +99,8 @@ pub fn radiosity_ranges(
     loose: f64,
     params: &Params,
 ) -> Result<(Vec<(f64, f64)>, Hierarchy)> {
-    let apriori = radiosity_bounds(scene);
-    let mut h = Hierarchy::build_bounded(scene, vf, loose, &apriori, None)?;
+    let apriori = budget(scene);
+    let mut h = Hierarchy::build(scene, vf, loose, &apriori)?;
     h.enforce_with(scene, mode, !scene.is_closed(), CLOSURE_TOL, false)?;
     let solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
@@ -107,12 +110,89 @@ pub fn radiosity_ranges(
     }
     let dj = super::dense::radiosity_errors(scene, &h, &e)?;
     let dj: Vec<f64> = dj.into_iter().map(|d| d * RANGE_MARGIN).collect();
-    let bounds =
-        (0..j.len()).map(|i| ((j[i] - dj[i]).max(apriori[i].0), (j[i] + dj[i]).min(apriori[i].1))).collect();
+    let bounds = (0..j.len())
+        .map(|i| ((j[i] - dj[i]).max(apriori.radiosity[i].0), (j[i] + dj[i]).min(apriori.radiosity[i].1)))
+        .collect();
     Ok((bounds, h))
 }
 
 /// Emissive power of the ambient of an open scene, W/m².
 fn e_amb(scene: &Scene) -> Option<f64> {
-    scene.ambient.map(|a| crate::SIGMA * a.temperature.powi(4))
+    scene.ambient.map(|a| SIGMA * a.temperature.powi(4))
+}
+
+/// The a-priori [`Budget`] of `scene`'s boundary conditions: [`radiosity_bounds`] and the
+/// heat-rate scale.
+pub fn budget(scene: &Scene) -> Budget {
+    Budget { radiosity: radiosity_bounds(scene), heat_rate_scale: heat_rate_scale(scene) }
+}
+
+/// Radiosity bounds of each patch before the solve (W/m²): J = εE_b + ρH with the irradiation
+/// H between the scene's lowest and highest radiosity; flux patches span the whole range.
+pub fn radiosity_bounds(scene: &Scene) -> Vec<(f64, f64)> {
+    let eb = |t: f64| SIGMA * t.powi(4);
+    let mut e_lo = scene.ambient.map_or(f64::INFINITY, |a| eb(a.temperature));
+    let mut e_hi = scene.ambient.map_or(0.0, |a| eb(a.temperature));
+    let mut q_max: f64 = 0.0;
+    let mut eps_min: f64 = 1.0;
+    for s in &scene.surfaces {
+        match s.condition {
+            Some(BoundaryCondition::Temperature(t)) => (e_lo, e_hi) = (e_lo.min(eb(t)), e_hi.max(eb(t))),
+            Some(BoundaryCondition::HeatFlux(q)) => {
+                q_max = q_max.max(q.abs());
+                eps_min = eps_min.min(s.emissivity.max(1e-3));
+            }
+            None => {}
+        }
+    }
+    if !e_lo.is_finite() {
+        e_lo = 0.0;
+    }
+    // A heated flux surface radiates above the hottest fixed temperature by about q/ε.
+    let top = e_hi + q_max / eps_min;
+    scene
+        .patches
+        .iter()
+        .map(|p| {
+            let s = &scene.surfaces[p.surface];
+            match s.condition {
+                Some(BoundaryCondition::Temperature(t)) => {
+                    let (e, r) = (s.emissivity * eb(t), 1.0 - s.emissivity);
+                    (e + r * e_lo, e + r * top)
+                }
+                // J ≥ 0 is all that is known below a flux surface's radiosity.
+                _ => (0.0, top),
+            }
+        })
+        .collect()
+}
+
+/// The largest heat rate to expect (W): A ε |E_b − Ē_b| of temperature surfaces (Ē_b their
+/// area mean), A |q| of flux surfaces.
+fn heat_rate_scale(scene: &Scene) -> f64 {
+    let eb = |t: f64| SIGMA * t.powi(4);
+    let (mut ae, mut a) = (0.0, 0.0);
+    for s in &scene.surfaces {
+        if let Some(BoundaryCondition::Temperature(t)) = s.condition {
+            (ae, a) = (ae + s.area * eb(t), a + s.area);
+        }
+    }
+    let mean = if a > 0.0 { ae / a } else { 0.0 };
+    let q = scene
+        .surfaces
+        .iter()
+        .map(|s| match s.condition {
+            Some(BoundaryCondition::Temperature(t)) => s.area * s.emissivity * (eb(t) - mean).abs(),
+            Some(BoundaryCondition::HeatFlux(q)) => s.area * q.abs(),
+            None => 0.0,
+        })
+        .fold(0.0, f64::max);
+    let amb = scene.ambient.map_or(0.0, |am| {
+        scene
+            .surfaces
+            .iter()
+            .map(|s| s.area * s.emissivity * (eb(am.temperature) - mean).abs())
+            .fold(0.0, f64::max)
+    });
+    q.max(amb).max(f64::MIN_POSITIVE)
 }

@@ -118,7 +118,7 @@ pub fn radk(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Conductance
     let eps: Vec<f64> = nodes.iter().map(|n| n.emissivity).collect();
     let rows = vec![RowKind::Temperature(0.0); n];
     let sys = system::assemble(ex, &eps, &rows, 0.0);
-    let f = direct::factor(&sys.k, params.dense_max, params.dense_full_max, &mut None)?;
+    let f = direct::factor(&sys.k, sys.symmetric, params.dense_max, params.dense_full_max, &mut None)?;
     let cols = n + usize::from(open);
     let m = sys.node.len();
     let ip = ex.indptr();

@@ -9,7 +9,8 @@
 use super::system::{RowKind, ANCHOR_TOL};
 use super::{Info, NodeResult, Params, Solution};
 use crate::error::InputError;
-use crate::exchange::dense::{self, pcg, DenseExchange};
+use crate::exchange::dense::{self, DenseExchange};
+use crate::exchange::linalg::{cg, Linear, CG_TOL};
 use crate::exchange::operator::Operator;
 use crate::exchange::{Enforce, EnforceParams, EnforceReport};
 use crate::scene::Scene;
@@ -17,11 +18,9 @@ use crate::viewfactor::Level;
 use crate::{Error, Result, SIGMA};
 use std::time::Instant;
 
-/// Relative residual ‖b − KJ‖/‖b‖ at which CG stops: the heat rates then agree with a direct
-/// factorisation to ~1e-12 (K is diagonally dominant wherever a temperature anchors it).
-pub const CG_TOL: f64 = 1e-14;
-/// Accepted residual when round-off stalls CG before [`CG_TOL`]: far below the 1e-9 energy
-/// balance.
+/// Accepted residual when round-off stalls CG before [`CG_TOL`] (at which the heat rates agree
+/// with a direct factorisation to ~1e-12: K is diagonally dominant wherever a temperature
+/// anchors it): far below the 1e-9 energy balance.
 pub const CG_STALL_TOL: f64 = 1e-12;
 /// CG iterations allowed: a floor plus a share of the unknowns (convergence takes tens of
 /// iterations on anchored enclosures; this only stops a runaway).
@@ -118,9 +117,9 @@ pub fn solve_operator(
     for i in (0..n).filter(|&i| !unknown[i]) {
         b[i] = 0.0;
     }
-    let apply = |x: &[f64]| sys.apply(t, x);
     let max_iter = CG_ITER_FLOOR + n;
-    let (x, iterations, residual) = pcg(&apply, &sys.diag, &b, CG_TOL, max_iter);
+    let (x, cg_info) = cg(&sys.linear(t), &sys.diag, &b, CG_TOL, max_iter);
+    let (iterations, residual) = (cg_info.iterations, cg_info.residual);
     if !(residual <= CG_STALL_TOL) {
         return Err(Error::Compute(format!(
             "conjugate gradients stopped at relative residual {residual:.3e} after {iterations} iterations"
@@ -216,18 +215,24 @@ impl LeanSystem {
         Ok(LeanSystem { eps, rows, d, unknown, mask, diag })
     }
 
-    /// K x = D x − S̄ x on the unknowns (x is 0 on known rows, so is K x).
-    fn apply(&self, t: &dyn Operator, x: &[f64]) -> Vec<f64> {
-        let sx = t.matvec_scaled(None, x);
-        (0..x.len()).map(|i| self.mask[i] * (self.d[i] * x[i] - sx[i])).collect()
+    /// K as a linear operator: K x = D x − S̄ x on the unknowns (x is 0 on known rows, so is
+    /// K x).
+    fn linear<'a>(&'a self, t: &'a dyn Operator) -> Linear<impl Fn(&[f64], &mut [f64]) + Sync + 'a> {
+        Linear {
+            n: t.len(),
+            apply: move |x: &[f64], y: &mut [f64]| {
+                let sx = t.matvec_scaled(None, x);
+                for i in 0..x.len() {
+                    y[i] = self.mask[i] * (self.d[i] * x[i] - sx[i]);
+                }
+            },
+        }
     }
 
     /// K⁻¹ r on the unknowns (r masked), to the error estimates' accuracy.
     fn solve(&self, t: &dyn Operator, r: &[f64]) -> Vec<f64> {
         let rhs: Vec<f64> = r.iter().zip(&self.mask).map(|(r, m)| r * m).collect();
-        let (y, _, _) =
-            pcg(&|x: &[f64]| self.apply(t, x), &self.diag, &rhs, ERROR_CG_TOL, CG_ITER_FLOOR + r.len());
-        y
+        cg(&self.linear(t), &self.diag, &rhs, ERROR_CG_TOL, CG_ITER_FLOOR + r.len()).0
     }
 }
 
@@ -295,10 +300,10 @@ pub fn propagate_shift(scene: &Scene, t: &dyn Operator, c: &[f64]) -> Result<Vec
 /// Relative residual of the error propagation solve (an estimate needs two digits).
 const ERROR_CG_TOL: f64 = 1e-6;
 
-/// Refuses a group of unknowns without a temperature anchor (as
-/// [`super::system::check_anchored`]): heat-flux rows whose dominance margin
-/// D_i − Σ_{j unknown} s̄_ij is at round-off level, connected only to such rows. A given
-/// temperature anchors its group whatever its emissivity.
+/// Refuses a group of unknowns without a temperature anchor ([`super::system::unanchored`],
+/// as the sparse store's [`super::system::check_anchored`]): heat-flux rows whose dominance
+/// margin D_i − Σ_{j unknown} s̄_ij is at round-off level, connected only to such rows. A
+/// given temperature anchors its group whatever its emissivity; known rows anchor themselves.
 fn check_anchored(
     scene: &Scene,
     t: &dyn Operator,
@@ -312,32 +317,19 @@ fn check_anchored(
     let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
     let su = t.matvec_scaled(None, &mask);
     let anchored: Vec<bool> = (0..n)
-        .map(|i| matches!(rows[i], RowKind::Temperature(_)) || d[i] - su[i] > ANCHOR_TOL * diag[i].abs())
+        .map(|i| {
+            !unknown[i]
+                || matches!(rows[i], RowKind::Temperature(_))
+                || d[i] - su[i] > ANCHOR_TOL * diag[i].abs()
+        })
         .collect();
-    if (0..n).all(|i| !unknown[i] || anchored[i]) {
-        return Ok(());
-    }
-    // Union-find over coupled unknown pairs.
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    t.couplings(&mut |i, j| {
-        if unknown[i] && unknown[j] {
-            let (a, b) = (find(&mut parent, i), find(&mut parent, j));
-            parent[a] = b;
-        }
+    let bad = super::system::unanchored(&anchored, |join| {
+        t.couplings(&mut |i, j| {
+            if unknown[i] && unknown[j] {
+                join(i, j);
+            }
+        })
     });
-    let mut root_ok = vec![false; n];
-    for i in (0..n).filter(|&i| unknown[i] && anchored[i]) {
-        let r = find(&mut parent, i);
-        root_ok[r] = true;
-    }
-    let bad: Vec<usize> = (0..n).filter(|&i| unknown[i] && !root_ok[find(&mut parent, i)]).collect();
     let Some(&first) = bad.first() else { return Ok(()) };
     let surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
     Err(super::system::no_anchor(scene, names[first].clone(), surfaces))

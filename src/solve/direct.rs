@@ -9,13 +9,13 @@
 //!
 //! faer runs sequentially ([`FAER_PAR`]), so every factor and solve is the same on any
 //! thread count.
-use super::system::Csr;
 use crate::{Error, Result};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::cholesky;
 use faer::sparse::linalg::solvers::{Llt as SpLlt, Lu as SpLu, SymbolicLlt};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Par, Side};
+use sprs::CsMat;
 
 /// Largest unknown count solved densely. Measured (validation/solve.md; crates.md §2): on full
 /// view-factor fill dense LLT factors faster than sparse LLT at N = 2,000 (70 vs 229 ms
@@ -103,20 +103,30 @@ pub fn fix_parallelism() {
     faer::set_global_parallelism(FAER_PAR);
 }
 
-/// Factorises K: dense up to `dense_max` unknowns, and up to `dense_full_max` when the factor
-/// would be mostly full ([`DENSE_FILL`]); sparse otherwise. LLT first, LU on failure.
-pub fn factor(k: &Csr, dense_max: usize, dense_full_max: usize, cache: &mut Cache) -> Result<Factor> {
+/// Factorises K (sprs CSR, `symmetric` when K = Kᵀ exactly), read in place from sprs's
+/// arrays: dense up to `dense_max` unknowns, and up to `dense_full_max` when the factor would
+/// be mostly full ([`DENSE_FILL`]); sparse otherwise. LLT first, LU on failure.
+pub fn factor(
+    k: &CsMat<f64>,
+    symmetric: bool,
+    dense_max: usize,
+    dense_full_max: usize,
+    cache: &mut Cache,
+) -> Result<Factor> {
     fix_parallelism();
-    let n = k.n();
+    let n = k.rows();
+    let ip = k.indptr();
+    let indptr = ip.to_proper();
+    let (indptr, indices, data) = (&indptr[..], k.indices(), k.data());
     if n == 0 {
         return Ok(Factor::Empty);
     }
     let triangle = (n * (n + 1) / 2) as f64;
-    let full = n <= dense_full_max && (k.indices.len() + n) as f64 / 2.0 >= DENSE_FILL * triangle;
+    let full = n <= dense_full_max && (indices.len() + n) as f64 / 2.0 >= DENSE_FILL * triangle;
     // CSR of K is the CSC of Kᵀ; for a symmetric K that is K itself.
-    let sym = SymbolicSparseColMatRef::new_checked(n, n, &k.indptr, None, &k.indices);
-    if n > dense_max && !full && k.symmetric {
-        let reuse = matches!(cache, Some(c) if c.indptr == k.indptr && c.indices == k.indices);
+    let sym = SymbolicSparseColMatRef::new_checked(n, n, indptr, None, indices);
+    if n > dense_max && !full && symmetric {
+        let reuse = matches!(cache, Some(c) if c.indptr == indptr && c.indices == indices);
         if !reuse {
             let failed = |e: FaerError| Error::Compute(format!("sparse Cholesky analysis failed: {e:?}"));
             // The fill-reducing analysis predicts the factor's size; if mostly full, go dense.
@@ -132,62 +142,39 @@ pub fn factor(k: &Csr, dense_max: usize, dense_full_max: usize, cache: &mut Cach
             };
             let symbolic =
                 sparse.then(|| SymbolicLlt::try_new(sym, Side::Lower)).transpose().map_err(failed)?;
-            *cache = Some(SymbolicCache { indptr: k.indptr.clone(), indices: k.indices.clone(), symbolic });
+            *cache = Some(SymbolicCache { indptr: indptr.to_vec(), indices: indices.to_vec(), symbolic });
         }
     }
     let sparse = cache.as_ref().and_then(|c| c.symbolic.clone());
-    let dense = n <= dense_max || full || (k.symmetric && sparse.is_none());
+    let dense = n <= dense_max || full || (symmetric && sparse.is_none());
     if dense {
         let mut a = Mat::<f64>::zeros(n, n);
         for i in 0..n {
-            for p in k.indptr[i]..k.indptr[i + 1] {
-                a[(i, k.indices[p])] = k.data[p];
+            for p in indptr[i]..indptr[i + 1] {
+                a[(i, indices[p])] = data[p];
             }
         }
-        if k.symmetric {
+        if symmetric {
             if let Ok(f) = a.llt(Side::Lower) {
                 return Ok(Factor::DenseLlt(f));
             }
         }
         return Ok(Factor::DenseLu(a.partial_piv_lu()));
     }
-    if let (true, Some(symbolic)) = (k.symmetric, sparse) {
-        if let Ok(f) = SpLlt::try_new_with_symbolic(symbolic, SparseColMatRef::new(sym, &k.data), Side::Lower)
-        {
+    if let (true, Some(symbolic)) = (symmetric, sparse) {
+        if let Ok(f) = SpLlt::try_new_with_symbolic(symbolic, SparseColMatRef::new(sym, data), Side::Lower) {
             return Ok(Factor::SparseLlt(f));
         }
     }
-    // Non-symmetric K (no reciprocity) is stored by rows: factor Kᵀ's CSC = K's CSR transposed.
-    let t = transpose(k);
-    let tsym = SymbolicSparseColMatRef::new_checked(n, n, &t.indptr, None, &t.indices);
-    let lu = SparseColMatRef::new(tsym, &t.data)
+    // Non-symmetric K (no reciprocity) is stored by rows: sprs gives its columns.
+    let t = k.to_csc();
+    let tip = t.indptr();
+    let tptr = tip.to_proper();
+    let tsym = SymbolicSparseColMatRef::new_checked(n, n, &tptr, None, t.indices());
+    let lu = SparseColMatRef::new(tsym, t.data())
         .sp_lu()
         .map_err(|e| Error::Compute(format!("sparse LU failed (singular system): {e:?}")))?;
     Ok(Factor::SparseLu(lu))
-}
-
-/// Transpose of a CSR matrix (as CSR), i.e. the CSC arrays of the original.
-fn transpose(k: &Csr) -> Csr {
-    let n = k.n();
-    let mut count = vec![0usize; n + 1];
-    for &j in &k.indices {
-        count[j + 1] += 1;
-    }
-    for i in 0..n {
-        count[i + 1] += count[i];
-    }
-    let indptr = count.clone();
-    let mut indices = vec![0; k.indices.len()];
-    let mut data = vec![0.0; k.data.len()];
-    for i in 0..n {
-        for p in k.indptr[i]..k.indptr[i + 1] {
-            let j = k.indices[p];
-            indices[count[j]] = i;
-            data[count[j]] = k.data[p];
-            count[j] += 1;
-        }
-    }
-    Csr { indptr, indices, data, symmetric: k.symmetric }
 }
 
 #[cfg(test)]
@@ -196,7 +183,7 @@ mod tests {
     use rand::{Rng, SeedableRng};
 
     /// A symmetric, diagonally dominant K of order n with off-diagonal entries where `link(i, j)`.
-    fn spd(n: usize, link: impl Fn(usize, usize) -> bool) -> Csr {
+    fn spd(n: usize, link: impl Fn(usize, usize) -> bool) -> CsMat<f64> {
         let (mut indptr, mut indices, mut data) = (vec![0], Vec::new(), Vec::new());
         for i in 0..n {
             let row: Vec<usize> = (0..n).filter(|&j| j != i && (link(i, j) || link(j, i))).collect();
@@ -211,12 +198,12 @@ mod tests {
             }
             indptr.push(indices.len());
         }
-        Csr { indptr, indices, data, symmetric: true }
+        CsMat::new((n, n), indptr, indices, data)
     }
 
-    fn residual(k: &Csr, f: &Factor) -> f64 {
-        let b: Vec<f64> = (0..k.n()).map(|i| 1.0 + i as f64 % 7.0).collect();
-        k.residual(&f.solve(&b), &b)
+    fn residual(k: &CsMat<f64>, f: &Factor) -> f64 {
+        let b: Vec<f64> = (0..k.rows()).map(|i| 1.0 + i as f64 % 7.0).collect();
+        crate::solve::system::residual(k, &f.solve(&b), &b)
     }
 
     #[test]
@@ -236,11 +223,11 @@ mod tests {
         ];
         for (what, k, full_max, want) in cases {
             let mut cache = None;
-            let f = factor(&k, 10, full_max, &mut cache).expect("SPD");
+            let f = factor(&k, true, 10, full_max, &mut cache).expect("SPD");
             assert_eq!(f.name(), want, "{what}");
             assert!(residual(&k, &f) < 1e-13, "{what}");
             // The decision is cached with the pattern and holds on refactoring.
-            assert_eq!(factor(&k, 10, full_max, &mut cache).unwrap().name(), want, "{what} (cached)");
+            assert_eq!(factor(&k, true, 10, full_max, &mut cache).unwrap().name(), want, "{what} (cached)");
         }
     }
 }

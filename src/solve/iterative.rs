@@ -1,9 +1,10 @@
 //! The classic iterations on K J = b: Jacobi (parallel sweeps) and Gauss–Seidel (in-place,
 //! sequential). K is weakly diagonally dominant, so both converge whenever K is SPD; the rate
 //! degrades as reflectivities approach 1 (crates.md: hundreds of sweeps at ρ ≈ 0.95).
-use super::system::Csr;
+use super::system::{diagonal, residual};
 use crate::exchange::linalg::norm;
 use rayon::prelude::*;
+use sprs::CsMat;
 
 /// An iterative solve stopped before reaching its goal; carries the numbers reached.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
@@ -28,26 +29,25 @@ impl From<NoConvergence> for crate::Error {
 /// Solves K x = b by Jacobi (`gauss_seidel = false`) or Gauss–Seidel; returns (x, sweeps,
 /// relative residual).
 pub fn solve(
-    k: &Csr,
+    k: &CsMat<f64>,
     b: &[f64],
     gauss_seidel: bool,
     tol: f64,
     max_iter: usize,
 ) -> Result<(Vec<f64>, usize, f64), NoConvergence> {
-    let n = k.n();
-    let diag = k.diagonal();
+    let n = k.rows();
+    let diag = diagonal(k);
+    let (ip, idx, d) = (k.indptr(), k.indices(), k.data());
+    let ip = ip.raw_storage();
     let bn = norm(b);
     let mut x: Vec<f64> = b.iter().zip(&diag).map(|(b, d)| b / d).collect();
     if bn == 0.0 {
         return Ok((vec![0.0; n], 0, 0.0));
     }
     let off = |i: usize, x: &[f64]| -> f64 {
-        (k.indptr[i]..k.indptr[i + 1])
-            .filter(|&p| k.indices[p] != i)
-            .map(|p| k.data[p] * x[k.indices[p]])
-            .sum()
+        (ip[i]..ip[i + 1]).filter(|&p| idx[p] != i).map(|p| d[p] * x[idx[p]]).sum()
     };
-    let mut res = k.residual(&x, b);
+    let mut res = residual(k, &x, b);
     for it in 1..=max_iter {
         if gauss_seidel {
             for i in 0..n {
@@ -58,7 +58,7 @@ pub fn solve(
             x = next;
         }
         // A residual costs one extra mat-vec per sweep; it is what the caller asked for.
-        res = k.residual(&x, b);
+        res = residual(k, &x, b);
         if !res.is_finite() {
             break;
         }

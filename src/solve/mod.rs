@@ -279,9 +279,9 @@ pub fn solve_system(
     };
     match params.solver {
         Solver::Direct => {
-            let f = direct::factor(&sys.k, params.dense_max, params.dense_full_max, cache)?;
+            let f = direct::factor(&sys.k, sys.symmetric, params.dense_max, params.dense_full_max, cache)?;
             let x = f.solve(&sys.b);
-            let r = sys.k.residual(&x, &sys.b);
+            let r = system::residual(&sys.k, &x, &sys.b);
             Ok((x, info(f.name(), 0, r)))
         }
         Solver::Jacobi | Solver::GaussSeidel => {

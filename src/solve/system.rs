@@ -11,6 +11,7 @@ use crate::scene::{BoundaryCondition, Scene};
 use crate::viewfactor::Level;
 use crate::{Error, Result, SIGMA};
 use rayon::prelude::*;
+use sprs::CsMat;
 
 /// A group of unknowns is anchored when it holds a given temperature, or when some heat-flux
 /// row's diagonal dominance margin Σ_j K_ij exceeds this fraction of K_ii; closure leaves
@@ -91,52 +92,30 @@ pub fn nodes(scene: &Scene, ex: &Exchange) -> Result<Vec<Node>> {
         .collect()
 }
 
-/// A square CSR matrix.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Csr {
-    /// Row pointer.
-    pub indptr: Vec<usize>,
-    /// Sorted columns.
-    pub indices: Vec<usize>,
-    /// Values.
-    pub data: Vec<f64>,
-    /// True when the matrix is exactly symmetric.
-    pub symmetric: bool,
+/// y = K x over the rows of `k`, each row summed in storage order (the same on any thread
+/// count).
+pub fn matvec(k: &CsMat<f64>, x: &[f64]) -> Vec<f64> {
+    let (ip, idx, d) = (k.indptr(), k.indices(), k.data());
+    let ip = ip.raw_storage();
+    (0..k.rows()).into_par_iter().map(|i| (ip[i]..ip[i + 1]).map(|p| d[p] * x[idx[p]]).sum()).collect()
 }
 
-impl Csr {
-    /// Order.
-    pub fn n(&self) -> usize {
-        self.indptr.len() - 1
+/// ‖b − Kx‖ / ‖b‖ (or ‖b − Kx‖ when b = 0).
+pub fn residual(k: &CsMat<f64>, x: &[f64], b: &[f64]) -> f64 {
+    let kx = matvec(k, x);
+    let r: Vec<f64> = b.iter().zip(&kx).map(|(b, k)| b - k).collect();
+    let bn = crate::exchange::linalg::norm(b);
+    let rn = crate::exchange::linalg::norm(&r);
+    if bn > 0.0 {
+        rn / bn
+    } else {
+        rn
     }
-    /// y = K x.
-    pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
-        (0..self.n())
-            .into_par_iter()
-            .map(|i| (self.indptr[i]..self.indptr[i + 1]).map(|k| self.data[k] * x[self.indices[k]]).sum())
-            .collect()
-    }
-    /// ‖b − Kx‖ / ‖b‖ (or ‖b − Kx‖ when b = 0).
-    pub fn residual(&self, x: &[f64], b: &[f64]) -> f64 {
-        let kx = self.matvec(x);
-        let r: Vec<f64> = b.iter().zip(&kx).map(|(b, k)| b - k).collect();
-        let bn = crate::exchange::linalg::norm(b);
-        let rn = crate::exchange::linalg::norm(&r);
-        if bn > 0.0 {
-            rn / bn
-        } else {
-            rn
-        }
-    }
-    /// Diagonal entries.
-    pub fn diagonal(&self) -> Vec<f64> {
-        (0..self.n())
-            .map(|i| {
-                let (lo, hi) = (self.indptr[i], self.indptr[i + 1]);
-                self.indices[lo..hi].binary_search(&i).map(|k| self.data[lo + k]).unwrap_or(0.0)
-            })
-            .collect()
-    }
+}
+
+/// Diagonal entries K_ii (0 where not stored).
+pub fn diagonal(k: &CsMat<f64>) -> Vec<f64> {
+    (0..k.rows()).map(|i| k.get(i, i).copied().unwrap_or(0.0)).collect()
 }
 
 /// K J = b over the unknown radiosities.
@@ -148,8 +127,10 @@ pub struct System {
     pub node: Vec<usize>,
     /// J of eliminated nodes (E_b), 0 elsewhere.
     pub known: Vec<f64>,
-    /// K = D − S on the unknowns.
-    pub k: Csr,
+    /// K = D − S on the unknowns, CSR (sprs) with sorted columns.
+    pub k: CsMat<f64>,
+    /// True when K is exactly symmetric (S is).
+    pub symmetric: bool,
     /// Right-hand side.
     pub b: Vec<f64>,
 }
@@ -233,8 +214,9 @@ pub fn assemble(ex: &Exchange, eps: &[f64], rows: &[RowKind], e_amb: f64) -> Sys
         b.push(bi);
         indptr.push(indices.len());
     }
-    let k = Csr { indptr, indices, data, symmetric: is_symmetric(ex) };
-    System { unknown, node, known, k, b }
+    let m = b.len();
+    let k = CsMat::new((m, m), indptr, indices, data);
+    System { unknown, node, known, k, b, symmetric: is_symmetric(ex) }
 }
 
 /// Refuses a system with a group of unknowns that has no temperature anchor (all-flux closed
@@ -242,7 +224,39 @@ pub fn assemble(ex: &Exchange, eps: &[f64], rows: &[RowKind], e_amb: f64) -> Sys
 /// temperature anchors its group whatever its emissivity; a heat-flux row anchors only through
 /// a dominance margin (what it loses to the ambient or to black temperature nodes).
 pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System) -> Result<()> {
-    let m = sys.node.len();
+    let anchored: Vec<bool> = sys
+        .k
+        .outer_iterator()
+        .enumerate()
+        .map(|(u, row)| {
+            let margin: f64 = row.iter().map(|(_, &kv)| kv).sum();
+            let diag = row.get(u).copied().unwrap_or(0.0);
+            let given_t = matches!(nodes[sys.node[u]].condition, BoundaryCondition::Temperature(_));
+            given_t || margin > ANCHOR_TOL * diag.abs()
+        })
+        .collect();
+    let bad = unanchored(&anchored, |join| {
+        for (u, row) in sys.k.outer_iterator().enumerate() {
+            for (v, _) in row.iter().filter(|&(v, _)| v != u) {
+                join(u, v);
+            }
+        }
+    });
+    let Some(&first) = bad.first() else { return Ok(()) };
+    let surfaces: Vec<usize> = bad.iter().map(|&u| nodes[sys.node[u]].surface).collect();
+    Err(no_anchor(scene, ex.names[sys.node[first]].clone(), surfaces))
+}
+
+/// The one anchoring test of every store: the rows (in order) of the groups that
+/// `couplings` joins (it calls its argument on coupled pairs) and that hold no `anchored` row.
+pub(crate) fn unanchored(
+    anchored: &[bool],
+    couplings: impl FnOnce(&mut dyn FnMut(usize, usize)),
+) -> Vec<usize> {
+    let m = anchored.len();
+    if anchored.iter().all(|&a| a) {
+        return Vec::new();
+    }
     let mut parent: Vec<usize> = (0..m).collect();
     fn find(p: &mut [usize], mut x: usize) -> usize {
         while p[x] != x {
@@ -251,34 +265,16 @@ pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System
         }
         x
     }
-    let mut anchored = vec![false; m];
-    #[allow(clippy::needless_range_loop)] // u indexes K's rows and the union-find alike
-    for u in 0..m {
-        let (lo, hi) = (sys.k.indptr[u], sys.k.indptr[u + 1]);
-        let mut margin = 0.0;
-        let mut diag = 0.0;
-        for k in lo..hi {
-            let v = sys.k.indices[k];
-            margin += sys.k.data[k];
-            if v == u {
-                diag = sys.k.data[k];
-            } else {
-                let (a, b) = (find(&mut parent, u), find(&mut parent, v));
-                parent[a] = b;
-            }
-        }
-        let given_t = matches!(nodes[sys.node[u]].condition, BoundaryCondition::Temperature(_));
-        anchored[u] = given_t || margin > ANCHOR_TOL * diag.abs();
-    }
+    couplings(&mut |u, v| {
+        let (a, b) = (find(&mut parent, u), find(&mut parent, v));
+        parent[a] = b;
+    });
     let mut root_ok = vec![false; m];
     for (u, &a) in anchored.iter().enumerate() {
         let r = find(&mut parent, u);
         root_ok[r] |= a;
     }
-    let bad: Vec<usize> = (0..m).filter(|&u| !root_ok[find(&mut parent, u)]).collect();
-    let Some(&first) = bad.first() else { return Ok(()) };
-    let surfaces: Vec<usize> = bad.iter().map(|&u| nodes[sys.node[u]].surface).collect();
-    Err(no_anchor(scene, ex.names[sys.node[first]].clone(), surfaces))
+    (0..m).filter(|&u| !root_ok[find(&mut parent, u)]).collect()
 }
 
 /// The refusal of an enclosure with only heat-flux conditions and no ambient: `first` names

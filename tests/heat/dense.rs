@@ -428,7 +428,7 @@ fn first_pass_radiosity_ranges_hold_the_dense_radiosities() {
     let loose = solve::clustered::FIRST_PASS_MAX_TOL;
     let (ranges, _) =
         solve::clustered::radiosity_ranges(&scene, &vf, mode, loose, &solve::Params::default()).unwrap();
-    let apriori = lambert::exchange::hierarchy::radiosity_bounds(&scene);
+    let apriori = solve::clustered::radiosity_bounds(&scene);
     let (mut width, mut width0) = (0.0, 0.0);
     for (i, r) in want.results.iter().enumerate() {
         let (lo, hi) = ranges[i];
@@ -450,7 +450,8 @@ fn hierarchical_links_are_fewer_than_pairs_and_the_operator_is_symmetric() {
     use lambert::exchange::operator::Operator;
     let dir = tempfile::tempdir().unwrap();
     let scene = load(dir.path(), "f.toml", &box_toml([1.0, 1.0, 4.0], 10, FURNACE, false));
-    let h = Hierarchy::build(&scene, &params(Method::Analytic), 1e-2).unwrap();
+    let h =
+        Hierarchy::build(&scene, &params(Method::Analytic), 1e-2, &solve::clustered::budget(&scene)).unwrap();
     let n = scene.patches.len();
     let stored = h.stats.links + h.stats.leaf_pairs;
     assert!(stored < n * (n - 1) / 2, "{stored} links and pairs for {n} patches");

@@ -3,7 +3,8 @@
 //!
 //! - [`tree`]: the cluster tree over the patches (orientation, then space);
 //! - [`refine`]: links between clusters refined until each link's heat-rate error bound fits
-//!   its share of `tol` × the largest heat rate; near and touching pairs end as patch pairs;
+//!   its share of `tol` × the largest heat rate; near and touching pairs end as patch pairs
+//!   (radiosity ranges and heat-rate scale come from the solve as a [`Budget`]);
 //! - this file: [`Hierarchy`] — the exact values of the patch pairs (the `analytic`/`auto`
 //!   kernel, shadows included), the symmetric operator S = Σ_links s_AB a_A b_Bᵀ (+ its
 //!   transpose) applied by pull (area-weighted means up the tree), one pass over the links and
@@ -18,12 +19,12 @@ use super::enforce::{EnforceReport, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
 use super::operator::Operator;
 use super::{Diagnostics, Enforce};
 use crate::error::InputError;
-use crate::scene::{BoundaryCondition, Scene};
+use crate::scene::Scene;
 use crate::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
 use crate::viewfactor::engine::RawEntry;
 use crate::viewfactor::{auto, Method, MethodSet};
 use crate::visibility::Visibility;
-use crate::{Error, Result, SIGMA};
+use crate::{Error, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
@@ -108,92 +109,32 @@ pub struct Hierarchy {
     pub stats: Stats,
 }
 
-/// Radiosity bounds of each patch before the solve (W/m²): J = εE_b + ρH with the irradiation
-/// H between the scene's lowest and highest radiosity; flux patches span the whole range.
-pub fn radiosity_bounds(scene: &Scene) -> Vec<(f64, f64)> {
-    let eb = |t: f64| SIGMA * t.powi(4);
-    let mut e_lo = scene.ambient.map_or(f64::INFINITY, |a| eb(a.temperature));
-    let mut e_hi = scene.ambient.map_or(0.0, |a| eb(a.temperature));
-    let mut q_max: f64 = 0.0;
-    let mut eps_min: f64 = 1.0;
-    for s in &scene.surfaces {
-        match s.condition {
-            Some(BoundaryCondition::Temperature(t)) => (e_lo, e_hi) = (e_lo.min(eb(t)), e_hi.max(eb(t))),
-            Some(BoundaryCondition::HeatFlux(q)) => {
-                q_max = q_max.max(q.abs());
-                eps_min = eps_min.min(s.emissivity.max(1e-3));
-            }
-            None => {}
-        }
-    }
-    if !e_lo.is_finite() {
-        e_lo = 0.0;
-    }
-    // A heated flux surface radiates above the hottest fixed temperature by about q/ε.
-    let top = e_hi + q_max / eps_min;
-    scene
-        .patches
-        .iter()
-        .map(|p| {
-            let s = &scene.surfaces[p.surface];
-            match s.condition {
-                Some(BoundaryCondition::Temperature(t)) => {
-                    let (e, r) = (s.emissivity * eb(t), 1.0 - s.emissivity);
-                    (e + r * e_lo, e + r * top)
-                }
-                // J ≥ 0 is all that is known below a flux surface's radiosity.
-                _ => (0.0, top),
-            }
-        })
-        .collect()
-}
-
-/// The largest heat rate to expect (W): A ε |E_b − Ē_b| of temperature surfaces (Ē_b their
-/// area mean), A |q| of flux surfaces.
-fn heat_rate_scale(scene: &Scene) -> f64 {
-    let eb = |t: f64| SIGMA * t.powi(4);
-    let (mut ae, mut a) = (0.0, 0.0);
-    for s in &scene.surfaces {
-        if let Some(BoundaryCondition::Temperature(t)) = s.condition {
-            (ae, a) = (ae + s.area * eb(t), a + s.area);
-        }
-    }
-    let mean = if a > 0.0 { ae / a } else { 0.0 };
-    let q = scene
-        .surfaces
-        .iter()
-        .map(|s| match s.condition {
-            Some(BoundaryCondition::Temperature(t)) => s.area * s.emissivity * (eb(t) - mean).abs(),
-            Some(BoundaryCondition::HeatFlux(q)) => s.area * q.abs(),
-            None => 0.0,
-        })
-        .fold(0.0, f64::max);
-    let amb = scene.ambient.map_or(0.0, |am| {
-        scene
-            .surfaces
-            .iter()
-            .map(|s| s.area * s.emissivity * (eb(am.temperature) - mean).abs())
-            .fold(0.0, f64::max)
-    });
-    q.max(amb).max(f64::MIN_POSITIVE)
+/// What the links are refined against, from the solve's boundary conditions (the exchange
+/// layer reads none): each patch's radiosity range and the heat-rate scale of the tolerance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Budget {
+    /// Each patch's radiosity range (lo, hi), W/m².
+    pub radiosity: Vec<(f64, f64)>,
+    /// The largest heat rate to expect, W: `tol` is relative to it.
+    pub heat_rate_scale: f64,
 }
 
 impl Hierarchy {
-    /// Builds the links of `scene` for the relative heat-rate tolerance `tol`, with the patch
-    /// pairs from the `analytic` or `auto` kernel of `vf` and the a-priori radiosity bounds.
-    pub fn build(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64) -> Result<Self> {
-        Self::build_bounded(scene, vf, tol, &radiosity_bounds(scene), None)
+    /// Builds the links of `scene` for the relative heat-rate tolerance `tol` of `budget`, with
+    /// the patch pairs from the `analytic` or `auto` kernel of `vf`.
+    pub fn build(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64, budget: &Budget) -> Result<Self> {
+        Self::build_bounded(scene, vf, tol, budget, None)
     }
 
-    /// As [`Hierarchy::build`], with each patch's radiosity known to lie in `bounds` (lo, hi),
-    /// W/m²: a link's budget is weighed against the radiosity range of its two clusters.
+    /// As [`Hierarchy::build`]: a link's budget is weighed against the radiosity range of its
+    /// two clusters.
     /// Patch pairs that `known` (from an earlier build of the same scene and kernel) holds
     /// are taken from it (and it is freed once they are).
     pub fn build_bounded(
         scene: &Scene,
         vf: &crate::viewfactor::Params,
         tol: f64,
-        bounds: &[(f64, f64)],
+        budget: &Budget,
         known: Option<PairCache>,
     ) -> Result<Self> {
         if scene.patches.is_empty() {
@@ -212,7 +153,7 @@ impl Hierarchy {
         let tree = Tree::new(scene);
         let blockers = kernel.shadows().map(|s| s.blockers());
         let vis = blockers.map(|_| Visibility::new(scene));
-        let radiosity = tree.ranges(|p| bounds[p]);
+        let radiosity = tree.ranges(|p| budget.radiosity[p]);
         let mut acc = 0.0;
         let prefix = tree
             .order
@@ -229,7 +170,7 @@ impl Hierarchy {
             vis: vis.as_ref(),
             radiosity,
             tol,
-            q_ref: heat_rate_scale(scene),
+            q_ref: budget.heat_rate_scale,
             area: tree.nodes[0].area,
             prefix,
             seed: vf.seed,
@@ -754,7 +695,7 @@ mod tests {
     fn sharing_shift_sums_the_first_order_error_of_every_patch_pair() {
         let (scene, j) = long_box();
         let vf = crate::viewfactor::Params { method: Method::Analytic, ..Default::default() };
-        let h = Hierarchy::build(&scene, &vf, 3e-2).unwrap();
+        let h = Hierarchy::build(&scene, &vf, 3e-2, &crate::solve::clustered::budget(&scene)).unwrap();
         assert!(h.links.len() > 50, "{} links", h.links.len());
         let e_amb = 350.0;
         // Pair by pair: δs = −A_i A_j ∇K·(x_j − c_b − x_i + c_a), net exchange δs (J_j − J_i),
