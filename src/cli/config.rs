@@ -42,7 +42,7 @@ impl Config {
     /// pool.
     pub fn from_args(a: &CommonArgs) -> Result<Self> {
         let method: Method = a.method.parse()?;
-        let mut params = Params { method, seed: a.seed, progress: !a.quiet, ..Params::default() };
+        let mut params = Params { method, seed: a.seed, progress: !super::say::quiet(), ..Params::default() };
         if let Some(s) = a.samples {
             params.samples = limits::samples(s)?;
         }
