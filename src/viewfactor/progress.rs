@@ -38,7 +38,8 @@ const POLL: Duration = Duration::from_millis(100);
 /// The recent rate is measured over this much time: long enough to span a few rows, short
 /// enough to notice within a log interval or two that the remaining rows cost more.
 pub const RATE_WINDOW: Duration = Duration::from_secs(30);
-/// Environment variable: the log interval in seconds.
+/// Environment variable: the log interval in seconds (a shorter one also lowers the time a
+/// phase must run before the log names it, [`BAR_DELAY`], to the interval).
 pub const EVERY_ENV: &str = "LAMBERT_PROGRESS_EVERY";
 
 /// Phases of a run, in the order a run meets them (a run may skip some).
@@ -408,6 +409,8 @@ enum Shown {
 struct View {
     mode: Mode,
     phased: bool,
+    /// How long a phase runs before it shows: [`BAR_DELAY`], or a shorter log interval.
+    delay: Duration,
     /// Phases whose end has been handled.
     closed: usize,
     /// The phase whose start line was printed.
@@ -424,9 +427,14 @@ struct View {
 
 impl View {
     fn new(mode: Mode, phased: bool) -> View {
+        let delay = match mode {
+            Mode::Log(every) => every.min(BAR_DELAY),
+            _ => BAR_DELAY,
+        };
         View {
             mode,
             phased,
+            delay,
             closed: 0,
             announced: None,
             stage: None,
@@ -454,7 +462,7 @@ impl View {
         for k in self.closed..open {
             let end = phases.get(k + 1).map_or(now, |p| p.1);
             let took = end.saturating_sub(phases[k].1);
-            if log && took >= BAR_DELAY {
+            if log && took >= self.delay {
                 lines.push(format!("lambert: progress: {} took {:.1} s", phases[k].0, took.as_secs_f64()));
             }
         }
@@ -463,7 +471,7 @@ impl View {
         let phase = current.map(|k| phases[k]);
         // A phase that has run the delay says so once.
         if let (Some(k), Some((p, at))) = (current, phase) {
-            if log && self.announced != Some(k) && now.saturating_sub(at) >= BAR_DELAY {
+            if log && self.announced != Some(k) && now.saturating_sub(at) >= self.delay {
                 lines.push(format!("lambert: progress: {p} (started at {:.1} s)", at.as_secs_f64()));
                 self.announced = Some(k);
             }
@@ -501,10 +509,10 @@ impl View {
                     }
                 }
             }
-            if now.saturating_sub(since) >= BAR_DELAY {
+            if now.saturating_sub(since) >= self.delay {
                 self.shown = Shown::Counts(name, done, c.total, c.what, left);
             }
-        } else if self.phased && phase.is_some_and(|(_, at)| now.saturating_sub(at) >= BAR_DELAY) {
+        } else if self.phased && phase.is_some_and(|(_, at)| now.saturating_sub(at) >= self.delay) {
             self.shown = Shown::Spinner(name);
         }
         lines

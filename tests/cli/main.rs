@@ -16,5 +16,6 @@ mod common;
 mod determinism;
 mod fuzz;
 mod points;
+mod quiet;
 mod small_messages;
 mod vtk_output;
