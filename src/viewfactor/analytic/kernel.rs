@@ -488,3 +488,32 @@ impl RowKernel for AnalyticKernel<'_> {
         )]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::viewfactor::engine::RowKernel;
+
+    fn case(name: &str) -> Scene {
+        let p = format!("{}/cases/{name}/scene.toml", env!("CARGO_MANIFEST_DIR"));
+        crate::scene::load(std::path::Path::new(&p)).expect("a shipped case loads")
+    }
+
+    #[test]
+    fn rows_that_face_past_a_blocker_are_estimated_dearer_than_rows_that_face_nothing() {
+        // 16 bottom patches facing 16 top patches past a centred plate: the bottom rows hold
+        // every obstructed pair, the top rows (receivers j > i on their own plane) none.
+        let scene = case("o1_squares_centred_blocker");
+        let policy = Policy::Auto { tol: 1e-4, seed: 0 };
+        let kernel = AnalyticKernel::with_policy(&scene, 1e-5, policy);
+        let costs = kernel.row_costs().expect("a scene with blockers has row costs");
+        assert_eq!(costs.len(), 32);
+        let (bottom, top): (u64, u64) = (costs[..16].iter().sum(), costs[16..].iter().sum());
+        // By pair count alone the bottom rows weigh 392 / 136 = 2.9 times the top rows.
+        assert!(bottom > 100 * top, "bottom rows {bottom}, top rows {top}");
+        assert_eq!(costs[31], 0, "the last row has no receiver");
+        // A convex enclosure has no blockers: every pair is priced alike (the pair count).
+        let furnace = case("e3_cube_furnace");
+        assert!(AnalyticKernel::new(&furnace, GAUSS_REL_TOL).row_costs().is_none());
+    }
+}
