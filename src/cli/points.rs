@@ -34,6 +34,7 @@ pub fn run(a: &ViewfactorsArgs, file: &Path) -> Result<()> {
         super::say::warning(format_args!("lambert: warning: {w}"));
     }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
+    lambert::viewfactor::progress::enter(lambert::plan::Phase::ViewFactors);
     let pf = points::compute(&scene, &pts.points, level, cfg.params.progress);
     let geometry = scene::fingerprint::geometry(&scene);
     let open = !scene.is_closed();
