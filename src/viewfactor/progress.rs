@@ -423,6 +423,8 @@ struct View {
     shown: Shown,
     key: Option<(usize, Option<Duration>)>,
     drawn: Option<(usize, Option<Duration>)>,
+    /// How long what the bar shows has run (a new bar starts its clock there).
+    age: Duration,
 }
 
 impl View {
@@ -443,6 +445,7 @@ impl View {
             shown: Shown::Nothing,
             key: None,
             drawn: None,
+            age: Duration::ZERO,
         }
     }
 
@@ -488,6 +491,7 @@ impl View {
             };
         }
         let since = phase.map(|p| p.1).into_iter().chain(stage_at).fold(Duration::ZERO, Duration::max);
+        self.age = now.saturating_sub(since);
         self.key = current.map(|k| (k, stage_at)).or(stage_at.map(|at| (usize::MAX, Some(at))));
         let name = phase.map(|p| p.0).filter(|_| self.phased);
         self.shown = Shown::Nothing;
@@ -530,11 +534,11 @@ impl View {
         match &self.shown {
             Shown::Nothing => {}
             Shown::Spinner(p) => {
-                let b = bar.get_or_insert_with(|| new_bar(None, *p, ""));
+                let b = bar.get_or_insert_with(|| new_bar(None, *p, "").with_elapsed(self.age));
                 b.tick();
             }
             Shown::Counts(p, done, total, what, left) => {
-                let b = bar.get_or_insert_with(|| new_bar(Some(*total), *p, what));
+                let b = bar.get_or_insert_with(|| new_bar(Some(*total), *p, what).with_elapsed(self.age));
                 b.set_position(*done);
                 b.set_message(left.clone());
             }
