@@ -27,6 +27,7 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
     };
+    cli::say::set_quiet(args.quiet);
     // Under mpirun (feature `mpi`) every rank ends with rank 0's code; a no-op otherwise.
     lambert::distributed::start();
     let code = match cli::run::run(args.command) {

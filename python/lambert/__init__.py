@@ -54,14 +54,18 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 
 class ProgressEvent(NamedTuple):
-    """One progress report to a ``progress=callable``: a phase starting (``"view factors"``,
-    ``"solve"``, ``"point view factors"``, then ``"done"``; ``done`` and ``total`` are None), or
-    the counts of the running stage: ``done`` of ``total`` units, ``phase`` naming the units
-    (``"pairs"``, ``"point-patch pairs"``)."""
+    """One progress report to a ``progress=callable``: a call starting (``"view factors"``,
+    ``"solve"``, ``"point view factors"``, then ``"done"``; ``done``, ``total`` and ``stage``
+    are None); a phase of the library's run starting (``phase`` and ``stage`` both name it:
+    ``"bvh"``, ``"view factors"``, ``"enforcement"``, ``"solve"``; ``done`` and ``total`` are
+    None); or the counts of the running stage: ``done`` of ``total`` units, ``phase`` naming
+    the units (``"pairs"``, ``"point-patch pairs"``) and ``stage`` the library's phase they
+    belong to."""
 
     phase: str
     done: Optional[int] = None
     total: Optional[int] = None
+    stage: Optional[str] = None
 
 
 Progress = Union[None, bool, str, Callable[[ProgressEvent], Any]]
@@ -91,8 +95,12 @@ class _Reporter:
         self.stderr = progress == "stderr" or (progress is True and self.tqdm is None)
         self.bar: Any = None
         self.stage = 0
+        self.stage_name: Optional[str] = None
+        self.counted = 0
+        self.counted_in: Optional[str] = None
+        self.last_counts: Any = None
 
-    def watch(self) -> Optional[Callable[[int, int, int, str], None]]:
+    def watch(self) -> Optional[Callable[[int, int, int, str, List[str]], None]]:
         """The counts callback for the extension, when anyone listens."""
         return self._counts if (self.callback is not None or self.tqdm is not None) else None
 
@@ -102,9 +110,19 @@ class _Reporter:
         if name == "done":
             self.close()
 
-    def _counts(self, stages: int, done: int, total: int, what: str) -> None:
+    def _counts(self, stages: int, done: int, total: int, what: str, phases: List[str]) -> None:
+        for p in phases:
+            self.stage_name = p
+            if self.callback is not None:
+                self.callback(ProgressEvent(p, stage=p))
+        if stages == 0 or (stages, done, total) == self.last_counts:
+            return
+        if stages != self.counted:
+            # A new counted stage belongs to the phase the library was in when it began.
+            self.counted, self.counted_in = stages, self.stage_name
+        self.last_counts = (stages, done, total)
         if self.callback is not None:
-            self.callback(ProgressEvent(what, done, total))
+            self.callback(ProgressEvent(what, done, total, self.counted_in))
         if self.tqdm is not None:
             if stages != self.stage:
                 self.close()

@@ -66,7 +66,7 @@ class _Scene:
         enforce: Optional[str],
         threads: Optional[int],
         progress: bool,
-        watch: Optional[Callable[[int, int, int, str], None]] = None,
+        watch: Optional[Callable[[int, int, int, str, List[str]], None]] = None,
     ) -> Tuple[Dict[str, Any], _ViewFactors]: ...
     def point_view_factors(
         self,
@@ -74,7 +74,7 @@ class _Scene:
         normals: npt.NDArray[np.float64],
         patches: bool,
         threads: Optional[int],
-        watch: Optional[Callable[[int, int, int, str], None]] = None,
+        watch: Optional[Callable[[int, int, int, str, List[str]], None]] = None,
     ) -> Tuple[npt.NDArray[np.float64], List[str]]: ...
     def read_view_factors(self, path: str) -> Tuple[Dict[str, Any], _ViewFactors, bool]: ...
     def solve(
@@ -91,5 +91,5 @@ class _Scene:
         solver: str,
         exchange: str,
         viewfactors: Optional[Tuple[_ViewFactors, bool, Optional[str]]] = None,
-        watch: Optional[Callable[[int, int, int, str], None]] = None,
+        watch: Optional[Callable[[int, int, int, str, List[str]], None]] = None,
     ) -> Tuple[Dict[str, Any], _Solution]: ...

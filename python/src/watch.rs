@@ -3,7 +3,8 @@
 //! [`run_watched`]: the computation runs on a worker thread under a
 //! [`Watch`](lambert::viewfactor::progress::Watch); the calling thread waits with the GIL
 //! released and, every [`POLL`], takes the GIL back to hand the counts to the Python callback
-//! (stages started, units done, units in the stage, what the units are). Python code thus
+//! (stages started, units done, units in the stage, what the units are, and the library's
+//! phases entered since the last call: "bvh", "view factors", "solve"...). Python code thus
 //! never runs on a thread the library computes on, the GIL is free while it computes, and the
 //! callback cannot change a number. An exception in the callback stops further calls and is
 //! raised when the computation has finished.
@@ -52,8 +53,10 @@ pub fn run_watched<T: Send>(
                 }
             };
             let r = watch.read();
-            if failed.is_none() && r.stages > 0 && last != Some(r) {
-                if let Err(e) = callback.call1(py, (r.stages, r.done, r.total, r.what)) {
+            let seen = last.map_or(0, |l| l.phases);
+            if failed.is_none() && (r.stages > 0 || r.phases > seen) && last != Some(r) {
+                let phases: Vec<&str> = watch.phases(seen).into_iter().map(|p| p.name()).collect();
+                if let Err(e) = callback.call1(py, (r.stages, r.done, r.total, r.what, phases)) {
                     failed = Some(e);
                 }
                 last = Some(r);

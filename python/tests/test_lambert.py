@@ -250,17 +250,22 @@ def test_progress_callback_hears_the_stages_and_the_counts():
     scene = lambert.Scene.load(FURNACE)
     heard = []
     vf = scene.view_factors(patches=True, progress=heard.append)
-    assert [e.phase for e in heard if e.done is None] == ["view factors", "done"]
+    assert [e.phase for e in heard if e.done is None and e.stage is None] == ["view factors", "done"]
+    # The library's phases, as they start: the set-up, then the rows.
+    assert [e.stage for e in heard if e.done is None and e.stage] == ["bvh", "view factors"]
     counts = [e for e in heard if e.done is not None]
     assert counts, heard
     assert counts[-1].phase == "pairs" and counts[-1].done == counts[-1].total > 0
+    assert all(e.stage == "view factors" for e in counts)
     assert all(a.done <= b.done for a, b in zip(counts, counts[1:]))
     # Listening changes no number.
     quiet = scene.view_factors(patches=True)
     assert (vf.matrix != quiet.matrix).nnz == 0
     heard.clear()
     r = scene.solve(progress=heard.append)
-    assert [e.phase for e in heard if e.done is None] == ["solve", "done"]
+    assert [e.phase for e in heard if e.done is None and e.stage is None] == ["solve", "done"]
+    stages = [e.stage for e in heard if e.done is None and e.stage]
+    assert stages == ["bvh", "view factors", "enforcement", "solve"], stages
     assert np.array_equal(r.surface.heat_rate, scene.solve().surface.heat_rate)
 
 

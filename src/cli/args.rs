@@ -14,6 +14,10 @@ use std::path::PathBuf;
 #[derive(Debug, Parser)]
 #[command(name = "lambert", version, about, propagate_version = true)]
 pub struct Cli {
+    /// Print only errors and warnings: no progress report (a bar on a terminal, else a line
+    /// per phase and every 10 s of a long run) and no summary lines; any subcommand.
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
     /// The subcommand.
     #[command(subcommand)]
     pub command: Command,
@@ -84,9 +88,6 @@ pub struct CommonArgs {
     /// Also write the results on the patch polygons for ParaView: VTK XML, .vtu or .vtp.
     #[arg(long, value_name = "FILE")]
     pub vtk: Option<PathBuf>,
-    /// No progress report (a bar on a terminal, else a line every 10 s of a long run).
-    #[arg(short, long)]
-    pub quiet: bool,
     /// Let glTF buffer files be absolute paths or lie outside the glTF file's folder (`..`).
     #[arg(long)]
     pub allow_outside_paths: bool,

@@ -38,7 +38,8 @@ impl Config {
     /// Validates the shared arguments (ranges and caps of [`limits`]) and configures the thread
     /// pool.
     pub fn from_args(a: &CommonArgs) -> Result<Self> {
-        let mut params = Params { method: a.method, seed: a.seed, progress: !a.quiet, ..Params::default() };
+        let mut params =
+            Params { method: a.method, seed: a.seed, progress: !super::say::quiet(), ..Params::default() };
         if let Some(s) = a.samples {
             params.samples = limits::samples(s)?;
         }

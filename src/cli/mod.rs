@@ -1,8 +1,10 @@
 //! Command line: clap arguments ([`args`]) become a validated [`config::Config`] before any
 //! work starts ([`limits`]: ranges, caps and cost warnings); [`run`] orchestrates library
-//! calls and holds no physics ([`points`]: `viewfactors --points`).
+//! calls and holds no physics ([`points`]: `viewfactors --points`; [`say`]: notes that `-q`
+//! silences, and warnings).
 pub mod args;
 pub mod config;
 pub mod limits;
 pub mod points;
 pub mod run;
+pub mod say;

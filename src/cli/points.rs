@@ -23,7 +23,7 @@ pub fn run(a: &ViewfactorsArgs, file: &Path) -> Result<()> {
     let mut outs = OutputSet::plan(vec![cfg.output.clone().described("point view-factor CSV")])?;
     outs.check_inputs(&[Input::new("the scene file", &cfg.scene), Input::new("the points file", file)])?;
     let pts = points_csv::read_points(file)?;
-    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
+    let scene = lambert::plan::load(&cfg.scene, &cfg.load, &mut lambert::plan::Silent)?;
     let loaded: Vec<Input> = scene
         .inputs
         .iter()
@@ -31,28 +31,30 @@ pub fn run(a: &ViewfactorsArgs, file: &Path) -> Result<()> {
         .collect();
     outs.check_inputs(&loaded)?;
     for w in &scene.warnings {
-        eprintln!("lambert: warning: {w}");
+        super::say::warning(format_args!("lambert: warning: {w}"));
     }
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
+    lambert::viewfactor::progress::enter(lambert::plan::Phase::ViewFactors);
     let pf = points::compute(&scene, &pts.points, level, cfg.params.progress);
     let geometry = scene::fingerprint::geometry(&scene);
     let open = !scene.is_closed();
+    lambert::viewfactor::progress::enter(lambert::plan::Phase::Write);
     outs.write("output", |w, p| points_csv::write_point_factors(w, &pf, &pts.names, open, &geometry, p))?;
     outs.commit()?;
     let used = pf.rows.iter().flatten().fold(MethodSet::default(), |m, e| m.union(e.method));
-    eprintln!(
+    super::say::note(format_args!(
         "lambert: {} points, {} patches, {} pairs, {:.3} s, exact point factors (entries by {})",
         pts.points.len(),
         scene.patches.len(),
         pf.pairs,
         pf.wall.as_secs_f64(),
         used.to_string().replace('+', ", ")
-    );
+    ));
     if scene.is_closed() && !scene.patches.is_empty() {
         let closure = pf.closure();
-        eprintln!("lambert: {}", closure.summary(&pts.names));
+        super::say::note(format_args!("lambert: {}", closure.summary(&pts.names)));
         if let Some(w) = closure.warning(&pts.names, !scene.obstructions.is_empty()) {
-            eprintln!("lambert: warning: {w}");
+            super::say::warning(format_args!("lambert: warning: {w}"));
         }
     }
     Ok(())

@@ -2,6 +2,7 @@
 use super::args::{Command, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs};
 use super::config::Config;
 use super::limits;
+use super::say;
 use lambert::exchange::{self, Enforce};
 use lambert::plan::{
     with_unstamped_note, Goal, Matrix, Outcome, Phase, Plan, PlanError, Progress, Reason, Request, Route,
@@ -12,6 +13,7 @@ use lambert::report::decks::{DeckFormat, DeckInfo};
 use lambert::report::outputs::{Input, Output, OutputSet};
 use lambert::scene::{self, Scene};
 use lambert::solve;
+use lambert::viewfactor::progress::{self, Display};
 use lambert::viewfactor::{self, Level, Method, MethodSet, ViewFactors};
 use lambert::{Error, Result};
 use std::path::Path;
@@ -19,11 +21,28 @@ use std::path::Path;
 /// Runs one subcommand.
 pub fn run(cmd: Command) -> Result<()> {
     match cmd {
-        Command::Viewfactors(a) => viewfactors(a),
-        Command::Solve(a) => solve(a),
+        Command::Viewfactors(a) => {
+            let _shown = display();
+            viewfactors(a)
+        }
+        Command::Solve(a) => {
+            let _shown = display();
+            solve(a)
+        }
         Command::Validate(a) => validate(a),
         Command::Render(a) => render(a),
     }
+}
+
+/// The progress display of a `viewfactors` or `solve` run on stderr (nothing under `-q`): the
+/// library's phases and counts, drawn until it is dropped.
+fn display() -> Display {
+    Display::start(progress::Mode::for_stderr(!say::quiet()))
+}
+
+/// The writing phase starts.
+fn writing() {
+    progress::enter(Phase::Write);
 }
 
 /// Plans the outputs of `viewfactors` / `solve` (`-o`, `--vtk`, `--conductances`) and checks
@@ -63,22 +82,22 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let cfg = Config::from_args(&a.common)?;
     let vtk = check_vtk(&a.common.vtk)?;
     let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;
-    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
+    let scene = lambert::plan::load(&cfg.scene, &cfg.load, &mut lambert::plan::Silent)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
-        eprintln!("lambert: warning: {w}");
+        say::warning(format_args!("lambert: warning: {w}"));
     }
     warn_facing_away(&scene);
     let level = if cfg.patches { Level::Patch } else { Level::Surface };
     let request = Request { goal: Goal::ViewFactors { level }, ..request(&cfg)? };
     let plan = Plan::new(&scene, &request)?;
     for note in &plan.scene_notes {
-        eprintln!("lambert: {note}");
+        say::note(format_args!("lambert: {note}"));
     }
     let cheaper =
         "a coarser mesh cuts it, or a Monte Carlo method (-m mc-cosine: cost in patches × --samples)";
     if let Some(w) = limits::mesh_cost(&scene, cfg.params.method, rayon::current_num_threads(), cheaper) {
-        eprintln!("lambert: warning: {w}");
+        say::warning(format_args!("lambert: warning: {w}"));
     }
     let out = plan.view_factors(&scene, &mut Sink { scene: &scene })?;
     let d = &out.diagnostics;
@@ -98,6 +117,7 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     };
     let (pairs, secs) = (d.pairs, d.viewfactor_wall.as_secs_f64());
     let worst = out.worst_row.clone();
+    writing();
     if let Some(kind) = vtk {
         let fields = report::vtk::viewfactor_fields(&scene, &out.to_viewfactors(), &out.raw_row_sums);
         outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, &scene, &fields))?;
@@ -111,14 +131,14 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         }
     }
     outs.commit()?;
-    eprintln!(
+    say::note(format_args!(
         "lambert: {} patches, {pairs} pairs, {secs:.3} s ({:.3e} pairs/s), method {method}{store}",
         scene.patches.len(),
         pairs as f64 / secs.max(1e-9),
-    );
+    ));
     if let Some((worst, name, level)) = worst {
         let kind = if level == Level::Patch { "patch" } else { "surface" };
-        eprintln!("lambert: closed scene, max |row sum - 1| = {worst:.3e} ({kind} {name})");
+        say::note(format_args!("lambert: closed scene, max |row sum - 1| = {worst:.3e} ({kind} {name})"));
     }
     Ok(())
 }
@@ -140,7 +160,7 @@ fn request(cfg: &Config) -> Result<Request> {
 /// Prints what the view-factor method reported about its own accuracy.
 fn say_warnings(warnings: &[String]) {
     for w in warnings {
-        eprintln!("lambert: warning: {w}");
+        say::warning(format_args!("lambert: warning: {w}"));
     }
 }
 
@@ -163,14 +183,17 @@ fn method_summary(method: Method, vf: &ViewFactors) -> String {
 /// SPEC extension: a panel of an open scene that faces away from every surface it could see.
 fn warn_facing_away(scene: &Scene) {
     for f in scene::hints::facing_away(scene) {
-        eprintln!("lambert: warning: {}", scene::hints::facing_away_warning(scene, &f));
+        say::warning(format_args!("lambert: warning: {}", scene::hints::facing_away_warning(scene, &f)));
     }
 }
 
 /// The residuals before and after enforcement, on stderr.
 fn print_enforcement(mode: Enforce, rep: &exchange::enforce::EnforceReport) {
-    eprintln!("lambert: exchange before enforcement: {}", rep.before);
-    eprintln!("lambert: enforce {mode} ({}, {} iterations): {}", rep.method, rep.iterations, rep.after);
+    say::note(format_args!("lambert: exchange before enforcement: {}", rep.before));
+    say::note(format_args!(
+        "lambert: enforce {mode} ({}, {} iterations): {}",
+        rep.method, rep.iterations, rep.after
+    ));
 }
 
 /// A bad `--vtk` extension is refused before any work starts; the file type otherwise.
@@ -192,10 +215,10 @@ fn solve(a: SolveArgs) -> Result<()> {
     let saved: Vec<Input> = a.viewfactors.iter().map(|p| Input::new("the --viewfactors input", p)).collect();
     let mut outs =
         plan_outputs(&cfg, "results CSV", a.common.vtk.as_deref(), a.conductances.as_deref(), &saved)?;
-    let scene = scene::load_with(&cfg.scene, &cfg.load)?;
+    let scene = lambert::plan::load(&cfg.scene, &cfg.load, &mut lambert::plan::Silent)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
-        eprintln!("lambert: warning: {w}");
+        say::warning(format_args!("lambert: warning: {w}"));
     }
     if let (None, Some(t)) = (cfg.tolerance_given, scene.run_defaults.tolerance) {
         scene_tolerance(&scene, t)?;
@@ -258,12 +281,12 @@ fn solve(a: SolveArgs) -> Result<()> {
         print_enforcement(plan.enforce, rep);
     }
     let Some(ex) = &out.exchange else {
-        eprintln!(
+        say::note(format_args!(
             "lambert: {} patches, {} pairs, dense store {:.1} MB",
             scene.patches.len(),
             d.pairs,
             d.store_bytes as f64 / 1e6
-        );
+        ));
         finish_solve(&scene, &cfg, out.solution, vtk, &mut outs)?;
         return outs.commit();
     };
@@ -283,6 +306,7 @@ fn solve(a: SolveArgs) -> Result<()> {
             c.aggregate(&group, names)
         };
         let info = DeckInfo { scene: cfg.scene.display().to_string(), title: scene.title.clone() };
+        writing();
         outs.write("conductances", |w, p| report::decks::write(deck, w, &c, &info, p))?;
     }
     finish_solve(&scene, &cfg, out.solution, vtk, &mut outs)?;
@@ -306,14 +330,14 @@ impl Progress for Sink<'_> {
 fn say_route(plan: &Plan) {
     let why = match plan.reason {
         Reason::Small { .. } | Reason::Tight { .. } => {
-            eprintln!(
+            say::note(format_args!(
                 "lambert: exchange: dense ({}; --exchange hierarchical for clustered links)",
                 plan.reason
-            );
+            ));
             return;
         }
         Reason::NoExactKernel { .. } => {
-            eprintln!("lambert: exchange: dense ({})", plan.reason);
+            say::note(format_args!("lambert: exchange: dense ({})", plan.reason));
             return;
         }
         Reason::Asked if plan.route == Route::Clustered => "forced by --exchange hierarchical".to_string(),
@@ -322,7 +346,7 @@ fn say_route(plan: &Plan) {
         _ => return,
     };
     if let Tolerance::HeatRate { rate, .. } = plan.tolerance {
-        eprintln!("lambert: exchange: hierarchical, heat-rate tolerance {rate:e} ({why})");
+        say::note(format_args!("lambert: exchange: hierarchical, heat-rate tolerance {rate:e} ({why})"));
     }
 }
 
@@ -334,16 +358,16 @@ fn say_clustered(scene: &Scene, plan: &Plan, out: &Outcome) {
     }
     let Some((s, first)) = &d.clustered else { return };
     if let Some((loose, s)) = first {
-        eprintln!(
+        say::note(format_args!(
             "lambert: first pass at tolerance {loose:e} for the radiosity ranges: {} cluster links, {} patch \
              pairs (links {:.2} s, patch pairs {:.2} s)",
             s.links,
             s.leaf_pairs,
             s.refine.as_secs_f64(),
             s.pairs.as_secs_f64()
-        );
+        ));
     }
-    eprintln!(
+    say::note(format_args!(
         "lambert: {} patches, {} cluster links, {} patch pairs, {} visibility rays, store {:.1} MB \
          (links {:.2} s, patch pairs {:.2} s)",
         scene.patches.len(),
@@ -353,16 +377,16 @@ fn say_clustered(scene: &Scene, plan: &Plan, out: &Outcome) {
         s.bytes as f64 / 1e6,
         s.refine.as_secs_f64(),
         s.pairs.as_secs_f64()
-    );
+    ));
     if out.solution.heat_rate_error.is_some() {
         let by_surface = out.solution.by_surface(scene);
         let (_, max) = by_surface.heat_balance();
         let worst =
             by_surface.heat_rate_error.as_ref().map_or(0.0, |e| e.iter().copied().fold(0.0, f64::max));
-        eprintln!(
+        say::note(format_args!(
             "lambert: estimated heat-rate error: at most {worst:.3e} W on a surface ({:.1e} of max |heat_rate|)",
             if max > 0.0 { worst / max } else { 0.0 }
-        );
+        ));
     }
 }
 
@@ -385,7 +409,7 @@ fn warn_mesh_cost(scene: &Scene, cfg: &Config, plan: &Plan) {
             .to_string()
     };
     if let Some(w) = limits::mesh_cost(scene, cfg.params.method, rayon::current_num_threads(), &cheaper) {
-        eprintln!("lambert: warning: {w}");
+        say::warning(format_args!("lambert: warning: {w}"));
     }
 }
 /// Prints the solve summary and energy balance and writes the VTK file (when asked) and the
@@ -398,25 +422,28 @@ fn finish_solve(
     outs: &mut OutputSet,
 ) -> Result<()> {
     let info = &sol.info;
-    eprintln!(
+    say::note(format_args!(
         "lambert: solve: {} unknowns, {}, {} iterations, residual {:.2e}, {:.3} s",
         info.unknowns,
         info.solver,
         info.iterations,
         info.residual,
         info.wall.as_secs_f64()
-    );
+    ));
+    writing();
     let out = if cfg.patches { sol } else { sol.by_surface(scene) };
     let (sum, max) = out.heat_balance();
     let scale = out.balance_scale();
     let ok = sum.abs() <= solve::BALANCE_TOL * scale;
-    eprintln!(
+    // A balance that is not conserved is a warning (it shows under -q too).
+    let balance = if ok { say::note } else { say::warning };
+    balance(format_args!(
         "lambert: energy balance: sum of heat_rate = {} W ({:.1e} of the {} W exchanged; max |heat_rate| = {max} W){}",
         report::fmt_f64(sum),
         if scale > 0.0 { sum.abs() / scale } else { 0.0 },
         report::fmt_f64(scale),
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
-    );
+    ));
     if let Some(kind) = vtk {
         let fields = report::vtk::solution_fields(scene, &out);
         outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, scene, &fields))?;
@@ -435,9 +462,9 @@ fn validate(a: ValidateArgs) -> Result<()> {
     };
     let options = lambert::validate::Options { cases: a.cases, out, quick: a.quick };
     lambert::validate::check_options(&options)?;
-    let suite = lambert::validate::run(&options, &mut |line| eprintln!("validate: {line}"))?;
+    let suite = lambert::validate::run(&options, &mut |line| say::note(format_args!("validate: {line}")))?;
     print!("{}", lambert::validate::report::console(&suite.checks));
-    eprintln!("validate: report written to {}", options.out.join("report.md").display());
+    say::note(format_args!("validate: report written to {}", options.out.join("report.md").display()));
     match suite.failures() {
         0 => Ok(()),
         n => Err(Error::Compute(format!("{n} validation checks failed"))),
@@ -487,7 +514,7 @@ fn render(a: RenderArgs) -> Result<()> {
     outs.write("output", |w, p| render::encode_png(&img, w, p))?;
     outs.commit()?;
     let c = &opts.camera;
-    eprintln!(
+    say::note(format_args!(
         "lambert: render: {} patches, {}x{} px, colour range {}..{}, camera eye={},{},{} target={},{},{} up={},{},{} fov={}",
         scene.patches.len(),
         size.0,
@@ -504,7 +531,7 @@ fn render(a: RenderArgs) -> Result<()> {
         c.up.y,
         c.up.z,
         c.fov
-    );
+    ));
     Ok(())
 }
 

@@ -314,22 +314,8 @@ pub struct Plan {
     pub scene_notes: Vec<String>,
 }
 
-/// Phases of a run, reported to a [`Progress`] as each starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Phase {
-    /// Loading the scene.
-    Load,
-    /// Building the BVH.
-    Bvh,
-    /// Computing view factors (or links).
-    ViewFactors,
-    /// Enforcing reciprocity / closure.
-    Enforcement,
-    /// Solving the radiosity system.
-    Solve,
-    /// Writing results.
-    Write,
-}
+/// Phases of a run ([`crate::viewfactor::progress::Phase`]), reported as each starts.
+pub use crate::viewfactor::progress::Phase;
 
 /// The caller's progress sink.
 pub trait Progress {
@@ -479,7 +465,7 @@ impl Plan {
         let start = Instant::now();
         let mut d = Diagnostics::default();
         let mut exchange = None;
-        progress.phase(Phase::ViewFactors);
+        enter_viewfactors(progress, self.route != Route::Clustered && saved.is_none());
         let solution = match self.route {
             Route::Clustered => {
                 let Tolerance::HeatRate { rate, .. } = self.tolerance else {
@@ -493,18 +479,11 @@ impl Plan {
                 run.solution
             }
             Route::Packed => {
-                let run = solve::dense::solve_scene(scene, &self.viewfactors, self.enforce, &self.solve)
-                    .map_err(|e| with_obstruction_note(scene, e))?;
-                match run {
-                    Some(run) => {
-                        progress.method_report(&run.warnings, &run.flags);
-                        d.warnings = run.warnings;
-                        d.flags = run.flags;
-                        d.enforcement = Some(run.report);
-                        d.pairs = run.pairs;
-                        d.store_bytes = run.store_bytes;
-                        run.solution
-                    }
+                match self
+                    .packed_solve(scene, &mut d, progress)
+                    .map_err(|e| with_obstruction_note(scene, e))?
+                {
+                    Some(solution) => solution,
                     None => {
                         let (sol, ex) = self.sparse(scene, saved, &mut d, progress)?;
                         exchange = Some(ex);
@@ -520,6 +499,37 @@ impl Plan {
         };
         d.wall = start.elapsed();
         Ok(Outcome { solution, exchange, diagnostics: d })
+    }
+
+    /// The packed route (the steps of [`solve::dense::solve_scene`], each phase said as it
+    /// starts): view factors, enforcement, gray solve; `None` when the method needs the sparse
+    /// store.
+    fn packed_solve(
+        &self,
+        scene: &Scene,
+        d: &mut Diagnostics,
+        progress: &mut dyn Progress,
+    ) -> Result<Option<Solution>> {
+        let Some(mut ex) = exchange::dense::build(scene, &self.viewfactors)? else { return Ok(None) };
+        let flags = std::mem::take(&mut ex.t.flags);
+        progress.method_report(&ex.t.warnings, &flags);
+        enter(progress, Phase::Enforcement);
+        let p = EnforceParams {
+            mode: self.enforce,
+            open: !scene.is_closed(),
+            source: scene.source.clone(),
+            facts: Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene))),
+            ..Default::default()
+        };
+        let report = exchange::dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
+        enter(progress, Phase::Solve);
+        let solution = solve::dense::solve_gray(scene, &ex, &self.solve)?;
+        d.warnings = std::mem::take(&mut ex.t.warnings);
+        d.flags = flags;
+        d.enforcement = Some(report);
+        d.pairs = ex.t.pairs;
+        d.store_bytes = ex.t.bytes();
+        Ok(Some(solution))
     }
 
     /// The sparse route: view factors (computed or saved), enforcement, gray or band solve.
@@ -543,17 +553,41 @@ impl Plan {
                 &computed
             }
         };
-        progress.phase(Phase::Enforcement);
+        enter(progress, Phase::Enforcement);
         let rays = if saved.is_none() { hit_rays(&self.viewfactors) } else { None };
         let (ex, rep) = enforced(scene, vf, self.enforce, rays)?;
         d.enforcement = Some(rep);
-        progress.phase(Phase::Solve);
+        enter(progress, Phase::Solve);
         let sol = match &scene.spectral {
             Some(spectral) => solve::bands::solve_bands(scene, &ex, &spectral.into(), &self.solve)?,
             None => solve::solve_gray(scene, &ex, &self.solve)?,
         };
         Ok((sol, ex))
     }
+}
+
+/// `phase` starts: the caller's sink and this thread's progress display and watch hear it.
+pub(crate) fn enter(sink: &mut dyn Progress, phase: Phase) {
+    sink.phase(phase);
+    crate::viewfactor::progress::enter(phase);
+}
+
+/// The view-factor phase starts. The sink hears [`Phase::ViewFactors`]; the display and watch
+/// hear [`Phase::Bvh`] first when a kernel is `set_up` (blockers, their BVH, the method's
+/// tables), and the view-factor computation enters [`Phase::ViewFactors`] once it is ready.
+pub(crate) fn enter_viewfactors(sink: &mut dyn Progress, set_up: bool) {
+    sink.phase(Phase::ViewFactors);
+    crate::viewfactor::progress::enter(if set_up { Phase::Bvh } else { Phase::ViewFactors });
+}
+
+/// Loads the scene at `path` (`opts` as [`crate::scene::load_with`]) in [`Phase::Load`].
+pub fn load(
+    path: &std::path::Path,
+    opts: &crate::scene::LoadOptions,
+    sink: &mut dyn Progress,
+) -> Result<Scene> {
+    enter(sink, Phase::Load);
+    crate::scene::load_with(path, opts)
 }
 
 /// The F tolerance of a request: as given, else the scene file's, else the default.

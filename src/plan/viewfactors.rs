@@ -106,7 +106,7 @@ impl Plan {
             ));
         };
         let start = Instant::now();
-        progress.phase(Phase::ViewFactors);
+        super::enter_viewfactors(progress, true);
         let mut out = match self.route {
             Route::Packed => match self.packed(scene, level, progress)? {
                 Some(out) => out,
@@ -135,7 +135,7 @@ impl Plan {
         if self.enforce == Enforce::None {
             d.leak_warnings = packed_leak_warnings(scene, &ex);
         } else {
-            progress.phase(Phase::Enforcement);
+            super::enter(progress, Phase::Enforcement);
             let p = EnforceParams {
                 mode: self.enforce,
                 open,
@@ -180,7 +180,7 @@ impl Plan {
             d.warnings = raw.warnings.clone();
             d.flags = raw.flags.clone();
             progress.method_report(&d.warnings, &d.flags);
-            progress.phase(Phase::Enforcement);
+            super::enter(progress, Phase::Enforcement);
             let (ex, rep) = enforced(scene, &raw, self.enforce, hit_rays(&self.viewfactors))?;
             d.enforcement = Some(rep);
             let mut vf = at_level(scene, &ex, level).to_viewfactors(raw.wall);

@@ -54,11 +54,26 @@ pub trait RowKernel: Sync {
     fn misses(&self) -> (u64, Option<super::shadow::misses::Miss>) {
         (0, None)
     }
+    /// Estimated cost of each row, in any unit, for the progress report's time left only (it
+    /// never changes a number); `None`: each pair costs the same.
+    fn row_costs(&self) -> Option<Vec<u64>> {
+        None
+    }
     /// Merges the flags and misses that a copy of this kernel recorded on another MPI rank, so
     /// that [`RowKernel::warnings`] and [`RowKernel::flags`] cover every row.
     fn absorb(&self, flags: Vec<super::Flag>, misses: (u64, Option<super::shadow::misses::Miss>)) {
         let _ = (flags, misses);
     }
+}
+
+/// The estimated cost of each of the `n` rows for the progress report: the kernel's when a
+/// report is drawn, else (and when it has none) the pairs of the row.
+pub fn row_costs(kernel: &dyn RowKernel, shown: bool, n: usize, pairs: impl Fn(usize) -> u64) -> Vec<u64> {
+    shown
+        .then(|| kernel.row_costs())
+        .flatten()
+        .filter(|c| c.len() == n)
+        .unwrap_or_else(|| (0..n).map(pairs).collect())
 }
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
@@ -82,7 +97,9 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
     let symmetric = kernel.symmetric();
     let row_pairs = |i: usize| if symmetric { (n - i) as u64 } else { n as u64 };
     let total = (0..n).map(row_pairs).sum();
-    let progress = Progress::start(total, "pairs", progress::Mode::for_stderr(params.progress));
+    let costs = row_costs(kernel, params.progress, n, row_pairs);
+    let mode = progress::Mode::for_stderr(params.progress);
+    let progress = Progress::start_costed(total, "pairs", mode, costs.iter().sum());
     // Pipeline: while the pool computes wave k + 1, this thread folds wave k into the sink
     // (the sink is serial; folding between waves would leave the other cores idle).
     let compute = |lo: usize, hi: usize| -> Vec<Result<Row>> {
@@ -92,7 +109,7 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
             .map(|i| {
                 let mut row = Row::default();
                 let out = kernel.row(i, &mut row).map(|_| row);
-                progress.add(row_pairs(i));
+                progress.add_costed(row_pairs(i), costs[i]);
                 out
             })
             .collect()

@@ -202,7 +202,12 @@ fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn en
 /// Computes the view factors of `scene` at the requested level with the chosen method.
 pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFactors> {
     let start = std::time::Instant::now();
-    let Some(kernel) = row_kernel(scene, params)? else { return monte_carlo::compute(scene, params, level) };
+    let Some(kernel) = row_kernel(scene, params)? else {
+        progress::enter(progress::Phase::ViewFactors);
+        return monte_carlo::compute(scene, params, level);
+    };
+    // The kernel is set up (blockers, their BVH, the method's tables): the rows start.
+    progress::enter(progress::Phase::ViewFactors);
     // The wall time includes the kernel's set-up (planes, rules, blockers, pair tables).
     let mut vf = engine::run(scene, kernel.as_ref(), params, level)?;
     vf.wall = start.elapsed();
@@ -215,16 +220,26 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 /// per-entry variances and hit counts need the sparse store.
 pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangle::Triangle>> {
     let Some(kernel) = row_kernel(scene, params)? else { return Ok(None) };
+    progress::enter(progress::Phase::ViewFactors);
     let n = scene.patches.len() as u64;
     let total = if kernel.symmetric() { n * (n + 1) / 2 } else { n * n };
-    let progress = progress::Progress::start(total, "pairs", progress::Mode::for_stderr(params.progress));
+    let symmetric = kernel.symmetric();
+    let costs = engine::row_costs(kernel.as_ref(), params.progress, n as usize, |i| {
+        if symmetric {
+            n - i as u64
+        } else {
+            n
+        }
+    });
+    let mode = progress::Mode::for_stderr(params.progress);
+    let progress = progress::Progress::start_costed(total, "pairs", mode, costs.iter().sum());
     // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
     let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {params:?}"))?;
     let kernel: &dyn engine::RowKernel = match &gathered {
         Some(g) => g,
         None => kernel.as_ref(),
     };
-    let t = triangle::fill(scene, kernel, &progress)?;
+    let t = triangle::fill(scene, kernel, &progress, &costs)?;
     progress.finish();
     Ok(Some(t))
 }

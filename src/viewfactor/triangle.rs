@@ -249,14 +249,15 @@ fn row_meta(entries: &[RawEntry], i: usize) -> (MethodSet, Vec<Exception>) {
 }
 
 /// Fills the patch-level triangle of `scene` with `kernel`; `wave` bounds the rows buffered
-/// per wave for non-symmetric kernels; `progress` counts the pairs of every finished row.
-pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress) -> Result<Triangle> {
+/// per wave for non-symmetric kernels; `progress` counts the pairs of every finished row and
+/// its estimated cost (`costs`, one per row).
+pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress, costs: &[u64]) -> Result<Triangle> {
     let n = scene.patches.len();
     let mut t = Triangle::zeros(n, scene.patches.iter().map(|p| p.polygon.area()).collect())?;
     if kernel.symmetric() {
-        fill_symmetric(&mut t, kernel, progress)?;
+        fill_symmetric(&mut t, kernel, progress, costs)?;
     } else {
-        fill_folded(&mut t, kernel, progress)?;
+        fill_folded(&mut t, kernel, progress, costs)?;
     }
     t.warnings = kernel.warnings();
     t.flags = kernel.flags();
@@ -267,7 +268,12 @@ pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress) -> Resul
 /// pairs).
 type RowOut = (MethodSet, Vec<Exception>, f64, f64, MethodSet, u64);
 
-fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) -> Result<()> {
+fn fill_symmetric(
+    t: &mut Triangle,
+    kernel: &dyn RowKernel,
+    progress: &Progress,
+    costs: &[u64],
+) -> Result<()> {
     let n = t.n;
     let rows = t.rows_mut();
     let outs: Vec<Result<RowOut>> = rows
@@ -292,7 +298,7 @@ fn fill_symmetric(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress)
                 methods = methods.union(e.method);
             }
             let (def, ex) = row_meta(&row.entries, i);
-            progress.add((n - i) as u64);
+            progress.add_costed((n - i) as u64, costs.get(i).copied().unwrap_or(0));
             Ok((def, ex, sum, var, methods, row.pairs))
         })
         .collect();
@@ -331,7 +337,7 @@ const PREFAULT_CHUNK: usize = 1 << 18;
 /// Entries buffered per wave of a non-symmetric kernel (as the row engine).
 const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 
-fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) -> Result<()> {
+fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress, costs: &[u64]) -> Result<()> {
     let n = t.n;
     let threads = rayon::current_num_threads().max(1);
     // Not `clamp`: beyond 1,024 threads (RAYON_NUM_THREADS) its lower bound would pass the upper.
@@ -351,7 +357,7 @@ fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress) ->
             .map(|i| {
                 let mut row = Row::default();
                 let out = kernel.row(i, &mut row).map(|_| row);
-                progress.add(n as u64);
+                progress.add_costed(n as u64, costs.get(i).copied().unwrap_or(0));
                 out
             })
             .collect();

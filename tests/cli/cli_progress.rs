@@ -1,10 +1,13 @@
-//! Progress on stderr without a terminal: a line per interval of a long run, counted on pairs
-//! done, and silence with `--quiet`; the numbers are the same either way.
+//! Progress on stderr without a terminal: a line when a phase has run the delay, one per
+//! interval while rows finish (counted on pairs done), one with the phase's time when it ends;
+//! silence with `--quiet`; the numbers are the same either way.
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_lambert");
-/// The log interval for the test, seconds: far below the run's length.
+/// The log interval for the test, seconds: far below the run's length (and the phase delay
+/// with it).
 const EVERY: &str = "0.02";
+const PREFIX: &str = "lambert: progress: ";
 
 /// A closed cube, 10 × 10 patches per face, by Monte Carlo with enough rays to run for a while.
 fn scene(dir: &std::path::Path) -> std::path::PathBuf {
@@ -19,12 +22,17 @@ fn scene(dir: &std::path::Path) -> std::path::PathBuf {
     let mut s = String::new();
     for (name, o, u, v) in faces {
         s += &format!(
-            "[[surface]]\nname = \"{name}\"\nrectangle = {{ origin = {o}, u = {u}, v = {v} }}\nsubdivide = [10, 10]\n\n"
+            "[[surface]]\nname = \"{name}\"\nrectangle = {{ origin = {o}, u = {u}, v = {v} }}\nsubdivide = [10, 10]\ntemperature = 300.0\nemissivity = 0.8\n\n"
         );
     }
+    s = s.replacen("temperature = 300.0", "temperature = 1000.0", 1);
     let p = dir.join("cube.toml");
     std::fs::write(&p, s).unwrap();
     p
+}
+
+fn progress_lines(err: &str) -> Vec<&str> {
+    err.lines().filter_map(|l| l.strip_prefix(PREFIX)).collect()
 }
 
 #[test]
@@ -35,13 +43,18 @@ fn a_long_run_without_a_terminal_logs_progress_lines_and_quiet_silences_them() {
     let loud = Command::new(BIN).args(args).env("LAMBERT_PROGRESS_EVERY", EVERY).output().unwrap();
     let err = String::from_utf8_lossy(&loud.stderr);
     assert!(loud.status.success(), "{err}");
-    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("lambert: progress: ")).collect();
-    assert!(!lines.is_empty(), "no progress line in:\n{err}");
+    let lines = progress_lines(&err);
+    // The view-factor phase says when it started, then its counts, then its time.
+    let started = lines.iter().position(|l| l.starts_with("view factors (started at "));
+    let took = lines.iter().position(|l| l.starts_with("view factors took ") && l.ends_with(" s"));
+    let counts: Vec<&str> = lines.iter().filter_map(|l| l.strip_prefix("view factors: ")).collect();
+    assert!(started.is_some() && took.is_some() && !counts.is_empty(), "{err}");
+    assert!(started < took, "{err}");
     // 600 patches, every row whole: 360,000 pairs, and the share never goes down.
     let mut last = 0.0;
-    for l in &lines {
+    for l in &counts {
         assert!(l.contains("% of 360000 pairs (") && l.contains(" s elapsed"), "{l}");
-        let share: f64 = l["lambert: progress: ".len()..].split('%').next().unwrap().parse().unwrap();
+        let share: f64 = l.split('%').next().unwrap().parse().unwrap();
         assert!((last..=100.0).contains(&share), "{share} after {last}");
         last = share;
     }
@@ -50,5 +63,35 @@ fn a_long_run_without_a_terminal_logs_progress_lines_and_quiet_silences_them() {
     let qerr = String::from_utf8_lossy(&quiet.stderr);
     assert!(quiet.status.success(), "{qerr}");
     assert!(!qerr.contains("progress"), "{qerr}");
+    assert_eq!(loud.stdout, quiet.stdout, "the report never changes the numbers");
+}
+
+#[test]
+fn a_dense_solve_logs_each_phase_with_its_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = scene(dir.path());
+    // A 1 ms interval: every phase of a millisecond or more is named with its time.
+    let loud = Command::new(BIN)
+        .args(["solve", cube.to_str().unwrap(), "--patches"])
+        .env("LAMBERT_PROGRESS_EVERY", "0.001")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&loud.stderr);
+    assert!(loud.status.success(), "{err}");
+    let took: Vec<&str> = progress_lines(&err)
+        .into_iter()
+        .filter_map(|l| l.split_once(" took ").map(|(phase, _)| phase))
+        .collect();
+    // 600 unknowns: the view factors, the closure and the dense solve each take milliseconds,
+    // in this order (loading, the blockers' set-up and writing may be quicker).
+    let order: Vec<&str> =
+        took.iter().copied().filter(|p| ["view factors", "enforcement", "solve"].contains(p)).collect();
+    assert_eq!(order, ["view factors", "enforcement", "solve"], "{err}");
+    let quiet = Command::new(BIN)
+        .args(["solve", cube.to_str().unwrap(), "--patches", "-q"])
+        .env("LAMBERT_PROGRESS_EVERY", "0.001")
+        .output()
+        .unwrap();
+    assert!(quiet.status.success() && quiet.stderr.is_empty(), "{}", String::from_utf8_lossy(&quiet.stderr));
     assert_eq!(loud.stdout, quiet.stdout, "the report never changes the numbers");
 }

@@ -15,5 +15,6 @@ mod cli_vs3;
 mod determinism;
 mod fuzz;
 mod points;
+mod quiet;
 mod small_messages;
 mod vtk_output;

@@ -10,7 +10,8 @@ use std::process::Command;
 const FURNACE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/cases/cube_furnace/scene.toml");
 
 fn lambert(args: &[&str]) -> (Option<i32>, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_lambert")).args(args).arg("-q").output().expect("run lambert");
+    // Not -q: the summary lines are what these tests read.
+    let o = Command::new(env!("CARGO_BIN_EXE_lambert")).args(args).output().expect("run lambert");
     (
         o.status.code(),
         String::from_utf8_lossy(&o.stderr).into_owned(),

@@ -12,7 +12,6 @@ fn run(dir: &Path, scene: &str, args: &[&str]) -> (Option<i32>, String, String) 
         .args(args.iter().take(1))
         .arg(&p)
         .args(args.iter().skip(1))
-        .arg("-q")
         .output()
         .expect("run lambert");
     (

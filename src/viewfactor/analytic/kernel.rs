@@ -29,7 +29,7 @@ use crate::viewfactor::flags::{Flag, FlagLog};
 use crate::viewfactor::shadow::branch::PairWork;
 use crate::viewfactor::shadow::classify::Status;
 use crate::viewfactor::shadow::detect::Occlusion;
-use crate::viewfactor::shadow::policy::{Policy, EXACT_REL_TOL};
+use crate::viewfactor::shadow::policy::{Policy, EXACT_REL_TOL, SHADOW_UNIT_NS};
 use crate::viewfactor::shadow::{ShadowScratch, Shadows};
 use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::Result;
@@ -60,6 +60,20 @@ pub const GAUSS_REL_TOL: f64 = 5e-8;
 /// ([`ANALYTIC_REL`] relative) and this absolute error on F (the range check's slack), so
 /// that factors far below round-off of the row (grazing pairs at 1e-15) stay quiet.
 pub const FLAG_ABS: f64 = 1e-12;
+
+/// Progress estimate only (never a number): a pair behind a plane, a clear front-facing pair,
+/// ns. Guesses of the order (a plane test; a Gauss rule or contour integral); their ratio to
+/// the shadow price matters, the report's measured rate fixes the overall scale.
+const COST_ZERO_PAIR_NS: f64 = 10.0;
+/// See [`COST_ZERO_PAIR_NS`].
+const COST_CLEAR_PAIR_NS: f64 = 500.0;
+/// Progress estimate only: the share of a row's front-facing receivers taken as partly hidden
+/// when blockers stand in front of the emitter (a guess; which ones are is known only once
+/// the row is classified), each priced by the scene's shadow [`CostModel`] at the row's
+/// blocker count.
+///
+/// [`CostModel`]: crate::viewfactor::shadow::policy::CostModel
+const COST_PARTIAL_SHARE: f64 = 0.5;
 
 /// Per-patch data the pair loop reads, packed for locality.
 #[derive(Debug, Clone, Copy)]
@@ -196,6 +210,16 @@ impl<'s> AnalyticKernel<'s> {
                 (lo.min(d), hi.max(d))
             },
         )
+    }
+
+    /// False when one patch of (i, j) is behind the other's plane by its bounding sphere alone
+    /// (a cheap, one-sided test: true may still be a zero pair).
+    #[inline]
+    fn may_face(&self, i: usize, j: usize) -> bool {
+        let (a, b) = (&self.info[i], &self.info[j]);
+        a.plane != b.plane
+            && a.normal.dot(b.centroid) - a.offset + b.radius > 0.0
+            && b.normal.dot(a.centroid) - b.offset + a.radius > 0.0
     }
 
     /// Which rung of the ladder treats the unobstructed pair (i, j), j ≠ i.
@@ -418,6 +442,34 @@ impl RowKernel for AnalyticKernel<'_> {
         Ok(())
     }
 
+    fn row_costs(&self) -> Option<Vec<u64>> {
+        use rayon::prelude::*;
+        let shadows = self.shadows.as_ref()?;
+        let (n, model, snap) = (self.info.len(), *shadows.model(), shadows.blockers().snap());
+        let costs = (0..n)
+            .into_par_iter()
+            .map_init(Vec::new, |ids, i| {
+                // Blockers in front of patch i's plane (the classification's first filter).
+                let p = &self.info[i];
+                ids.clear();
+                shadows.blockers().blockers_where(
+                    |lo, hi| {
+                        p.normal.dot(0.5 * (lo + hi)) + p.normal.abs().dot(0.5 * (hi - lo)) - p.offset > snap
+                    },
+                    ids,
+                );
+                let front = (i + 1..n).filter(|&j| self.may_face(i, j)).count() as f64;
+                let back = (n - i - 1) as f64 - front;
+                let partial = match ids.len() {
+                    0 => 0.0,
+                    b => COST_PARTIAL_SHARE * model.shadow.at(b) * SHADOW_UNIT_NS,
+                };
+                (back * COST_ZERO_PAIR_NS + front * (COST_CLEAR_PAIR_NS + partial)).round() as u64
+            })
+            .collect();
+        Some(costs)
+    }
+
     fn warnings(&self) -> Vec<String> {
         let Some(shadows) = &self.shadows else { return Vec::new() };
         let (count, worst) = shadows.misses().summary();
@@ -434,5 +486,34 @@ impl RowKernel for AnalyticKernel<'_> {
             w.error / small,
             w.goal / small
         )]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::viewfactor::engine::RowKernel;
+
+    fn case(name: &str) -> Scene {
+        let p = format!("{}/cases/{name}/scene.toml", env!("CARGO_MANIFEST_DIR"));
+        crate::scene::load(std::path::Path::new(&p)).expect("a shipped case loads")
+    }
+
+    #[test]
+    fn rows_that_face_past_a_blocker_are_estimated_dearer_than_rows_that_face_nothing() {
+        // 16 bottom patches facing 16 top patches past a centred plate: the bottom rows hold
+        // every obstructed pair, the top rows (receivers j > i on their own plane) none.
+        let scene = case("o1_squares_centred_blocker");
+        let policy = Policy::Auto { tol: 1e-4, seed: 0 };
+        let kernel = AnalyticKernel::with_policy(&scene, 1e-5, policy);
+        let costs = kernel.row_costs().expect("a scene with blockers has row costs");
+        assert_eq!(costs.len(), 32);
+        let (bottom, top): (u64, u64) = (costs[..16].iter().sum(), costs[16..].iter().sum());
+        // By pair count alone the bottom rows weigh 392 / 136 = 2.9 times the top rows.
+        assert!(bottom > 100 * top, "bottom rows {bottom}, top rows {top}");
+        assert_eq!(costs[31], 0, "the last row has no receiver");
+        // A convex enclosure has no blockers: every pair is priced alike (the pair count).
+        let furnace = case("e3_cube_furnace");
+        assert!(AnalyticKernel::new(&furnace, GAUSS_REL_TOL).row_costs().is_none());
     }
 }
