@@ -360,5 +360,5 @@ def test_point_view_factors_warn_for_a_point_outside_and_keep_numbers_on_any_thr
         assert np.array_equal(F, scene.point_view_factors(outside, normals, threads=2))
     heard = []
     scene.point_view_factors(SENSORS, SENSOR_NORMALS, progress=heard.append)
-    assert heard[0] == ("point view factors", None, None) and heard[-1].phase == "done"
+    assert heard[0] == ("point view factors", None, None, None) and heard[-1].phase == "done"
     assert any(e.phase == "point-patch pairs" and e.done == e.total == 4 * 96 for e in heard)
