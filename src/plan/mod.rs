@@ -471,8 +471,14 @@ impl Plan {
                 let Tolerance::HeatRate { rate, .. } = self.tolerance else {
                     unreachable!("a clustered plan carries a heat-rate tolerance")
                 };
-                let run =
-                    solve::clustered::solve_scene(scene, &self.viewfactors, self.enforce, rate, &self.solve)?;
+                let run = solve::clustered::solve_scene_with(
+                    scene,
+                    &self.viewfactors,
+                    self.enforce,
+                    rate,
+                    &self.solve,
+                    &mut |p| enter(progress, p),
+                )?;
                 d.enforcement = Some(run.report);
                 d.store_bytes = run.stats.bytes;
                 d.clustered = Some((run.stats, run.first));

@@ -18,6 +18,7 @@ use crate::exchange::enforce::CLOSURE_TOL;
 use crate::exchange::hierarchy::{Budget, Hierarchy, Stats};
 use crate::exchange::{Enforce, EnforceReport};
 use crate::scene::{BoundaryCondition, Scene};
+use crate::viewfactor::progress::Phase;
 use crate::{Result, SIGMA};
 
 /// Everything the hierarchical `solve` run produced.
@@ -58,6 +59,20 @@ pub fn solve_scene(
     tol: f64,
     params: &Params,
 ) -> Result<ClusteredRun> {
+    solve_scene_with(scene, vf, mode, tol, params, &mut |_| {})
+}
+
+/// As [`solve_scene`], saying to `phase` when the enforcement and the solve of the final links
+/// start (the links, and a first pass where the tolerance asks for two, belong to the
+/// view-factor phase the caller is in).
+pub fn solve_scene_with(
+    scene: &Scene,
+    vf: &crate::viewfactor::Params,
+    mode: Enforce,
+    tol: f64,
+    params: &Params,
+    phase: &mut dyn FnMut(Phase),
+) -> Result<ClusteredRun> {
     let (mut h, first) = if tol <= TWO_PASS_BELOW {
         let loose = (tol * FIRST_PASS_LOOSENESS).min(FIRST_PASS_MAX_TOL);
         let (bounds, h1) = radiosity_ranges(scene, vf, mode, loose, params)?;
@@ -69,7 +84,9 @@ pub fn solve_scene(
     } else {
         (Hierarchy::build(scene, vf, tol, &budget(scene))?, None)
     };
+    phase(Phase::Enforcement);
     let report = h.enforce(scene, mode, !scene.is_closed(), CLOSURE_TOL)?;
+    phase(Phase::Solve);
     let mut solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
     let direct = h.heat_rate_errors(&j, e_amb(scene));

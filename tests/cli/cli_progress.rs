@@ -95,3 +95,24 @@ fn a_dense_solve_logs_each_phase_with_its_time() {
     assert!(quiet.status.success() && quiet.stderr.is_empty(), "{}", String::from_utf8_lossy(&quiet.stderr));
     assert_eq!(loud.stdout, quiet.stdout, "the report never changes the numbers");
 }
+
+#[test]
+fn a_clustered_solve_logs_its_enforcement_and_solve_too() {
+    // The hierarchical route builds its links in the view-factor phase, then enforces and
+    // solves on them: each phase named with its time, in order.
+    let dir = tempfile::tempdir().unwrap();
+    let cube = scene(dir.path());
+    let loud = Command::new(BIN)
+        .args(["solve", cube.to_str().unwrap(), "--patches", "--exchange", "hierarchical"])
+        .env("LAMBERT_PROGRESS_EVERY", "0.001")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&loud.stderr);
+    assert!(loud.status.success(), "{err}");
+    let took: Vec<&str> = progress_lines(&err)
+        .into_iter()
+        .filter_map(|l| l.split_once(" took ").map(|(phase, _)| phase))
+        .filter(|p| ["view factors", "enforcement", "solve"].contains(p))
+        .collect();
+    assert_eq!(took, ["view factors", "enforcement", "solve"], "{err}");
+}
