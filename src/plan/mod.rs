@@ -507,35 +507,31 @@ impl Plan {
         Ok(Outcome { solution, exchange, diagnostics: d })
     }
 
-    /// The packed route (the steps of [`solve::dense::solve_scene`], each phase said as it
-    /// starts): view factors, enforcement, gray solve; `None` when the method needs the sparse
-    /// store.
+    /// The packed route ([`solve::dense::solve_scene_with`], each phase said as it starts):
+    /// view factors, enforcement, gray solve; `None` when the method needs the sparse store.
     fn packed_solve(
         &self,
         scene: &Scene,
         d: &mut Diagnostics,
         progress: &mut dyn Progress,
     ) -> Result<Option<Solution>> {
-        let Some(mut ex) = exchange::dense::build(scene, &self.viewfactors)? else { return Ok(None) };
-        let flags = std::mem::take(&mut ex.t.flags);
-        progress.method_report(&ex.t.warnings, &flags);
-        enter(progress, Phase::Enforcement);
-        let p = EnforceParams {
-            mode: self.enforce,
-            open: !scene.is_closed(),
-            source: scene.source.clone(),
-            facts: Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene))),
-            ..Default::default()
+        let mut step = |phase: Phase, ex: &exchange::dense::DenseExchange| {
+            if phase == Phase::Enforcement {
+                progress.method_report(&ex.t.warnings, &ex.t.flags);
+            }
+            enter(progress, phase);
         };
-        let report = exchange::dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
-        enter(progress, Phase::Solve);
-        let solution = solve::dense::solve_gray(scene, &ex, &self.solve)?;
-        d.warnings = std::mem::take(&mut ex.t.warnings);
-        d.flags = flags;
-        d.enforcement = Some(report);
-        d.pairs = ex.t.pairs;
-        d.store_bytes = ex.t.bytes();
-        Ok(Some(solution))
+        let Some(run) =
+            solve::dense::solve_scene_with(scene, &self.viewfactors, self.enforce, &self.solve, &mut step)?
+        else {
+            return Ok(None);
+        };
+        d.warnings = run.warnings;
+        d.flags = run.flags;
+        d.enforcement = Some(run.report);
+        d.pairs = run.pairs;
+        d.store_bytes = run.store_bytes;
+        Ok(Some(run.solution))
     }
 
     /// The sparse route: view factors (computed or saved), enforcement, gray or band solve.

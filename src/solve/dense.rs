@@ -14,6 +14,7 @@ use crate::exchange::linalg::{cg, Linear, CG_TOL};
 use crate::exchange::operator::Operator;
 use crate::exchange::{Enforce, EnforceParams, EnforceReport};
 use crate::scene::Scene;
+use crate::viewfactor::progress::Phase;
 use crate::viewfactor::Level;
 use crate::{Error, Result, SIGMA};
 use std::time::Instant;
@@ -51,7 +52,20 @@ pub fn solve_scene(
     mode: Enforce,
     params: &Params,
 ) -> Result<Option<DenseRun>> {
+    solve_scene_with(scene, vf, mode, params, &mut |_, _| {})
+}
+
+/// As [`solve_scene`], saying to `step` when the enforcement and the solve start, with the
+/// store as built (the view-factor method's warnings and flagged entries are known by then).
+pub fn solve_scene_with(
+    scene: &Scene,
+    vf: &crate::viewfactor::Params,
+    mode: Enforce,
+    params: &Params,
+    step: &mut dyn FnMut(Phase, &DenseExchange),
+) -> Result<Option<DenseRun>> {
     let Some(mut ex) = dense::build(scene, vf)? else { return Ok(None) };
+    step(Phase::Enforcement, &ex);
     let facts = Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene)));
     let p = EnforceParams {
         mode,
@@ -61,6 +75,7 @@ pub fn solve_scene(
         ..Default::default()
     };
     let report = dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
+    step(Phase::Solve, &ex);
     let solution = solve_gray(scene, &ex, params)?;
     let flags = std::mem::take(&mut ex.t.flags);
     let warnings = std::mem::take(&mut ex.t.warnings);
