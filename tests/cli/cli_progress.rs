@@ -66,27 +66,29 @@ fn a_long_run_without_a_terminal_logs_progress_lines_and_quiet_silences_them() {
     assert_eq!(loud.stdout, quiet.stdout, "the report never changes the numbers");
 }
 
+/// Runs `args` with a 1 ms log interval (every phase of a millisecond or more is named with
+/// its time): the run, and the solve phases (view factors, enforcement, solve) that said how
+/// long they took, in order.
+fn timed_phases(args: &[&str]) -> (std::process::Output, Vec<String>) {
+    let run = Command::new(BIN).args(args).env("LAMBERT_PROGRESS_EVERY", "0.001").output().unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    let took = progress_lines(&err)
+        .into_iter()
+        .filter_map(|l| l.split_once(" took ").map(|(phase, _)| phase.to_string()))
+        .filter(|p| ["view factors", "enforcement", "solve"].contains(&p.as_str()))
+        .collect();
+    (run, took)
+}
+
 #[test]
 fn a_dense_solve_logs_each_phase_with_its_time() {
     let dir = tempfile::tempdir().unwrap();
     let cube = scene(dir.path());
-    // A 1 ms interval: every phase of a millisecond or more is named with its time.
-    let loud = Command::new(BIN)
-        .args(["solve", cube.to_str().unwrap(), "--patches"])
-        .env("LAMBERT_PROGRESS_EVERY", "0.001")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&loud.stderr);
-    assert!(loud.status.success(), "{err}");
-    let took: Vec<&str> = progress_lines(&err)
-        .into_iter()
-        .filter_map(|l| l.split_once(" took ").map(|(phase, _)| phase))
-        .collect();
     // 600 unknowns: the view factors, the closure and the dense solve each take milliseconds,
     // in this order (loading, the blockers' set-up and writing may be quicker).
-    let order: Vec<&str> =
-        took.iter().copied().filter(|p| ["view factors", "enforcement", "solve"].contains(p)).collect();
-    assert_eq!(order, ["view factors", "enforcement", "solve"], "{err}");
+    let (loud, order) = timed_phases(&["solve", cube.to_str().unwrap(), "--patches"]);
+    assert_eq!(order, ["view factors", "enforcement", "solve"], "{}", String::from_utf8_lossy(&loud.stderr));
     let quiet = Command::new(BIN)
         .args(["solve", cube.to_str().unwrap(), "--patches", "-q"])
         .env("LAMBERT_PROGRESS_EVERY", "0.001")
@@ -102,17 +104,7 @@ fn a_clustered_solve_logs_its_enforcement_and_solve_too() {
     // solves on them: each phase named with its time, in order.
     let dir = tempfile::tempdir().unwrap();
     let cube = scene(dir.path());
-    let loud = Command::new(BIN)
-        .args(["solve", cube.to_str().unwrap(), "--patches", "--exchange", "hierarchical"])
-        .env("LAMBERT_PROGRESS_EVERY", "0.001")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&loud.stderr);
-    assert!(loud.status.success(), "{err}");
-    let took: Vec<&str> = progress_lines(&err)
-        .into_iter()
-        .filter_map(|l| l.split_once(" took ").map(|(phase, _)| phase))
-        .filter(|p| ["view factors", "enforcement", "solve"].contains(p))
-        .collect();
-    assert_eq!(took, ["view factors", "enforcement", "solve"], "{err}");
+    let (run, took) =
+        timed_phases(&["solve", cube.to_str().unwrap(), "--patches", "--exchange", "hierarchical"]);
+    assert_eq!(took, ["view factors", "enforcement", "solve"], "{}", String::from_utf8_lossy(&run.stderr));
 }

@@ -828,10 +828,15 @@ mod tests {
 
     use crate::geometry::fixtures::square as sq;
 
-    fn shaded(blocker: &[DVec3], tol: f64, min_depth: u32) -> AdaptInfo {
+    /// Unit squares at gap 1 (emitter z = 0 facing up, receiver z = 1 facing down) past `blocker`.
+    fn unit_pair(blocker: &[DVec3]) -> ShadowGeometry {
         let e = sq(0.0, 0.0, 0.0, 1.0, true);
         let r = sq(1.0, 0.0, 0.0, 1.0, false);
-        let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[blocker]).unwrap();
+        ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[blocker]).unwrap()
+    }
+
+    fn shaded(blocker: &[DVec3], tol: f64, min_depth: u32) -> AdaptInfo {
+        let geo = unit_pair(blocker);
         let it = Integrator::new(AdaptParams { low: 3, high: 4, min_depth, max_depth: 10 });
         it.shaded(&geo, tol, &mut AdaptScratch::default())
     }
@@ -947,10 +952,7 @@ mod tests {
         // The centred plate's kink planes cut the emitter into its four quarters: at a loose
         // tolerance each is accepted on its own rules (a forced split per root made 16 cells),
         // while an emitter left in one root (cuts capped at one piece) is still split in four.
-        let e = sq(0.0, 0.0, 0.0, 1.0, true);
-        let r = sq(1.0, 0.0, 0.0, 1.0, false);
-        let b = sq(0.5, 0.25, 0.25, 0.5, true);
-        let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&b]).unwrap();
+        let geo = unit_pair(&sq(0.5, 0.25, 0.25, 0.5, true));
         let it = Integrator::new(AdaptParams { low: 2, high: 3, min_depth: 1, max_depth: 8 });
         let mut s = AdaptScratch::default();
         let cut = it.shaded(&geo, 1.0, &mut s);
@@ -970,15 +972,12 @@ mod tests {
         // A plate tilted about x (its plane z = y − 0.1 crosses the emitter) with edges parallel
         // to the receiver's: capped at two pieces, the blockers' planes first cut along the plate's
         // plane; faces last cut along a plane through a receiver edge instead.
-        let e = sq(0.0, 0.0, 0.0, 1.0, true);
-        let r = sq(1.0, 0.0, 0.0, 1.0, false);
-        let b = vec![
+        let geo = unit_pair(&[
             DVec3::new(0.3, 0.3, 0.2),
             DVec3::new(0.7, 0.3, 0.2),
             DVec3::new(0.7, 0.7, 0.6),
             DVec3::new(0.3, 0.7, 0.6),
-        ];
-        let geo = ShadowGeometry::new(&e, DVec3::Z, &r, -DVec3::Z, &[&b]).unwrap();
+        ]);
         let plane = plane_of(&geo.blockers()[0]).unwrap();
         let on_plate_plane = |cells: &[Cell]| {
             let mut ring = Vec::new();
