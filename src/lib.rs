@@ -44,6 +44,7 @@ pub mod distributed;
 pub mod error;
 pub mod exchange;
 pub mod geometry;
+pub mod palette;
 pub mod plan;
 pub mod report;
 pub mod scene;

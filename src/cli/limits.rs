@@ -88,7 +88,7 @@ fn duration(secs: f64) -> String {
 /// has more than [`MESH_PATCH_WARN`] patches: the pair count and time estimate at
 /// [`PAIRS_PER_CPU_SECOND`] on `threads`, and what changes it (`alternative`).
 pub fn mesh_cost(scene: &Scene, method: Method, threads: usize, alternative: &str) -> Option<String> {
-    if !matches!(method, Method::Auto | Method::Analytic) {
+    if !method.is_symmetric() {
         return None;
     }
     let big = scene

@@ -12,7 +12,7 @@ use super::config::Config;
 use lambert::report::outputs::{Input, OutputSet};
 use lambert::report::points_csv;
 use lambert::scene;
-use lambert::viewfactor::{points, Level, Method, MethodSet};
+use lambert::viewfactor::{points, Level, MethodSet};
 use lambert::{Error, Result};
 use std::path::Path;
 
@@ -63,7 +63,7 @@ pub fn run(a: &ViewfactorsArgs, file: &Path) -> Result<()> {
 /// The options `--points` cannot honour, refused with the reason.
 fn refuse(a: &ViewfactorsArgs, cfg: &Config) -> Result<()> {
     let c = &a.common;
-    let why = if !matches!(cfg.params.method, Method::Auto | Method::Analytic) {
+    let why = if !cfg.params.method.exact_shadows() {
         format!(
             "-m {}: point factors are exact (Lambert's formula with exact shadows); use -m auto or analytic",
             cfg.params.method

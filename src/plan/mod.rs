@@ -603,7 +603,7 @@ fn factor_tolerance(scene: &Scene, req: &Request) -> f64 {
 /// True when the clustered links can evaluate their near pairs by `method`: they integrate
 /// them with an exact kernel only.
 fn clustered_kernel(method: Method) -> bool {
-    matches!(method, Method::Auto | Method::Analytic)
+    method.exact_shadows()
 }
 
 /// The refusal of [`Store::Auto`] when the dense store would not fit and `method` has no exact

@@ -6,7 +6,8 @@
 //! - axes: fitted to the positive values with a small margin (not widened to whole decades);
 //! - lines join points in x order; a value a log axis cannot show (zero, negative) is drawn as
 //!   an arrow at the edge it lies beyond, and the legend says so;
-//! - colours: the Okabe–Ito palette (colour-blind safe), one fixed colour per method;
+//! - colours: the Okabe–Ito palette (colour-blind safe), one fixed colour per method (its row
+//!   in the method registry, [`crate::viewfactor::registry`]);
 //! - files: `<stem>.svg`, `<stem>.png` and `<stem>.csv` (columns `series,x,y`, the numbers drawn).
 use crate::{Error, Result};
 use plotters::coord::Shift;
@@ -30,29 +31,8 @@ const LINE_W: u32 = 2;
 /// Dash and gap lengths of dashed series, pixels (plot and legend alike).
 const DASH: (u32, u32) = (8, 6);
 
-/// Okabe–Ito colours (Okabe & Ito 2008), distinguishable with every common colour-vision
-/// deficiency; yellow is left out (unreadable on white).
-pub mod okabe_ito {
-    /// Black.
-    pub const BLACK: (u8, u8, u8) = (0, 0, 0);
-    /// Orange.
-    pub const ORANGE: (u8, u8, u8) = (230, 159, 0);
-    /// Sky blue.
-    pub const SKY_BLUE: (u8, u8, u8) = (86, 180, 233);
-    /// Bluish green.
-    pub const BLUISH_GREEN: (u8, u8, u8) = (0, 158, 115);
-    /// Blue.
-    pub const BLUE: (u8, u8, u8) = (0, 114, 178);
-    /// Vermillion.
-    pub const VERMILLION: (u8, u8, u8) = (213, 94, 0);
-    /// Reddish purple.
-    pub const REDDISH_PURPLE: (u8, u8, u8) = (204, 121, 167);
-    /// Grey (not Okabe–Ito; for reference lines and `auto`, which are dashed).
-    pub const GREY: (u8, u8, u8) = (110, 110, 110);
-    /// The seven colours in order, for charts whose series are not methods.
-    pub const ALL: [(u8, u8, u8); 7] =
-        [BLUE, VERMILLION, BLUISH_GREEN, ORANGE, REDDISH_PURPLE, SKY_BLUE, BLACK];
-}
+/// The Okabe–Ito palette ([`crate::palette`]), under the name the charts use.
+pub use crate::palette as okabe_ito;
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,21 +70,6 @@ pub struct Chart {
     pub y_label: String,
     /// The series.
     pub series: Vec<Series>,
-}
-
-/// A fixed colour per method so every chart agrees (Okabe–Ito; `auto` grey and dashed).
-pub fn method_color(name: &str) -> (u8, u8, u8) {
-    use okabe_ito::*;
-    match name {
-        "analytic" => BLACK,
-        "auto" => GREY,
-        "hemicube" => BLUE,
-        "single-plane" => SKY_BLUE,
-        "mc-area" => VERMILLION,
-        "mc-uniform" => ORANGE,
-        "mc-cosine" => BLUISH_GREEN,
-        _ => REDDISH_PURPLE,
-    }
 }
 
 /// Registers the vendored font as "sans-serif" (once per process).
@@ -392,16 +357,6 @@ mod tests {
         assert_eq!(runs(&p), vec![vec![(1.0, 2.0), (2.0, 5.0), (3.0, 1.0)], vec![(5.0, 1.0)]]);
         let chart = Chart { title: "t".into(), x_label: "x".into(), y_label: "y".into(), series: vec![s] };
         assert_eq!(csv(&chart), "series,x,y\na,1,2\na,2,5\na,3,1\na,4,0\na,5,1\n");
-    }
-
-    #[test]
-    fn method_colours_are_distinct() {
-        let names =
-            ["analytic", "auto", "hemicube", "single-plane", "mc-area", "mc-uniform", "mc-cosine", "x"];
-        let mut c: Vec<_> = names.iter().map(|n| method_color(n)).collect();
-        c.sort();
-        c.dedup();
-        assert_eq!(c.len(), names.len());
     }
 
     /// The legend sits right of the plot, its dashed sample has gaps like the plotted line,

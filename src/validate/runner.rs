@@ -8,16 +8,8 @@ use crate::viewfactor::{self, Level, Method, ViewFactors};
 use crate::Error;
 use std::time::{Duration, Instant};
 
-/// Method order in the report: exact first, then the approximations.
-pub const METHODS: [Method; 7] = [
-    Method::Analytic,
-    Method::Auto,
-    Method::Hemicube,
-    Method::SinglePlane,
-    Method::McArea,
-    Method::McUniform,
-    Method::McCosine,
-];
+/// Method order in the report: exact first, then the approximations (the registry's).
+pub use crate::viewfactor::registry::ALL as METHODS;
 
 /// All checks of one case.
 pub fn run_case(case: &Case, budget: &Budget) -> Vec<Check> {

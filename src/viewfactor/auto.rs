@@ -29,10 +29,13 @@
 //!
 //! Effort therefore goes only where the error needs it: nothing is sampled for clear or fully
 //! hidden pairs, and a small pair far below the goal costs a handful of samples.
-use super::analytic::kernel::AnalyticKernel;
+use super::accuracy::{Knob, MethodInfo};
+use super::analytic::kernel::{AnalyticKernel, ANALYTIC_LEAK_TOL};
+use super::engine::RowKernel;
 use super::shadow::policy::Policy;
 use super::Params;
 use crate::scene::Scene;
+use crate::Result;
 
 /// Share of the tolerance given to the Gauss ladder on clear pairs, as a relative target:
 /// a tenfold margin on the ladder's error model costs little (its rules converge
@@ -44,4 +47,25 @@ pub const LADDER_SHARE: f64 = 0.1;
 pub fn kernel<'s>(scene: &'s Scene, params: &Params) -> AnalyticKernel<'s> {
     let tol = params.tolerance;
     AnalyticKernel::with_policy(scene, LADDER_SHARE * tol, Policy::Auto { tol, seed: params.seed })
+}
+
+/// The `auto` row of the method registry: error its goal; its own rows close to
+/// [`ANALYTIC_LEAK_TOL`] (or the ladder's target if looser) only when every entry came from
+/// the ladder, since sampled and shadow-integrated entries are covered by the general check.
+pub const INFO: MethodInfo = MethodInfo {
+    knob: Knob::Tolerance,
+    symmetric: true,
+    monte_carlo: false,
+    counts_hits: false,
+    exact_shadows: true,
+    kernel: row_kernel,
+    error_bound: |params, _| params.tolerance,
+    own_leak_tol: |tolerance, all_ladder| {
+        all_ladder().then(|| ANALYTIC_LEAK_TOL.max(LADDER_SHARE * tolerance))
+    },
+    colour: (crate::palette::GREY, true),
+};
+
+fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn RowKernel + 'a>>> {
+    Ok(Some(Box::new(kernel(scene, params))))
 }

@@ -27,8 +27,9 @@
 //!
 //! Resolution: R pixels along the top face (R/2 rows on each side face); an odd R is rounded
 //! up to the next even number, and R is capped at [`MAX_RESOLUTION`].
+use super::accuracy::{raster, Knob, MethodInfo};
 use super::engine::{RawEntry, Row, RowKernel};
-use super::MethodSet;
+use super::{MethodSet, Params};
 use crate::scene::Scene;
 use crate::{Error, Result};
 use glam::{DVec2, DVec3, DVec4};
@@ -43,6 +44,23 @@ pub(crate) mod raster;
 pub use positions::Positions;
 use prepare::{Eye, Gathered, Prepared, NO_RECEIVER};
 use raster::{DepthPlane, ItemBuffer};
+
+/// The `hemicube` row of the method registry: error the point bias plus the raster term.
+pub const INFO: MethodInfo = MethodInfo {
+    knob: Knob::Resolution,
+    symmetric: false,
+    monte_carlo: false,
+    counts_hits: false,
+    exact_shadows: false,
+    kernel: row_kernel,
+    error_bound: |params, e| e.point_bias + raster(e.f, params.resolution),
+    own_leak_tol: super::accuracy::no_own_leak_tol,
+    colour: (crate::palette::BLUE, false),
+};
+
+fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn RowKernel + 'a>>> {
+    Ok(Some(Box::new(HemicubeKernel::new(scene, params.resolution, Positions::Adaptive)?)))
+}
 
 /// Largest accepted resolution: one face buffer is 8R² bytes per thread (134 MB at 4096).
 pub const MAX_RESOLUTION: usize = 4096;

@@ -1,4 +1,5 @@
-//! View factors: one closed [`Method`] enum, one dispatch point ([`compute`]), one engine.
+//! View factors: one closed [`Method`] enum with its registry, one dispatch point
+//! ([`compute`]), one engine.
 //!
 //! - [`engine`]: runs a [`engine::RowKernel`] over every patch row in parallel, in waves, and
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
@@ -12,13 +13,15 @@
 //! - [`range`]: the final check that every written factor lies in [0, 1];
 //! - [`flags`]: entries a method could not bound, reported on stderr;
 //! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
-//! - [`accuracy`]: what each method knows about its own error (leak thresholds, error model,
-//!   accuracy knob), asked by the CLI, enforcement and validation;
-//! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
+//! - [`registry`]: the [`Method`] enum and one [`MethodInfo`] row per method (kernel, error
+//!   model, leak thresholds, knob, chart colour), asked by the plan, enforcement, validation
+//!   and the charts instead of each matching on the method;
+//! - [`accuracy`]: the shape of a row and the error terms the methods share;
+//! - the method modules ([`analytic`], [`auto`], [`hemicube`], [`single_plane`],
+//!   [`monte_carlo`]: mc-area, mc-uniform, mc-cosine) each provide a kernel and their row.
 use crate::scene::Scene;
-use crate::{Error, Result};
+use crate::Result;
 use std::fmt;
-use std::str::FromStr;
 
 pub mod accuracy;
 pub mod analytic;
@@ -33,54 +36,16 @@ pub mod monte_carlo;
 pub mod points;
 pub mod progress;
 pub mod range;
+pub mod registry;
 pub mod shadow;
 pub mod single_plane;
 pub mod sink;
 pub mod triangle;
 
+pub use accuracy::MethodInfo;
 pub use flags::Flag;
+pub use registry::Method;
 pub use sink::{Entry, Level, ViewFactors};
-
-/// The view-factor methods of SPEC.md; their names ([`crate::choice`]) are the variants in
-/// kebab case (`single-plane`, `mc-area`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
-pub enum Method {
-    /// Cheapest method per pair that meets the tolerance.
-    #[default]
-    Auto,
-    /// Exact contour integration for planar polygons.
-    Analytic,
-    /// Cohen–Greenberg hemicube.
-    Hemicube,
-    /// Sillion–Puech single projection plane.
-    SinglePlane,
-    /// Monte Carlo, random point pairs on both patches.
-    McArea,
-    /// Monte Carlo, uniform hemisphere directions.
-    McUniform,
-    /// Monte Carlo, cosine-weighted directions.
-    McCosine,
-}
-
-impl Method {
-    /// True for the Monte Carlo estimators (they report a standard error).
-    pub fn is_monte_carlo(self) -> bool {
-        matches!(self, Method::McArea | Method::McUniform | Method::McCosine)
-    }
-}
-
-impl fmt::Display for Method {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        crate::choice::write(self, f)
-    }
-}
-
-impl FromStr for Method {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        crate::choice::parse_or("method", s)
-    }
-}
 
 /// Which method(s) produced an entry; a surface aggregate may mix several.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
@@ -179,24 +144,10 @@ impl Default for Params {
     }
 }
 
-/// The row kernel of a deterministic method; `None` for the Monte Carlo methods, which run
-/// their own sampler.
+/// The row kernel of a deterministic method (its registry row's); `None` for the Monte Carlo
+/// methods, which run their own sampler.
 fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn engine::RowKernel + 'a>>> {
-    Ok(Some(match params.method {
-        Method::Analytic => {
-            Box::new(analytic::kernel::AnalyticKernel::new(scene, analytic::kernel::GAUSS_REL_TOL))
-        }
-        Method::Auto => Box::new(auto::kernel(scene, params)),
-        Method::McArea | Method::McUniform | Method::McCosine => return Ok(None),
-        Method::Hemicube => {
-            Box::new(hemicube::HemicubeKernel::new(scene, params.resolution, hemicube::Positions::Adaptive)?)
-        }
-        Method::SinglePlane => Box::new(single_plane::SinglePlaneKernel::new(
-            scene,
-            params.resolution,
-            single_plane::SinglePlaneOptions::default(),
-        )?),
-    }))
+    (params.method.info().kernel)(scene, params)
 }
 
 /// Computes the view factors of `scene` at the requested level with the chosen method.

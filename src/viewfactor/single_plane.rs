@@ -22,11 +22,13 @@
 //! **Pixel layout.** With [`Spacing::EqualAngle`] (default) pixels subtend near-equal
 //! angles, so a wide plane costs no resolution near the zenith (π/R rad per pixel at most,
 //! a hemicube's top face has 2/R); uniform spacing is kept for comparison.
+use super::accuracy::{raster, Knob, MethodInfo};
+use super::closed_form::element_to_rectangle_corner;
 use super::engine::{Row, RowKernel};
 use super::flags::{Flag, FlagLog};
 use super::hemicube::prepare::{Eye, Gathered, Prepared};
 use super::hemicube::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
-use super::MethodSet;
+use super::{MethodSet, Params};
 use crate::scene::Scene;
 use crate::Result;
 use std::sync::Mutex;
@@ -42,6 +44,35 @@ use warnock::PlaneScene;
 /// 0.999918 of the hemisphere. Equal-angle pixels make the wide plane cheap (they grow only
 /// 6 % in angle from s = 10), and the bias is 100× below the classic s = 10.
 pub const DEFAULT_HALF_WIDTH: f64 = 100.0;
+
+/// The `single-plane` row of the method registry: error the hemicube's terms plus
+/// min(F, the hemisphere fraction outside the plane), the method's one-sided grazing bias.
+pub const INFO: MethodInfo = MethodInfo {
+    knob: Knob::Resolution,
+    symmetric: false,
+    monte_carlo: false,
+    counts_hits: false,
+    exact_shadows: false,
+    kernel: row_kernel,
+    error_bound: |params, e| e.point_bias + raster(e.f, params.resolution) + e.f.min(missed()),
+    own_leak_tol: super::accuracy::no_own_leak_tol,
+    colour: (crate::palette::SKY_BLUE, false),
+};
+
+fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn RowKernel + 'a>>> {
+    Ok(Some(Box::new(SinglePlaneKernel::new(scene, params.resolution, SinglePlaneOptions::default())?)))
+}
+
+/// The hemisphere fraction outside the plane of half-width [`DEFAULT_HALF_WIDTH`] at unit
+/// height, 1 − 4·F_corner(s, s, 1).
+pub fn missed() -> f64 {
+    missed_at(DEFAULT_HALF_WIDTH)
+}
+
+/// The same for a plane of half-width `s`.
+pub fn missed_at(s: f64) -> f64 {
+    1.0 - 4.0 * element_to_rectangle_corner(s, s, 1.0)
+}
 
 /// Options of the single-plane kernel.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -136,7 +167,7 @@ impl RowKernel for SinglePlaneKernel<'_> {
         cut.sort_unstable();
         cut.dedup();
         if let Some(&first) = cut.first() {
-            let missed = crate::viewfactor::accuracy::single_plane_missed_at(self.options.half_width);
+            let missed = missed_at(self.options.half_width);
             self.flags.push(Flag {
                 from: i,
                 to: first as usize,

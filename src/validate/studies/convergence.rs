@@ -2,7 +2,7 @@
 //! estimators, with the 1/√N (independent sampling) and N^−0.656 (scrambled Sobol on this
 //! 4-D integrand, literature §4) slopes drawn.
 use super::scenes;
-use crate::report::charts::{self, method_color, okabe_ito, Chart, Series, Style};
+use crate::report::charts::{self, okabe_ito, Chart, Series, Style};
 use crate::viewfactor::{self, Level, Method, Params};
 use crate::Result;
 use std::fmt::Write;
@@ -62,7 +62,7 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
             series.push(Series {
                 name: method.to_string(),
                 points: pts,
-                color: method_color(&method.to_string()),
+                color: method.colour().0,
                 style: Style::LinePoints,
             });
         }

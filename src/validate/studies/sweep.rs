@@ -1,5 +1,5 @@
 //! One measured run of a method on a study scene: wall time and error, or why it has none.
-use crate::report::charts::{method_color, Series, Style};
+use crate::report::charts::{Series, Style};
 use crate::scene::Scene;
 use crate::viewfactor::{self, Level, Method, Params, ViewFactors};
 use crate::Error;
@@ -45,13 +45,9 @@ pub fn series(
         .filter_map(|&m| {
             let pts: Vec<(f64, f64)> = points.iter().filter(|p| p.method == m).filter_map(&xy).collect();
             // `auto` often coincides with analytic: dashed, drawn over it, both stay visible.
-            let style = if m == Method::Auto { Style::Dashed } else { Style::LinePoints };
-            (!pts.is_empty()).then(|| Series {
-                name: m.to_string(),
-                points: pts,
-                color: method_color(&m.to_string()),
-                style,
-            })
+            let (color, dashed) = m.colour();
+            let style = if dashed { Style::Dashed } else { Style::LinePoints };
+            (!pts.is_empty()).then(|| Series { name: m.to_string(), points: pts, color, style })
         })
         .collect()
 }

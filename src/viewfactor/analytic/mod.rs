@@ -34,3 +34,27 @@ pub mod lambert;
 pub mod lattice;
 pub mod ring;
 pub mod split;
+
+use super::accuracy::{Knob, MethodInfo, ANALYTIC_REL};
+use super::engine::RowKernel;
+use super::Params;
+use crate::scene::Scene;
+use crate::Result;
+
+/// The `analytic` row of the method registry: error `ANALYTIC_REL`·F, its own rows close to
+/// [`kernel::ANALYTIC_LEAK_TOL`].
+pub const INFO: MethodInfo = MethodInfo {
+    knob: Knob::Tolerance,
+    symmetric: true,
+    monte_carlo: false,
+    counts_hits: false,
+    exact_shadows: true,
+    kernel: row_kernel,
+    error_bound: |_, e| ANALYTIC_REL * e.f,
+    own_leak_tol: |_, _| Some(kernel::ANALYTIC_LEAK_TOL),
+    colour: (crate::palette::BLACK, false),
+};
+
+fn row_kernel<'a>(scene: &'a Scene, _: &Params) -> Result<Option<Box<dyn RowKernel + 'a>>> {
+    Ok(Some(Box::new(kernel::AnalyticKernel::new(scene, kernel::GAUSS_REL_TOL))))
+}
