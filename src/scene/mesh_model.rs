@@ -5,7 +5,6 @@
 //! Surface names: `<stem>` for one surface per file; `<stem>/<group>` per group (a file with a
 //! single unnamed group gives `<stem>`); `<stem>/<k>` per connected component, k from 0 in
 //! order of each component's first triangle in the file.
-use super::assemble::ModelEntry;
 use super::gltf_scene::{MeshSurface, Model};
 use super::hygiene::{self, MeshReport, WELD_REL};
 use super::mesh::{weld, Tag, TriMesh};
@@ -122,39 +121,6 @@ pub struct Checked {
     pub report: MeshReport,
     /// Notes from reading.
     pub notes: Vec<String>,
-}
-
-/// Loads a glTF, STL or OBJ model file with its checks, as a model entry with `layer`.
-pub fn load_entry(
-    path: &Path,
-    opts: &MeshOptions,
-    layer: Layer,
-    load: &super::LoadOptions,
-) -> Result<ModelEntry, InputError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let checked = match ext.as_deref() {
-        Some("stl") => build(path, super::stl_scene::read(path)?, opts, Split::File)?,
-        Some("obj") => build(path, super::obj_scene::read(path)?, opts, Split::Group)?,
-        _ => {
-            if opts.unit != Unit::M {
-                return Err(InputError::file(
-                    path,
-                    "glTF coordinates are metres by the glTF specification; `unit` applies to STL and OBJ files",
-                ));
-            }
-            if opts.split.is_some() {
-                return Err(InputError::file(
-                    path,
-                    "a glTF model is split by its nodes (one surface per mesh node); `split` applies to STL and \
-                     OBJ files",
-                ));
-            }
-            let mut model = super::gltf_scene::load_model_with(path, load)?;
-            let report = check_model(&mut model, opts)?;
-            Checked { model, report, notes: Vec::new() }
-        }
-    };
-    Ok(ModelEntry { model: checked.model, layer, report: Some(checked.report), notes: checked.notes })
 }
 
 /// Builds the surfaces of an STL or OBJ file (`default_split` when the options give none).

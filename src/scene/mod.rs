@@ -36,8 +36,10 @@ pub mod obj_scene;
 pub mod orientation;
 pub mod patching;
 pub mod props;
+pub mod readers;
 pub mod schema;
 pub mod stl_scene;
+pub mod text;
 pub mod toml_errors;
 pub mod toml_scene;
 pub mod validate;
@@ -346,58 +348,16 @@ pub fn load_with(path: &std::path::Path, options: &LoadOptions) -> crate::Result
 }
 
 fn load_file(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
-    let bare = &options.bare;
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let is_mesh = matches!(ext.as_deref(), Some("gltf" | "glb" | "stl" | "obj"));
-    if !is_mesh && *bare != mesh_model::MeshOptions::default() {
+    let Some(reader) = readers::reader_for(path) else {
+        let what = readers::expected(|_| true);
+        return Err(InputError::file(path, format!("unknown scene file type; expected {what}")).into());
+    };
+    if !reader.takes_mesh_options() && options.bare != mesh_model::MeshOptions::default() {
         return Err(crate::Error::Usage(format!(
-            "--unit and --repair apply to a bare .stl, .obj, .gltf or .glb scene; {} sets `unit` and `repair` \
-             per [[model]]",
+            "--unit and --repair apply to {}; {} sets `unit` and `repair` per [[model]]",
+            readers::expected(|r| r.takes_mesh_options()).replacen("a ", "a bare ", 1),
             path.display()
         )));
     }
-    match ext.as_deref() {
-        Some("toml") => toml_scene::load_with(path, options),
-        Some("gltf" | "glb" | "stl" | "obj") => {
-            let layer = props::Layer::new("the mesh file", path, None);
-            let entry = mesh_model::load_entry(path, bare, layer, options)?;
-            assemble::assemble(path, None, None, &props::Layer::default(), Vec::new(), vec![entry])
-        }
-        Some("vs3") => {
-            // encl = 1: a closed enclosure whose rows View3D normalises (closure here);
-            // otherwise open to a black environment at 0 K, which takes what leaves the scene.
-            let v = vs3::load(path)?;
-            let c = v.controls;
-            let entry = assemble::ModelEntry {
-                model: v.model,
-                layer: props::Layer::new("the View3D file", path, None),
-                report: None,
-                notes: Vec::new(),
-            };
-            let ambient = (!c.enclosure).then_some(0.0);
-            let mut scene = assemble::assemble(
-                path,
-                v.title,
-                ambient,
-                &props::Layer::default(),
-                Vec::new(),
-                vec![entry],
-            )?;
-            scene.warnings.extend(v.warnings);
-            if c.emittances {
-                scene.warnings.push(format!(
-                    "{}: emit = 1 asks View3D for script-F exchange factors; lambert writes view factors \
-                     here, and `solve --conductances` writes RADK_ij = A_i ε_i B_ij = A_i 𝓕_ij",
-                    path.display()
-                ));
-            }
-            scene.run_defaults = RunDefaults { tolerance: c.eps, closure: c.enclosure };
-            Ok(scene)
-        }
-        _ => Err(InputError::file(
-            path,
-            "unknown scene file type; expected a .toml, .gltf, .glb, .stl, .obj or .vs3 file",
-        )
-        .into()),
-    }
+    reader.scene(path, options)
 }

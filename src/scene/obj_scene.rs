@@ -20,7 +20,7 @@ const TOBJ_UNNAMED: &str = "unnamed_object";
 
 /// Reads an OBJ file.
 pub fn read(path: &Path) -> Result<RawMesh, InputError> {
-    let text = super::toml_scene::read_text(path)?;
+    let text = super::text::read_text(path)?;
     let options = tobj::LoadOptions {
         single_index: false,
         triangulate: false,

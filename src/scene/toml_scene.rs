@@ -1,7 +1,7 @@
 //! The TOML scene loader: read, deserialize strictly (schema.rs), validate every value with
 //! its line, load the `[[model]]` glTF files, then hand over to assemble.rs.
-use super::assemble::{self, ModelEntry, ShapeSpec, TomlSurface};
-use super::mesh_model::{self, MeshOptions, Split, Unit};
+use super::assemble::{self, ShapeSpec, TomlSurface};
+use super::mesh_model::{MeshOptions, Split, Unit};
 use super::props::{Layer, Role};
 use super::schema::{Num, RawDisk, RawModel, RawRectangle, RawScene, RawSurface, Vec3};
 use super::toml_errors::{from_toml, Lines};
@@ -14,18 +14,6 @@ use crate::Result;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
-/// Reads a text file; unreadable or non-UTF-8 files are input errors.
-pub fn read_text(path: &Path) -> Result<String, InputError> {
-    let bytes =
-        std::fs::read(path).map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
-    String::from_utf8(bytes).map_err(|e| {
-        InputError::file(
-            path,
-            format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()),
-        )
-    })
-}
-
 /// Loads and validates a TOML scene.
 pub fn load(path: &Path) -> Result<Scene> {
     load_with(path, &LoadOptions::default())
@@ -33,7 +21,7 @@ pub fn load(path: &Path) -> Result<Scene> {
 
 /// [`load`] with explicit [`LoadOptions`] (passed on to the glTF models).
 pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
-    from_str_with(path, &read_text(path)?, options)
+    from_str_with(path, &super::text::read_text(path)?, options)
 }
 
 /// Validates TOML scene `text` as if read from `path` (model files resolve beside `path`).
@@ -94,9 +82,16 @@ pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<S
             .into());
         }
         let opts = mesh_options(m).map_err(|(o, p)| err(None, o, format!("{where_}: {p}")))?;
-        let ext = full.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-        let is_vs3 = ext.as_deref() == Some("vs3");
-        if matches!(ext.as_deref(), Some("gltf" | "glb")) {
+        let Some(reader) = super::readers::reader_for(&full) else {
+            let models = super::readers::expected(|r| r.extensions() != ["toml"]);
+            return Err(err(
+                None,
+                m.file.span().start,
+                format!("{where_}: unknown model file type; a model is {models}"),
+            )
+            .into());
+        };
+        if reader.takes_mesh_options() && !reader.takes_unit_and_split() {
             let key = |k: &Option<Spanned<String>>| k.as_ref().map(|s| s.span().start);
             if let (Some(at), true) = (key(&m.unit), opts.unit != Unit::M) {
                 return Err(err(None, at, format!("{where_}: glTF is in metres by its specification; unit applies to STL and OBJ models")).into());
@@ -105,7 +100,7 @@ pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<S
                 return Err(err(None, at, format!("{where_}: a glTF model is split by its nodes (one surface per mesh node); split applies to STL and OBJ models")).into());
             }
         }
-        if is_vs3 && opts != MeshOptions::default() {
+        if !reader.takes_mesh_options() && opts != MeshOptions::default() {
             return Err(err(
                 None,
                 start,
@@ -113,20 +108,9 @@ pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<S
             )
             .into());
         }
-        if is_vs3 {
-            let v = super::vs3::load(&full)?;
-            model_warnings.extend(v.warnings);
-            if v.controls != super::vs3::Controls::default() {
-                model_warnings.push(format!(
-                    "{}: the View3D control values (encl, emit, eps) of a [[model]] are ignored: the scene file \
-                     decides [ambient], and --tolerance and --enforce set the run",
-                    full.display()
-                ));
-            }
-            models.push(ModelEntry { model: v.model, layer, report: None, notes: Vec::new() });
-        } else {
-            models.push(mesh_model::load_entry(&full, &opts, layer, options)?);
-        }
+        let (entry, warnings) = reader.model(&full, &opts, layer, options)?;
+        model_warnings.extend(warnings);
+        models.push(entry);
     }
 
     let mut surfaces = Vec::with_capacity(raw.surface.len());

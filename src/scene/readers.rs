@@ -1,0 +1,281 @@
+//! The file formats lambert reads, one [`Reader`] each (TOML scenes, glTF/GLB, STL, OBJ,
+//! View3D `.vs3`), found by extension ([`reader_for`]). A scene file on the command line
+//! ([`super::load_with`]) and a `[[model]]` of a TOML scene both go through the same rows, so a
+//! new format is its own reader module plus one line in [`READERS`].
+use super::assemble::{self, ModelEntry};
+use super::mesh_model::{self, MeshOptions, Split, Unit};
+use super::props::Layer;
+use super::{gltf_scene, obj_scene, stl_scene, toml_scene, vs3, LoadOptions, RunDefaults, Scene};
+use crate::error::InputError;
+use crate::Result;
+use std::path::Path;
+
+/// A file format lambert reads.
+pub trait Reader: Sync {
+    /// The format's name in messages.
+    fn name(&self) -> &'static str;
+    /// Its lower-case file extensions.
+    fn extensions(&self) -> &'static [&'static str];
+    /// True when the mesh options (`unit`, `weld`, `split`, `repair`) apply to its files.
+    fn takes_mesh_options(&self) -> bool {
+        false
+    }
+    /// True when `unit` and `split` apply (STL and OBJ; glTF is in metres and split by nodes).
+    fn takes_unit_and_split(&self) -> bool {
+        false
+    }
+    /// The file as a whole scene (`options.bare` holds the mesh options of a bare mesh file).
+    fn scene(&self, path: &Path, options: &LoadOptions) -> Result<Scene> {
+        let layer = Layer::new("the mesh file", path, None);
+        let (entry, warnings) = self.model(path, &options.bare, layer, options)?;
+        let mut scene = assemble::assemble(path, None, None, &Layer::default(), Vec::new(), vec![entry])?;
+        scene.warnings.extend(warnings);
+        Ok(scene)
+    }
+    /// The file as one model of a scene, with `layer`'s properties, and the warnings it adds to
+    /// the scene.
+    fn model(
+        &self,
+        path: &Path,
+        opts: &MeshOptions,
+        layer: Layer,
+        options: &LoadOptions,
+    ) -> Result<(ModelEntry, Vec<String>)>;
+}
+
+/// Every format, in the order the messages list them.
+pub static READERS: [&dyn Reader; 5] = [&Toml, &Gltf, &Stl, &Obj, &Vs3];
+
+/// The reader of `path`'s extension (case-insensitive), if lambert reads it.
+pub fn reader_for(path: &Path) -> Option<&'static dyn Reader> {
+    let ext = path.extension().and_then(|e| e.to_str())?.to_ascii_lowercase();
+    READERS.iter().copied().find(|r| r.extensions().contains(&ext.as_str()))
+}
+
+/// "a .toml, .gltf, … or .vs3 file" over the readers `keep` accepts.
+pub fn expected(keep: impl Fn(&dyn Reader) -> bool) -> String {
+    let exts: Vec<String> = READERS
+        .iter()
+        .filter(|r| keep(**r))
+        .flat_map(|r| r.extensions().iter().map(|e| format!(".{e}")))
+        .collect();
+    match exts.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("a {} or {last} file", rest.join(", ")),
+        Some((last, _)) => format!("a {last} file"),
+        None => "no file".into(),
+    }
+}
+
+/// TOML scenes (SPEC's scene format): a scene only, never a model.
+struct Toml;
+
+impl Reader for Toml {
+    fn name(&self) -> &'static str {
+        "TOML scene"
+    }
+    fn extensions(&self) -> &'static [&'static str] {
+        &["toml"]
+    }
+    fn scene(&self, path: &Path, options: &LoadOptions) -> Result<Scene> {
+        toml_scene::load_with(path, options)
+    }
+    fn model(
+        &self,
+        path: &Path,
+        _: &MeshOptions,
+        _: Layer,
+        _: &LoadOptions,
+    ) -> Result<(ModelEntry, Vec<String>)> {
+        let models = expected(|r| r.extensions() != ["toml"]);
+        Err(InputError::file(
+            path,
+            format!("a TOML scene cannot be a model of another scene; a model is {models}"),
+        )
+        .into())
+    }
+}
+
+/// glTF 2.0, JSON or binary: metres, one surface per mesh node, with the mesh checks.
+struct Gltf;
+
+impl Reader for Gltf {
+    fn name(&self) -> &'static str {
+        "glTF"
+    }
+    fn extensions(&self) -> &'static [&'static str] {
+        &["gltf", "glb"]
+    }
+    fn takes_mesh_options(&self) -> bool {
+        true
+    }
+    fn model(
+        &self,
+        path: &Path,
+        opts: &MeshOptions,
+        layer: Layer,
+        options: &LoadOptions,
+    ) -> Result<(ModelEntry, Vec<String>)> {
+        if opts.unit != Unit::M {
+            return Err(InputError::file(
+                path,
+                "glTF coordinates are metres by the glTF specification; `unit` applies to STL and OBJ files",
+            )
+            .into());
+        }
+        if opts.split.is_some() {
+            return Err(InputError::file(
+                path,
+                "a glTF model is split by its nodes (one surface per mesh node); `split` applies to STL and \
+                 OBJ files",
+            )
+            .into());
+        }
+        let mut model = gltf_scene::load_model_with(path, options)?;
+        let report = mesh_model::check_model(&mut model, opts)?;
+        Ok((ModelEntry { model, layer, report: Some(report), notes: Vec::new() }, Vec::new()))
+    }
+}
+
+/// STL, ASCII or binary: one surface per file unless split.
+struct Stl;
+
+impl Reader for Stl {
+    fn name(&self) -> &'static str {
+        "STL"
+    }
+    fn extensions(&self) -> &'static [&'static str] {
+        &["stl"]
+    }
+    fn takes_mesh_options(&self) -> bool {
+        true
+    }
+    fn takes_unit_and_split(&self) -> bool {
+        true
+    }
+    fn model(
+        &self,
+        path: &Path,
+        opts: &MeshOptions,
+        layer: Layer,
+        _: &LoadOptions,
+    ) -> Result<(ModelEntry, Vec<String>)> {
+        let c = mesh_model::build(path, stl_scene::read(path)?, opts, Split::File)?;
+        Ok((ModelEntry { model: c.model, layer, report: Some(c.report), notes: c.notes }, Vec::new()))
+    }
+}
+
+/// Wavefront OBJ: one surface per group or object unless split.
+struct Obj;
+
+impl Reader for Obj {
+    fn name(&self) -> &'static str {
+        "OBJ"
+    }
+    fn extensions(&self) -> &'static [&'static str] {
+        &["obj"]
+    }
+    fn takes_mesh_options(&self) -> bool {
+        true
+    }
+    fn takes_unit_and_split(&self) -> bool {
+        true
+    }
+    fn model(
+        &self,
+        path: &Path,
+        opts: &MeshOptions,
+        layer: Layer,
+        _: &LoadOptions,
+    ) -> Result<(ModelEntry, Vec<String>)> {
+        let c = mesh_model::build(path, obj_scene::read(path)?, opts, Split::Group)?;
+        Ok((ModelEntry { model: c.model, layer, report: Some(c.report), notes: c.notes }, Vec::new()))
+    }
+}
+
+/// View3D 3.x input files: surfaces, obstructions and the run's controls.
+struct Vs3;
+
+impl Reader for Vs3 {
+    fn name(&self) -> &'static str {
+        "View3D file"
+    }
+    fn extensions(&self) -> &'static [&'static str] {
+        &["vs3"]
+    }
+    fn scene(&self, path: &Path, _: &LoadOptions) -> Result<Scene> {
+        // encl = 1: a closed enclosure whose rows View3D normalises (closure here);
+        // otherwise open to a black environment at 0 K, which takes what leaves the scene.
+        let v = vs3::load(path)?;
+        let c = v.controls;
+        let entry = ModelEntry {
+            model: v.model,
+            layer: Layer::new("the View3D file", path, None),
+            report: None,
+            notes: Vec::new(),
+        };
+        let ambient = (!c.enclosure).then_some(0.0);
+        let mut scene =
+            assemble::assemble(path, v.title, ambient, &Layer::default(), Vec::new(), vec![entry])?;
+        scene.warnings.extend(v.warnings);
+        if c.emittances {
+            scene.warnings.push(format!(
+                "{}: emit = 1 asks View3D for script-F exchange factors; lambert writes view factors \
+                 here, and `solve --conductances` writes RADK_ij = A_i ε_i B_ij = A_i 𝓕_ij",
+                path.display()
+            ));
+        }
+        scene.run_defaults = RunDefaults { tolerance: c.eps, closure: c.enclosure };
+        Ok(scene)
+    }
+    fn model(
+        &self,
+        path: &Path,
+        _: &MeshOptions,
+        layer: Layer,
+        _: &LoadOptions,
+    ) -> Result<(ModelEntry, Vec<String>)> {
+        let v = vs3::load(path)?;
+        let mut warnings = v.warnings;
+        if v.controls != vs3::Controls::default() {
+            warnings.push(format!(
+                "{}: the View3D control values (encl, emit, eps) of a [[model]] are ignored: the scene file \
+                 decides [ambient], and --tolerance and --enforce set the run",
+                path.display()
+            ));
+        }
+        Ok((ModelEntry { model: v.model, layer, report: None, notes: Vec::new() }, warnings))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Extensions are found case-insensitively, each by one reader, and the list of what is
+    /// read is the one the messages have always given.
+    #[test]
+    fn every_extension_has_one_reader() {
+        for r in READERS {
+            for e in r.extensions() {
+                let hits = READERS.iter().filter(|q| q.extensions().contains(e)).count();
+                assert_eq!(hits, 1, "{e}");
+                let upper = format!("part.{}", e.to_uppercase());
+                assert_eq!(reader_for(Path::new(&upper)).map(|q| q.name()), Some(r.name()));
+            }
+        }
+        assert!(reader_for(Path::new("part.ply")).is_none());
+        assert!(reader_for(Path::new("part")).is_none());
+        assert_eq!(expected(|_| true), "a .toml, .gltf, .glb, .stl, .obj or .vs3 file");
+        assert_eq!(expected(|r| r.takes_mesh_options()), "a .gltf, .glb, .stl or .obj file");
+    }
+
+    /// A TOML file given as a model is refused by name, not read as glTF.
+    #[test]
+    fn a_toml_model_is_refused() {
+        let e = Toml
+            .model(Path::new("room.toml"), &MeshOptions::default(), Layer::default(), &LoadOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("room.toml") && e.contains("cannot be a model"), "{e}");
+    }
+}
