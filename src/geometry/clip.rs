@@ -10,7 +10,7 @@
 //! - [`Polygon::clip`](super::Polygon::clip) starts its ring at the first vertex, removes
 //!   duplicates and rejects degenerate remainders (patch vertex order feeds every result);
 //! - `viewfactor::analytic::ring::clip_into` writes a stack ring and drops repeated vertices;
-//! - `viewfactor::hemicube::clip` interpolates from the inside vertex, so two polygons sharing
+//! - `viewfactor::projection::clip` interpolates from the inside vertex, so two polygons sharing
 //!   an edge get the same crossing bit for bit (watertight rasterisation);
 //! - [`super::grid_clip`] snaps vertices onto axis-aligned lines and interpolates in a
 //!   canonical direction (glued cells must match exactly);

@@ -8,7 +8,7 @@
 //!   given parameters must meet, built from the shared terms here ([`mc_error_bound`],
 //!   [`raster`]);
 //! - the accuracy knob: [`Knob`], the parameter that trades time for accuracy.
-use super::engine::RowKernel;
+use super::row::RowKernel;
 use super::{MethodSet, Params};
 use crate::scene::Scene;
 use crate::Result;

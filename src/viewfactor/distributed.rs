@@ -10,8 +10,8 @@
 //! recorded travel with the rows and are merged into rank 0's kernel.
 //!
 //! The wire format ([`encode`], [`decode`]) is little-endian and private to one run.
-use super::engine::{RawEntry, Row, RowKernel};
 use super::flags::Flag;
+use super::row::{RawEntry, Row, RowKernel};
 use super::shadow::misses::Miss;
 use super::MethodSet;
 use crate::error::InputError;

@@ -3,12 +3,10 @@
 //! faces) with an item buffer of patch ids, and each patch collects the precomputed delta
 //! form factors of the pixels it wins.
 //!
-//! - `prepare`: the flattened scene and the per-eye gather (receiver /
-//!   blocker rules: front faces receive; back faces and obstructions only block);
-//! - `clip`: homogeneous clipping to each face's pyramid before the divide;
-//! - `raster`: scanline item buffer, point sampled at pixel centres;
 //! - `delta`: the delta form factor tables, one per resolution;
-//! - `positions`: one or several projection positions per patch.
+//! - the projection base it shares with the single-plane method ([`super::projection`]): the
+//!   flattened scene and the per-eye gather, homogeneous clipping to each face's pyramid
+//!   before the divide, the scanline item buffer, and the projection positions per patch.
 //!
 //! Error behaviour (literature.md §4, measured in tests/viewfactor/hemicube.rs): the delta factors are
 //! a midpoint rule, O(h²) for a receiver whose projection edges align with pixels; edges
@@ -28,22 +26,20 @@
 //! Resolution: R pixels along the top face (R/2 rows on each side face); an odd R is rounded
 //! up to the next even number, and R is capped at [`MAX_RESOLUTION`].
 use super::accuracy::{raster, Knob, MethodInfo};
-use super::engine::{RawEntry, Row, RowKernel};
+use super::engine::{Row, RowKernel};
 use super::{MethodSet, Params};
 use crate::scene::Scene;
-use crate::{Error, Result};
+use crate::Result;
 use glam::{DVec2, DVec3, DVec4};
 use std::sync::Mutex;
 
-pub(crate) mod clip;
 pub(crate) mod delta;
-pub(crate) mod positions;
-pub(crate) mod prepare;
-pub(crate) mod raster;
 
-pub use positions::Positions;
-use prepare::{Eye, Gathered, Prepared, NO_RECEIVER};
-use raster::{DepthPlane, ItemBuffer};
+use super::projection::prepare::{Eye, Gathered, Prepared, NO_RECEIVER};
+use super::projection::raster::{DepthPlane, ItemBuffer};
+pub use super::projection::Positions;
+pub use super::projection::MAX_RESOLUTION;
+use super::projection::{checked_resolution, clip, credit, emit, positions, NEAR_REL, RECEIVER_DEPTH_BIAS};
 
 /// The `hemicube` row of the method registry: error the point bias plus the raster term.
 pub const INFO: MethodInfo = MethodInfo {
@@ -60,29 +56,6 @@ pub const INFO: MethodInfo = MethodInfo {
 
 fn row_kernel<'a>(scene: &'a Scene, params: &Params) -> Result<Option<Box<dyn RowKernel + 'a>>> {
     Ok(Some(Box::new(HemicubeKernel::new(scene, params.resolution, Positions::Adaptive)?)))
-}
-
-/// Largest accepted resolution: one face buffer is 8R² bytes per thread (134 MB at 4096).
-pub const MAX_RESOLUTION: usize = 4096;
-
-/// Near plane w ≥ ε as a fraction of the scene size (at most [`prepare::LOCAL_SPAN`] patch
-/// radii): only guards the perspective divide (the side planes of each face pyramid pass
-/// through the eye, so nothing else is cut).
-pub(crate) const NEAR_REL: f64 = 1e-9;
-
-/// Receivers' inverse depth is scaled by 1 + this, so a front face beats a coincident
-/// blocker (a plate modelled as two back-to-back surfaces) despite round-off; it exceeds the
-/// f32 depth precision (6e-8) and is far below any real depth gap.
-pub(crate) const RECEIVER_DEPTH_BIAS: f64 = 1e-6;
-
-/// Validates and evens a requested resolution.
-pub(crate) fn checked_resolution(method: &str, r: usize) -> Result<usize> {
-    if !(2..=MAX_RESOLUTION).contains(&r) {
-        return Err(Error::Usage(format!(
-            "{method} resolution must be between 2 and {MAX_RESOLUTION}, got {r}"
-        )));
-    }
-    Ok(r + r % 2)
 }
 
 /// One hemicube face: local axes (u, v, w), its clipping pyramid and its pixel grid.
@@ -229,28 +202,4 @@ impl RowKernel for HemicubeKernel<'_> {
         self.pool.lock().unwrap_or_else(|e| e.into_inner()).push(ws);
         Ok(())
     }
-}
-
-/// Adds `s` to receiver `id`'s exchange area, noting first touches; blockers get nothing.
-#[inline]
-pub(crate) fn credit(acc: &mut [f64], touched: &mut Vec<u32>, id: u32, s: f64) {
-    if id != NO_RECEIVER && s > 0.0 {
-        let a = &mut acc[id as usize];
-        if *a == 0.0 {
-            touched.push(id);
-        }
-        *a += s;
-    }
-}
-
-/// Moves the accumulated exchange areas into `out` (sorted by column) and clears `acc`.
-pub(crate) fn emit(acc: &mut [f64], touched: &mut Vec<u32>, method: MethodSet, out: &mut Row) {
-    touched.sort_unstable();
-    out.entries.clear();
-    out.entries.extend(touched.iter().map(|&j| RawEntry { j, method, s: acc[j as usize], var: 0.0 }));
-    for &j in touched.iter() {
-        acc[j as usize] = 0.0;
-    }
-    touched.clear();
-    out.shared_samples = 0;
 }

@@ -1,7 +1,8 @@
 //! View factors: one closed [`Method`] enum with its registry, one dispatch point
 //! ([`compute`]), one engine.
 //!
-//! - [`engine`]: runs a [`engine::RowKernel`] over every patch row in parallel, in waves, and
+//! - [`row`]: the [`row::RowKernel`] interface every method implements;
+//! - [`engine`]: runs a [`row::RowKernel`] over every patch row in parallel, in waves, and
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
 //! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
 //!   diagnostics; never an N×N dense temporary;
@@ -35,8 +36,10 @@ pub mod limits;
 pub mod monte_carlo;
 pub mod points;
 pub mod progress;
+pub mod projection;
 pub mod range;
 pub mod registry;
+pub mod row;
 pub mod shadow;
 pub mod single_plane;
 pub mod sink;

@@ -6,8 +6,9 @@
 //!   the corner factor; it replaces per-level delta tables and serves every level);
 //! - `warnock`: projection and the subdivision itself.
 //!
-//! Scene gathering, clipping and the receiver/blocker rules are the hemicube's
-//! ([`super::hemicube`]): front faces receive, back faces and obstructions only block.
+//! Scene gathering, clipping and the receiver/blocker rules are the projection base it shares
+//! with the hemicube ([`super::projection`]): front faces receive, back faces and obstructions
+//! only block.
 //!
 //! **Grazing-angle bias.** The plane sees only directions within atan(s) of the normal in
 //! both x and y; the rest of the hemisphere, 1 − 4·F_corner(s, s, 1) ≈ 0.81/s², is never
@@ -26,8 +27,8 @@ use super::accuracy::{raster, Knob, MethodInfo};
 use super::closed_form::element_to_rectangle_corner;
 use super::engine::{Row, RowKernel};
 use super::flags::{Flag, FlagLog};
-use super::hemicube::prepare::{Eye, Gathered, Prepared};
-use super::hemicube::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
+use super::projection::prepare::{Eye, Gathered, Prepared};
+use super::projection::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
 use super::{MethodSet, Params};
 use crate::scene::Scene;
 use crate::Result;

@@ -1,7 +1,7 @@
 //! Sinks: fold patch rows into the output matrix at surface or patch level, plus patch-level
 //! row-sum diagnostics. Symmetric rows (j > i only) are mirrored with reciprocity
 //! s_ji = s_ij. Storage is sparse: only non-zero entries are kept.
-use super::engine::Row;
+use super::row::Row;
 use super::MethodSet;
 use crate::scene::Scene;
 use std::collections::BTreeMap;

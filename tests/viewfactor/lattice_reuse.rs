@@ -9,8 +9,8 @@ use common::analytic_scenes as scenes;
 
 use glam::{DQuat, DVec3};
 use lambert::scene::Scene;
-use lambert::viewfactor::analytic::contour::polygon_polygon_with_round_off;
 use lambert::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
+use lambert::viewfactor::analytic::pair::polygon_polygon_with_round_off;
 use lambert::viewfactor::engine::{Row, RowKernel};
 use lambert::viewfactor::shadow::policy::{Policy, EXACT_REL_TOL};
 use rayon::prelude::*;

@@ -1,5 +1,5 @@
 //! Polygon-to-polygon exchange area A_p F_pq by the double contour integral
-//! (literature.md §2, "robust integrator recipe"):
+//! (the robust integrator recipe: exact edge-pair terms, no nudged vertices):
 //!
 //! A_p F_pq = (1/2π) Σ_i Σ_j (e_i·f_j) I_ij,   I_ij = ∫₀¹∫₀¹ ln‖p_i + s e_i − q_j − t f_j‖ ds dt,
 //!
@@ -12,15 +12,14 @@
 //!    Σ e_i·f_j = 0 over closed rings, and the terms that must cancel stay small;
 //! 4. every edge pair is evaluated exactly by [`super::edge::pair_term`].
 //!
-//! A pair where one polygon is more than [`split::SPLIT_RATIO`] times larger than the other
-//! and than their distance is evaluated by [`super::split`] instead (its terms would cancel).
+//! A pair where one polygon is more than [`super::split::SPLIT_RATIO`] times larger than the
+//! other and than their distance is evaluated by [`super::split`] instead (its terms would
+//! cancel); [`super::pair`] makes that choice.
 //!
 //! No vertex is nudged; shared vertices and edges are exact limits of the formulas.
 use super::edge::{pair_term, Edge};
 use super::ring::{classify, clip_into, Ring, Side, INLINE};
-use super::split;
 use crate::geometry::tolerance::{CONTOUR_CLIP_SNAP_REL, CONTOUR_COPLANAR_REL};
-use crate::geometry::Polygon;
 use glam::DVec3;
 use std::f64::consts::TAU;
 
@@ -40,35 +39,9 @@ pub struct Exchange {
     pub round_off: f64,
 }
 
-/// Exchange area A_p F_pq between the front faces of two planar polygons, m².
-pub fn polygon_polygon(p: &Polygon, q: &Polygon) -> f64 {
-    ring_ring(p.vertices(), p.normal(), q.vertices(), q.normal()).value
-}
-
-/// [`polygon_polygon`] with its round-off bound.
-pub fn polygon_polygon_with_round_off(p: &Polygon, q: &Polygon) -> Exchange {
-    ring_ring(p.vertices(), p.normal(), q.vertices(), q.normal())
-}
-
-/// Exchange area between two planar rings (counter-clockwise about unit normals `np`, `nq`),
-/// clipped to each other's front half-space; the rings are not validated.
-pub fn ring_ring(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
-    if p.len() < 3 || q.len() < 3 {
-        return Exchange::default();
-    }
-    // Step: a polygon much larger than the other and than their distance goes to the split
-    // of [`super::split`], whose terms do not cancel.
-    let (cp, cq) = (mean(p), mean(q));
-    let (rp, rq) = (radius(p, cp), radius(q, cq));
-    let (hp, hq) = (nq.dot(cp - q[0]).abs(), np.dot(cq - p[0]).abs());
-    match split::small_side(rp, rq, hp, hq) {
-        Some(true) => split::exchange(p, np, cp, rp, q, nq),
-        Some(false) => split::exchange(q, nq, cq, rq, p, np),
-        None => contour((p, np, cp, rp), (q, nq, cq, rq)),
-    }
-}
-
-/// [`ring_ring`] by the double contour integral alone, whatever the pair's size ratio.
+/// The exchange area of two planar rings (counter-clockwise about unit normals `np`, `nq`) by
+/// the double contour integral alone, whatever the pair's size ratio; the rings are not
+/// validated ([`super::pair::ring_ring`] chooses between this and the split).
 pub fn ring_ring_unsplit(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exchange {
     if p.len() < 3 || q.len() < 3 {
         return Exchange::default();
@@ -78,7 +51,7 @@ pub fn ring_ring_unsplit(p: &[DVec3], np: DVec3, q: &[DVec3], nq: DVec3) -> Exch
 }
 
 /// The double contour integral of rings (vertices, normal, vertex mean, radius about it).
-fn contour(
+pub(crate) fn contour(
     (p, np, cp, rp): (&[DVec3], DVec3, DVec3, f64),
     (q, nq, cq, rq): (&[DVec3], DVec3, DVec3, f64),
 ) -> Exchange {
@@ -146,12 +119,12 @@ fn contour(
 }
 
 /// Largest distance from `c` to a vertex of `v`.
-fn radius(v: &[DVec3], c: DVec3) -> f64 {
+pub(crate) fn radius(v: &[DVec3], c: DVec3) -> f64 {
     v.iter().map(|x| x.distance_squared(c)).fold(0.0, f64::max).sqrt()
 }
 
 /// Vertex average (a point of the ring's plane).
-fn mean(v: &[DVec3]) -> DVec3 {
+pub(crate) fn mean(v: &[DVec3]) -> DVec3 {
     v.iter().copied().sum::<DVec3>() / v.len() as f64
 }
 

@@ -17,9 +17,9 @@
 //!
 //! The unobstructed value of 1–5 between two gridded surfaces whose grid steps match comes
 //! from a table built once per lattice offset ([`super::lattice`]), not from the ladder.
-use super::contour::polygon_polygon_with_round_off;
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
+use super::pair::polygon_polygon_with_round_off;
 use crate::geometry::planes::PlaneGroups;
 use crate::geometry::tolerance::PATCH_COPLANAR_REL;
 use crate::scene::Scene;

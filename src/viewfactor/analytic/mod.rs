@@ -4,7 +4,8 @@
 //! Exact kernels:
 //! - [`lambert`]: point-to-polygon (Lambert 1760), point-to-ring and exact point-to-disk factors;
 //! - [`disk`]: the exact element-to-disk factor (full circle and clipped circular segment);
-//! - [`contour`]: polygon-to-polygon exchange area by the double contour integral;
+//! - [`pair`]: polygon-to-polygon exchange area, the contour integral or the split;
+//! - [`contour`]: the double contour integral;
 //! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
 //! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
 //! - [`ring`]: stack-allocated vertex rings and half-space clipping;
@@ -32,6 +33,7 @@ pub mod kernel;
 pub mod ladder;
 pub mod lambert;
 pub mod lattice;
+pub mod pair;
 pub mod ring;
 pub mod split;
 

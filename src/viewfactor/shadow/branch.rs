@@ -16,13 +16,14 @@
 use super::adaptive::{AdaptParams, Integrator};
 use super::blockers::Blockers;
 use super::classify::{classify_row, RowShadows};
-use super::mc_pair::{estimate, Budget, McPair, PatchSampler, SegmentBlocker};
+use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
     pair_goal, Choice, CostModel, Policy, AUTO_CUTS, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH,
     MC_MAX_SAMPLES, MC_SIGMAS, SOLID_MIN_FACES,
 };
+use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
 use crate::scene::Scene;
 use crate::viewfactor::MethodSet;
@@ -242,7 +243,7 @@ impl<'s> Shadows<'s> {
 mod tests {
     use super::*;
     use crate::geometry::Polygon;
-    use crate::viewfactor::analytic::contour::polygon_polygon;
+    use crate::viewfactor::analytic::pair::polygon_polygon;
     use crate::viewfactor::shadow::classify::Status;
     use crate::viewfactor::shadow::policy::EXACT_REL_TOL;
 

@@ -18,14 +18,14 @@
 //!   again in their rows (a few pairs).
 //!
 //! The unobstructed value u of a sample pair comes from the exact contour integral
-//! ([`crate::viewfactor::analytic::contour::polygon_polygon`]).
+//! ([`crate::viewfactor::analytic::pair::polygon_polygon`]).
 use super::branch::{PairWork, Shadows};
 use super::classify::{RowShadows, Status};
 use super::policy::{
     pair_goal, CostModel, PowerLaw, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_SAMPLE_NS, MC_TEST_NS,
     SHADOW_SETUP_UNITS, SHADOW_UNIT_NS,
 };
-use crate::viewfactor::analytic::contour::polygon_polygon;
+use crate::viewfactor::analytic::pair::polygon_polygon;
 
 /// Rows classified to find sample pairs.
 pub const CAL_ROWS: usize = 16;

@@ -18,8 +18,8 @@
 //!   a sample in which no point pair faced each other (ΣK = 0) reports the ratio ½ ± ½.
 //! - **Budget.** The sample doubles until the standard error meets the goal.
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
-use super::blockers::bounds;
-use super::segtree::{SegmentTree, LEAF};
+
+use super::segtree::{SegmentBlocker, SegmentTree, LEAF};
 use crate::geometry::sampling::PolygonSampler;
 use crate::geometry::tolerance::PARALLELOGRAM_REL;
 use crate::geometry::Polygon;
@@ -69,48 +69,6 @@ impl PatchSampler {
             PatchSampler::Para { o, u, v } => *o + s * *u + t * *v,
             PatchSampler::Poly(p) => p.sample(DVec2::new(s, t)),
         }
-    }
-}
-
-/// A convex blocker ready for segment tests.
-#[derive(Debug, Clone, Default)]
-pub struct SegmentBlocker {
-    n: DVec3,
-    off: f64,
-    /// (point on edge, inward edge normal in the plane).
-    edges: Vec<(DVec3, DVec3)>,
-    /// Bounding box, padded.
-    lo: DVec3,
-    hi: DVec3,
-}
-
-impl SegmentBlocker {
-    /// From a convex ring (counter-clockwise about its normal); its box grows by `pad`.
-    pub fn new(ring: &[DVec3], pad: f64) -> Self {
-        let m = ring.len();
-        let mut n = DVec3::ZERO;
-        for k in 0..m {
-            n += ring[k].cross(ring[(k + 1) % m]);
-        }
-        let n = n.normalize_or_zero();
-        let edges = (0..m).map(|k| (ring[k], n.cross(ring[(k + 1) % m] - ring[k]))).collect();
-        let (lo, hi) = bounds(ring);
-        Self { n, off: n.dot(ring[0]), edges, lo: lo - pad, hi: hi + pad }
-    }
-    /// The padded bounding box (lo, hi).
-    #[inline]
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        (self.lo, self.hi)
-    }
-    /// True when the open segment x → y crosses the blocker's interior.
-    #[inline]
-    pub fn cuts(&self, x: DVec3, y: DVec3) -> bool {
-        let (dx, dy) = (self.n.dot(x) - self.off, self.n.dot(y) - self.off);
-        if dx * dy >= 0.0 {
-            return false;
-        }
-        let z = x + (y - x) * (dx / (dx - dy));
-        self.edges.iter().all(|&(a, m)| m.dot(z - a) > 0.0)
     }
 }
 

@@ -11,8 +11,50 @@
 //!   so a pair's samples see exactly the visibility of the linear scan.
 //! - **Counted work.** [`SegmentTree::blocked`] counts its box and blocker tests: the unit in
 //!   which `auto` prices sampling ([`super::policy`]).
-use super::mc_pair::SegmentBlocker;
+use super::blockers::bounds;
 use glam::DVec3;
+
+/// A convex blocker ready for segment tests.
+#[derive(Debug, Clone, Default)]
+pub struct SegmentBlocker {
+    n: DVec3,
+    off: f64,
+    /// (point on edge, inward edge normal in the plane).
+    edges: Vec<(DVec3, DVec3)>,
+    /// Bounding box, padded.
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl SegmentBlocker {
+    /// From a convex ring (counter-clockwise about its normal); its box grows by `pad`.
+    pub fn new(ring: &[DVec3], pad: f64) -> Self {
+        let m = ring.len();
+        let mut n = DVec3::ZERO;
+        for k in 0..m {
+            n += ring[k].cross(ring[(k + 1) % m]);
+        }
+        let n = n.normalize_or_zero();
+        let edges = (0..m).map(|k| (ring[k], n.cross(ring[(k + 1) % m] - ring[k]))).collect();
+        let (lo, hi) = bounds(ring);
+        Self { n, off: n.dot(ring[0]), edges, lo: lo - pad, hi: hi + pad }
+    }
+    /// The padded bounding box (lo, hi).
+    #[inline]
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        (self.lo, self.hi)
+    }
+    /// True when the open segment x → y crosses the blocker's interior.
+    #[inline]
+    pub fn cuts(&self, x: DVec3, y: DVec3) -> bool {
+        let (dx, dy) = (self.n.dot(x) - self.off, self.n.dot(y) - self.off);
+        if dx * dy >= 0.0 {
+            return false;
+        }
+        let z = x + (y - x) * (dx / (dx - dy));
+        self.edges.iter().all(|&(a, m)| m.dot(z - a) > 0.0)
+    }
+}
 
 /// Most blockers in a leaf: below this many, testing them beats another box.
 pub const LEAF: usize = 4;

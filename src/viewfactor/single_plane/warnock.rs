@@ -5,10 +5,10 @@
 //! half-open rule as the hemicube's item buffer (row spans, as the rasteriser does: the same
 //! answer as recursing to single pixels, at a fraction of the classification cost).
 use super::grid::PlaneGrid;
-use crate::viewfactor::hemicube::clip::{self, HalfSpace};
-use crate::viewfactor::hemicube::prepare::{Gathered, NO_RECEIVER};
-use crate::viewfactor::hemicube::raster::crossing;
-use crate::viewfactor::hemicube::RECEIVER_DEPTH_BIAS;
+use crate::viewfactor::projection::clip::{self, HalfSpace};
+use crate::viewfactor::projection::prepare::{Gathered, NO_RECEIVER};
+use crate::viewfactor::projection::raster::crossing;
+use crate::viewfactor::projection::RECEIVER_DEPTH_BIAS;
 use glam::{DVec2, DVec3};
 use std::ops::Range;
 
