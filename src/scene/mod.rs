@@ -347,17 +347,79 @@ pub fn load_with(path: &std::path::Path, options: &LoadOptions) -> crate::Result
     Ok(scene)
 }
 
+/// Every scene format, in the order the messages list them: the TOML scene, then the model
+/// formats ([`readers::MODELS`]), each of which is a scene by itself too.
+pub static READERS: [&dyn readers::Reader; 5] =
+    [&TomlScene, &readers::Gltf, &readers::Stl, &readers::Obj, &readers::Vs3];
+
+/// The TOML scene format (SPEC's): surfaces, `[[model]]` files, defaults and the ambient.
+struct TomlScene;
+
+impl readers::Reader for TomlScene {
+    fn name(&self) -> &'static str {
+        "TOML scene"
+    }
+    fn extensions(&self) -> &'static [&'static str] {
+        &["toml"]
+    }
+    fn scene(&self, path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
+        toml_scene::load_with(path, options)
+    }
+    fn model(
+        &self,
+        path: &std::path::Path,
+        _: &mesh_model::MeshOptions,
+        _: props::Layer,
+        _: &LoadOptions,
+    ) -> crate::Result<(assemble::ModelEntry, Vec<String>)> {
+        let models = readers::expected(&readers::MODELS, |_| true);
+        Err(InputError::file(
+            path,
+            format!("a TOML scene cannot be a model of another scene; a model is {models}"),
+        )
+        .into())
+    }
+}
+
 fn load_file(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Scene> {
-    let Some(reader) = readers::reader_for(path) else {
-        let what = readers::expected(|_| true);
+    let Some(reader) = readers::find(&READERS, path) else {
+        let what = readers::expected(&READERS, |_| true);
         return Err(InputError::file(path, format!("unknown scene file type; expected {what}")).into());
     };
     if !reader.takes_mesh_options() && options.bare != mesh_model::MeshOptions::default() {
         return Err(crate::Error::Usage(format!(
             "--unit and --repair apply to {}; {} sets `unit` and `repair` per [[model]]",
-            readers::expected(|r| r.takes_mesh_options()).replacen("a ", "a bare ", 1),
+            readers::expected(&READERS, |r| r.takes_mesh_options()).replacen("a ", "a bare ", 1),
             path.display()
         )));
     }
     reader.scene(path, options)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::readers::Reader;
+    use super::*;
+
+    /// Every scene extension has one reader, TOML first, and a TOML scene is never a model.
+    #[test]
+    fn scene_readers_cover_every_format_once() {
+        assert_eq!(readers::expected(&READERS, |_| true), "a .toml, .gltf, .glb, .stl, .obj or .vs3 file");
+        for r in READERS {
+            for e in r.extensions() {
+                assert_eq!(READERS.iter().filter(|q| q.extensions().contains(e)).count(), 1, "{e}");
+            }
+        }
+        let path = std::path::Path::new("room.toml");
+        let e = TomlScene
+            .model(
+                path,
+                &mesh_model::MeshOptions::default(),
+                props::Layer::default(),
+                &LoadOptions::default(),
+            )
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("room.toml") && e.contains("cannot be a model"), "{e}");
+    }
 }

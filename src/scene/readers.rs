@@ -1,11 +1,12 @@
-//! The file formats lambert reads, one [`Reader`] each (TOML scenes, glTF/GLB, STL, OBJ,
-//! View3D `.vs3`), found by extension ([`reader_for`]). A scene file on the command line
-//! ([`super::load_with`]) and a `[[model]]` of a TOML scene both go through the same rows, so a
-//! new format is its own reader module plus one line in [`READERS`].
+//! The file formats lambert reads, one [`Reader`] each, found by extension: the model formats
+//! here (glTF/GLB, STL, OBJ, View3D `.vs3`, listed in [`MODELS`]), and the TOML scene, which
+//! holds models and so sits above them ([`super::READERS`]). A scene file on the command line
+//! ([`super::load_with`]) and a `[[model]]` of a TOML scene go through the same rows, so a new
+//! format is its own reader plus one line in a table.
 use super::assemble::{self, ModelEntry};
 use super::mesh_model::{self, MeshOptions, Split, Unit};
 use super::props::Layer;
-use super::{gltf_scene, obj_scene, stl_scene, toml_scene, vs3, LoadOptions, RunDefaults, Scene};
+use super::{gltf_scene, obj_scene, stl_scene, vs3, LoadOptions, RunDefaults, Scene};
 use crate::error::InputError;
 use crate::Result;
 use std::path::Path;
@@ -43,18 +44,18 @@ pub trait Reader: Sync {
     ) -> Result<(ModelEntry, Vec<String>)>;
 }
 
-/// Every format, in the order the messages list them.
-pub static READERS: [&dyn Reader; 5] = [&Toml, &Gltf, &Stl, &Obj, &Vs3];
+/// The formats a `[[model]]` may be, in the order the messages list them.
+pub static MODELS: [&dyn Reader; 4] = [&Gltf, &Stl, &Obj, &Vs3];
 
-/// The reader of `path`'s extension (case-insensitive), if lambert reads it.
-pub fn reader_for(path: &Path) -> Option<&'static dyn Reader> {
+/// The reader among `readers` of `path`'s extension (case-insensitive), if any.
+pub fn find(readers: &[&'static dyn Reader], path: &Path) -> Option<&'static dyn Reader> {
     let ext = path.extension().and_then(|e| e.to_str())?.to_ascii_lowercase();
-    READERS.iter().copied().find(|r| r.extensions().contains(&ext.as_str()))
+    readers.iter().copied().find(|r| r.extensions().contains(&ext.as_str()))
 }
 
-/// "a .toml, .gltf, … or .vs3 file" over the readers `keep` accepts.
-pub fn expected(keep: impl Fn(&dyn Reader) -> bool) -> String {
-    let exts: Vec<String> = READERS
+/// "a .gltf, … or .vs3 file" over the `readers` that `keep` accepts.
+pub fn expected(readers: &[&dyn Reader], keep: impl Fn(&dyn Reader) -> bool) -> String {
+    let exts: Vec<String> = readers
         .iter()
         .filter(|r| keep(**r))
         .flat_map(|r| r.extensions().iter().map(|e| format!(".{e}")))
@@ -66,37 +67,8 @@ pub fn expected(keep: impl Fn(&dyn Reader) -> bool) -> String {
     }
 }
 
-/// TOML scenes (SPEC's scene format): a scene only, never a model.
-struct Toml;
-
-impl Reader for Toml {
-    fn name(&self) -> &'static str {
-        "TOML scene"
-    }
-    fn extensions(&self) -> &'static [&'static str] {
-        &["toml"]
-    }
-    fn scene(&self, path: &Path, options: &LoadOptions) -> Result<Scene> {
-        toml_scene::load_with(path, options)
-    }
-    fn model(
-        &self,
-        path: &Path,
-        _: &MeshOptions,
-        _: Layer,
-        _: &LoadOptions,
-    ) -> Result<(ModelEntry, Vec<String>)> {
-        let models = expected(|r| r.extensions() != ["toml"]);
-        Err(InputError::file(
-            path,
-            format!("a TOML scene cannot be a model of another scene; a model is {models}"),
-        )
-        .into())
-    }
-}
-
 /// glTF 2.0, JSON or binary: metres, one surface per mesh node, with the mesh checks.
-struct Gltf;
+pub struct Gltf;
 
 impl Reader for Gltf {
     fn name(&self) -> &'static str {
@@ -137,7 +109,7 @@ impl Reader for Gltf {
 }
 
 /// STL, ASCII or binary: one surface per file unless split.
-struct Stl;
+pub struct Stl;
 
 impl Reader for Stl {
     fn name(&self) -> &'static str {
@@ -165,7 +137,7 @@ impl Reader for Stl {
 }
 
 /// Wavefront OBJ: one surface per group or object unless split.
-struct Obj;
+pub struct Obj;
 
 impl Reader for Obj {
     fn name(&self) -> &'static str {
@@ -193,7 +165,7 @@ impl Reader for Obj {
 }
 
 /// View3D 3.x input files: surfaces, obstructions and the run's controls.
-struct Vs3;
+pub struct Vs3;
 
 impl Reader for Vs3 {
     fn name(&self) -> &'static str {
@@ -251,31 +223,21 @@ impl Reader for Vs3 {
 mod tests {
     use super::*;
 
-    /// Extensions are found case-insensitively, each by one reader, and the list of what is
-    /// read is the one the messages have always given.
+    /// Extensions are found case-insensitively, each by one model reader.
     #[test]
     fn every_extension_has_one_reader() {
-        for r in READERS {
+        for r in MODELS {
             for e in r.extensions() {
-                let hits = READERS.iter().filter(|q| q.extensions().contains(e)).count();
+                let hits = MODELS.iter().filter(|q| q.extensions().contains(e)).count();
                 assert_eq!(hits, 1, "{e}");
                 let upper = format!("part.{}", e.to_uppercase());
-                assert_eq!(reader_for(Path::new(&upper)).map(|q| q.name()), Some(r.name()));
+                assert_eq!(find(&MODELS, Path::new(&upper)).map(|q| q.name()), Some(r.name()));
             }
         }
-        assert!(reader_for(Path::new("part.ply")).is_none());
-        assert!(reader_for(Path::new("part")).is_none());
-        assert_eq!(expected(|_| true), "a .toml, .gltf, .glb, .stl, .obj or .vs3 file");
-        assert_eq!(expected(|r| r.takes_mesh_options()), "a .gltf, .glb, .stl or .obj file");
-    }
-
-    /// A TOML file given as a model is refused by name, not read as glTF.
-    #[test]
-    fn a_toml_model_is_refused() {
-        let e = Toml
-            .model(Path::new("room.toml"), &MeshOptions::default(), Layer::default(), &LoadOptions::default())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("room.toml") && e.contains("cannot be a model"), "{e}");
+        assert!(find(&MODELS, Path::new("part.ply")).is_none());
+        assert!(find(&MODELS, Path::new("part.toml")).is_none());
+        assert!(find(&MODELS, Path::new("part")).is_none());
+        assert_eq!(expected(&MODELS, |_| true), "a .gltf, .glb, .stl, .obj or .vs3 file");
+        assert_eq!(expected(&MODELS, |r| r.takes_mesh_options()), "a .gltf, .glb, .stl or .obj file");
     }
 }

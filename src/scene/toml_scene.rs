@@ -82,8 +82,8 @@ pub fn from_str_with(path: &Path, text: &str, options: &LoadOptions) -> Result<S
             .into());
         }
         let opts = mesh_options(m).map_err(|(o, p)| err(None, o, format!("{where_}: {p}")))?;
-        let Some(reader) = super::readers::reader_for(&full) else {
-            let models = super::readers::expected(|r| r.extensions() != ["toml"]);
+        let Some(reader) = super::readers::find(&super::readers::MODELS, &full) else {
+            let models = super::readers::expected(&super::readers::MODELS, |_| true);
             return Err(err(
                 None,
                 m.file.span().start,
