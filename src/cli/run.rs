@@ -11,6 +11,8 @@ use lambert::plan::{
 use lambert::report;
 use lambert::report::decks::{DeckFormat, DeckInfo};
 use lambert::report::outputs::{Input, Output, OutputSet};
+use lambert::report::vtk::VtkKind;
+use lambert::report::writers::{write_all, Deck, Png, Results, Table, Vtk, Writer};
 use lambert::scene::{self, Scene};
 use lambert::solve;
 use lambert::viewfactor::progress::{self, Display};
@@ -105,8 +107,6 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     if let Some(rep) = &d.enforcement {
         print_enforcement(plan.enforce, rep);
     }
-    let open = !scene.is_closed();
-    let geometry = scene::fingerprint::geometry(&scene);
     let method = match (&out.matrix, out.route) {
         (Matrix::Rows(vf), Route::Sparse) => method_summary(cfg.params.method, vf),
         _ => cfg.params.method.to_string(),
@@ -118,18 +118,8 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     let (pairs, secs) = (d.pairs, d.viewfactor_wall.as_secs_f64());
     let worst = out.worst_row.clone();
     writing();
-    if let Some(kind) = vtk {
-        let fields = report::vtk::viewfactor_fields(&scene, &out.to_viewfactors(), &out.raw_row_sums);
-        outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, &scene, &fields))?;
-    }
-    match &out.matrix {
-        Matrix::Packed { triangle, names } => outs.write("output", |w, p| {
-            report::dense_csv::write_triangle(w, triangle, names, open, &geometry, p)
-        })?,
-        Matrix::Rows(vf) => {
-            outs.write("output", |w, p| report::csv::write_viewfactors(w, vf, open, &geometry, p))?
-        }
-    }
+    let results = Results::ViewFactors { scene: &scene, outcome: &out };
+    write_all(&mut outs, &result_writers(vtk), &results)?;
     outs.commit()?;
     say::note(format_args!(
         "lambert: {} patches, {pairs} pairs, {secs:.3} s ({:.3e} pairs/s), method {method}{store}",
@@ -307,7 +297,7 @@ fn solve(a: SolveArgs) -> Result<()> {
         };
         let info = DeckInfo { scene: cfg.scene.display().to_string(), title: scene.title.clone() };
         writing();
-        outs.write("conductances", |w, p| report::decks::write(deck, w, &c, &info, p))?;
+        write_all(&mut outs, &[&Deck(deck)], &Results::Conductances { matrix: &c, info: &info })?;
     }
     finish_solve(&scene, &cfg, out.solution, vtk, &mut outs)?;
     outs.commit()
@@ -444,11 +434,20 @@ fn finish_solve(
         report::fmt_f64(scale),
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     ));
-    if let Some(kind) = vtk {
-        let fields = report::vtk::solution_fields(scene, &out);
-        outs.write("vtk", |w, p| report::vtk::write_to(w, p, kind, scene, &fields))?;
+    write_all(outs, &result_writers(vtk), &Results::Solution { scene, solution: &out })
+}
+
+/// The writers of a `viewfactors` or `solve` run's results: the VTK mesh when asked, then
+/// the CSV table.
+fn result_writers(vtk: Option<report::vtk::VtkKind>) -> Vec<&'static dyn Writer> {
+    let mut writers: Vec<&'static dyn Writer> = Vec::new();
+    match vtk {
+        Some(VtkKind::UnstructuredGrid) => writers.push(&Vtk(VtkKind::UnstructuredGrid)),
+        Some(VtkKind::PolyData) => writers.push(&Vtk(VtkKind::PolyData)),
+        None => {}
     }
-    outs.write("output", |w, p| report::solve_csv::write_solution(w, &out, p))
+    writers.push(&Table);
+    writers
 }
 
 /// `validate --quick` writes here unless `--out` is given (never over the committed report).
@@ -511,7 +510,7 @@ fn render(a: RenderArgs) -> Result<()> {
         fit: !a.camera.as_deref().is_some_and(|c| c.contains("fov=")),
     };
     let img = render::render(&scene, &v.values, &opts)?;
-    outs.write("output", |w, p| render::encode_png(&img, w, p))?;
+    write_all(&mut outs, &[&Png], &Results::Picture(&img))?;
     outs.commit()?;
     let c = &opts.camera;
     say::note(format_args!(

@@ -21,6 +21,7 @@ pub mod read_vf;
 pub mod render;
 pub mod solve_csv;
 pub mod vtk;
+pub mod writers;
 
 /// Characters the exponent form must save before it replaces the plain form (keeps "1000").
 const EXPONENT_MIN_SAVING: usize = 3;
