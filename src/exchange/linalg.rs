@@ -20,7 +20,7 @@
 //!   rather than an error, and `NoConvergence` reports the initial residual, not the last;
 //!   [`cg`] keeps the last finite iterate and measures its residual.
 //!
-//! faer's own reductions run sequentially ([`CG_PAR`]); the mat-vec is the caller's (parallel,
+//! faer's own reductions run sequentially (`CG_PAR`); the mat-vec is the caller's (parallel,
 //! with fixed row ownership), so the iterates are the same on any thread count.
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::matrix_free::conjugate_gradient::{conjugate_gradient, conjugate_gradient_scratch, CgParams};

@@ -2,7 +2,7 @@
 //! when asked, with the leak check of a closed scene; nothing here prints.
 //!
 //! Map:
-//! - [`plan`]: the route (packed triangle where it serves, sparse rows otherwise), the
+//! - `plan`: the route (packed triangle where it serves, sparse rows otherwise), the
 //!   enforcement default and the scene file's settings.
 //! - [`Plan::view_factors`]: runs it; [`VfOutcome`] holds the [`Matrix`], the raw row sums
 //!   and the [`Diagnostics`] (method warnings, flags, leak warnings, enforcement).

@@ -16,7 +16,7 @@
 //! **Time left.** Pairs differ in cost by orders of magnitude (a clear pair is one contour
 //! integral, a pair behind a meshed part hundreds of shadow viewpoints), and the costly ones
 //! often finish last. Each row therefore carries an estimated cost (the kernel's
-//! [`crate::viewfactor::engine::RowKernel::row_cost`]); the time left is the estimated cost
+//! [`crate::viewfactor::row::RowKernel::row_costs`]); the time left is the estimated cost
 //! of the remaining rows over the measured cost rate, which corrects the estimate's scale.
 //! The rate is the slower of the mean so far and the rate over the last [`RATE_WINDOW`]; when
 //! no row finished within that window the report says so instead of printing a time.

@@ -1,12 +1,12 @@
 //! The projection base of the hemicube and single-plane methods: both project the scene seen
 //! from a patch onto image planes and credit each receiver with the pixels it wins.
 //!
-//! - [`prepare`]: the flattened scene and the per-eye gather (receiver / blocker rules: front
+//! - `prepare`: the flattened scene and the per-eye gather (receiver / blocker rules: front
 //!   faces receive; back faces and obstructions only block);
-//! - [`clip`]: homogeneous clipping to a pyramid before the perspective divide;
-//! - [`raster`]: the scanline item buffer, point sampled at pixel centres;
-//! - [`positions`]: one or several projection positions per patch;
-//! - the shared limits and the accumulation of a row ([`credit`], [`emit`]).
+//! - `clip`: homogeneous clipping to a pyramid before the perspective divide;
+//! - `raster`: the scanline item buffer, point sampled at pixel centres;
+//! - `positions`: one or several projection positions per patch;
+//! - the shared limits and the accumulation of a row (`credit`, `emit`).
 use super::engine::{RawEntry, Row};
 use super::MethodSet;
 use crate::{Error, Result};

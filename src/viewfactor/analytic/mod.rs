@@ -22,7 +22,7 @@
 //! The method on a scene:
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`lattice`]: one evaluation per offset for translated pairs of gridded surfaces;
-//! - [`kernel`]: the [`RowKernel`](crate::viewfactor::engine::RowKernel) tying them together.
+//! - [`kernel`]: the [`crate::viewfactor::row::RowKernel`] tying them together.
 pub mod angle;
 pub mod contour;
 pub mod cubature;
