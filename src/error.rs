@@ -34,43 +34,115 @@ impl InputError {
     }
 }
 
+impl InputError {
+    /// The message with its option marks ([`opt`]) unspelled.
+    fn to_string_raw(&self) -> String {
+        let mut s = self.file.display().to_string();
+        if let Some(line) = self.line {
+            s.push_str(&format!(":{line}"));
+        }
+        if let Some(surface) = &self.surface {
+            s.push_str(&format!(": surface '{surface}'"));
+        }
+        s.push_str(": ");
+        s.push_str(&self.problem);
+        s
+    }
+}
+
 impl std::fmt::Display for InputError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}", self.file.display())?;
-        if let Some(line) = self.line {
-            write!(f, ":{line}")?;
-        }
-        if let Some(s) = &self.surface {
-            write!(f, ": surface '{s}'")?;
-        }
-        write!(f, ": {}", self.problem)
+        f.write_str(&spell_options(&self.to_string_raw(), &keyword))
     }
 }
 
 /// Every error the library reports.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug)]
 pub enum Error {
     /// Bad scene, view-factor file or option value (exit code 2).
-    #[error("{0}")]
     Input(InputError),
     /// A bad combination of options or an unsupported request (exit code 2).
-    #[error("{0}")]
     Usage(String),
     /// The requested method cannot treat this configuration (exit code 2): never approximated
     /// silently.
-    #[error("unsupported: {0}")]
     Unsupported(String),
     /// The computation failed: singular system, no convergence, leaking enclosure (exit code 1).
-    #[error("{0}")]
     Compute(String),
     /// An I/O failure while writing results (exit code 1).
-    #[error("{path}: {source}")]
     Io {
         /// The file being read or written.
         path: PathBuf,
         /// The underlying error.
         source: std::io::Error,
     },
+}
+
+/// Opens an option's mark in a message ([`opt`]).
+const MARK_OPEN: &str = "{option:";
+/// Closes it.
+const MARK_CLOSE: char = '}';
+
+/// An option of a run named inside a message: each front end spells it its own way (the
+/// library and Python by its keyword, `samples`; the command line by its flag, `--samples`),
+/// so the library's messages name its own concepts. `name` is the keyword (snake case).
+pub fn opt(name: &str) -> String {
+    format!("{MARK_OPEN}{name}{MARK_CLOSE}")
+}
+
+/// `msg` with every option mark spelled by `spell` (given the keyword).
+pub fn spell_options(msg: &str, spell: &dyn Fn(&str) -> String) -> String {
+    let mut out = String::with_capacity(msg.len());
+    let mut rest = msg;
+    while let Some(k) = rest.find(MARK_OPEN) {
+        let after = &rest[k + MARK_OPEN.len()..];
+        match after.find(MARK_CLOSE) {
+            Some(e) if after[..e].bytes().all(|b| b.is_ascii_lowercase() || b == b'_') => {
+                out.push_str(&rest[..k]);
+                out.push_str(&spell(&after[..e]));
+                rest = &after[e + 1..];
+            }
+            _ => {
+                out.push_str(&rest[..k + MARK_OPEN.len()]);
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The library's spelling of an option: its keyword.
+pub fn keyword(name: &str) -> String {
+    name.to_string()
+}
+
+impl Error {
+    /// The message with its options spelled by `spell` (the command line passes its flags);
+    /// `Display` spells them as the library's keywords.
+    pub fn spelled(&self, spell: &dyn Fn(&str) -> String) -> String {
+        let raw = match self {
+            Error::Input(e) => e.to_string_raw(),
+            Error::Usage(s) | Error::Compute(s) => s.clone(),
+            Error::Unsupported(s) => format!("unsupported: {s}"),
+            Error::Io { path, source } => format!("{}: {source}", path.display()),
+        };
+        spell_options(&raw, spell)
+    }
+}
+
+impl std::fmt::Display for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.spelled(&keyword))
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
 }
 
 impl Error {
@@ -104,5 +176,29 @@ impl Error {
 impl From<InputError> for Error {
     fn from(e: InputError) -> Self {
         Error::Input(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Options read as the library's keywords by default and as flags when the command line
+    /// spells them; text that only looks like a mark is left alone.
+    #[test]
+    fn options_are_spelled_by_each_front_end() {
+        let e = Error::Usage(format!(
+            "{} 3 is too few; {} {{x}} {{option:Bad}}",
+            opt("samples"),
+            opt("allow_outside_paths")
+        ));
+        assert_eq!(e.to_string(), "samples 3 is too few; allow_outside_paths {x} {option:Bad}");
+        let flag = |n: &str| format!("--{}", n.replace('_', "-"));
+        assert_eq!(e.spelled(&flag), "--samples 3 is too few; --allow-outside-paths {x} {option:Bad}");
+        let i = Error::Input(
+            InputError::file("a.gltf", format!("give {}", opt("allow_outside_paths"))).at_line(3),
+        );
+        assert_eq!(i.spelled(&flag), "a.gltf:3: give --allow-outside-paths");
+        assert_eq!(i.to_string(), "a.gltf:3: give allow_outside_paths");
     }
 }

@@ -33,7 +33,7 @@ fn main() -> ExitCode {
     let code = match cli::run::run(args.command) {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("lambert: error: {e}");
+            eprintln!("lambert: error: {}", e.spelled(&cli::args::flag));
             e.exit_code()
         }
     };

@@ -181,3 +181,9 @@ pub struct RenderArgs {
     #[arg(long)]
     pub allow_outside_paths: bool,
 }
+
+/// The command line's spelling of a library option keyword ([`lambert::error::opt`]): its flag,
+/// `allow_outside_paths` → `--allow-outside-paths`.
+pub fn flag(keyword: &str) -> String {
+    format!("--{}", keyword.replace('_', "-"))
+}

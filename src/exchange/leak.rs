@@ -15,6 +15,7 @@
 //! [`rows_from_viewfactors`], [`rows_from_exchange`] and [`rows_from_triangle`] read the
 //! leaking rows' sampled entries from each store.
 use super::Exchange;
+use crate::error::opt;
 use crate::scene::orientation::SceneFacts;
 use crate::viewfactor::triangle::Triangle;
 use crate::viewfactor::ViewFactors;
@@ -129,8 +130,10 @@ pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
     for d in facts.defects.iter().filter(|d| d.against > 0) {
         says.push(format!(
             "surface '{}' has {} triangles wound against their neighbours, so part of it faces the wrong way; \
-             repair = true (or --repair) flips them",
-            d.surface, d.against
+             repair = true (or {}) flips them",
+            d.surface,
+            d.against,
+            opt("repair")
         ));
     }
     // 2. Inward bodies inside the scene.
@@ -214,9 +217,11 @@ pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
         }
         return sentences(&[format!(
             "{sound}; of the {} leaking rows, {sampled} carry sampled entries and {empty} have no entry at all \
-             (a sampling method that found nothing from them): more samples, a tighter --tolerance or \
-             -m analytic will tell sampling from geometry",
-            rows.len()
+             (a sampling method that found nothing from them): more samples, a tighter {} or \
+             {} analytic will tell sampling from geometry",
+            rows.len(),
+            opt("tolerance"),
+            opt("method")
         )]);
     }
     let named: Vec<String> = rows
@@ -245,7 +250,11 @@ pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
     if slivers > 0 {
         s.push_str(&format!("; {slivers} of these rows are sliver triangles (repair = true drops slivers)"));
     }
-    s.push_str("; a tighter --tolerance or -m analytic computes these pairs again");
+    s.push_str(&format!(
+        "; a tighter {} or {} analytic computes these pairs again",
+        opt("tolerance"),
+        opt("method")
+    ));
     sentences(&[s])
 }
 

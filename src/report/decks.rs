@@ -57,8 +57,9 @@ impl DeckFormat {
             Some("d" | "esa" | "esatan") => Ok(DeckFormat::Esatan),
             _ => Err(Error::Usage(format!(
                 "{}: cannot tell the conductance format from the extension; use .csv, .sin/.sinda/.inp \
-                 (SINDA/FLUINT) or .d/.esa/.esatan (ESATAN), or give --format csv|sinda|esatan",
-                p.display()
+                 (SINDA/FLUINT) or .d/.esa/.esatan (ESATAN), or give {} csv|sinda|esatan",
+                p.display(),
+                crate::error::opt("format")
             ))),
         }
     }

@@ -36,7 +36,8 @@ pub fn kind_of(path: &Path) -> Result<VtkKind> {
         Some("vtu") => Ok(VtkKind::UnstructuredGrid),
         Some("vtp") => Ok(VtkKind::PolyData),
         _ => Err(Error::Usage(format!(
-            "--vtk {}: unknown VTK file type; expected a .vtu or .vtp file",
+            "{} {}: unknown VTK file type; expected a .vtu or .vtp file",
+            crate::error::opt("vtk"),
             path.display()
         ))),
     }

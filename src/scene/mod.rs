@@ -388,7 +388,9 @@ fn load_file(path: &std::path::Path, options: &LoadOptions) -> crate::Result<Sce
     };
     if !reader.takes_mesh_options() && options.bare != mesh_model::MeshOptions::default() {
         return Err(crate::Error::Usage(format!(
-            "--unit and --repair apply to {}; {} sets `unit` and `repair` per [[model]]",
+            "{} and {} apply to {}; {} sets `unit` and `repair` per [[model]]",
+            crate::error::opt("unit"),
+            crate::error::opt("repair"),
             readers::expected(&READERS, |r| r.takes_mesh_options()).replacen("a ", "a bare ", 1),
             path.display()
         )));

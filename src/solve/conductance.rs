@@ -10,6 +10,7 @@
 use super::direct;
 use super::system::{self, RowKind};
 use super::Params;
+use crate::error::opt;
 use crate::error::InputError;
 use crate::exchange::Exchange;
 use crate::scene::{BoundaryCondition, Scene};
@@ -51,8 +52,9 @@ impl Conductances {
 pub fn check_nodes(n: usize) -> Result<()> {
     if n > MAX_NODES {
         return Err(Error::Unsupported(format!(
-            "--conductances for {n} patches: RADK needs a dense solve over the patches, limited to \
-             {MAX_NODES}; use a coarser `subdivide` (surface conductances are summed from the patches)"
+            "{} for {n} patches: RADK needs a dense solve over the patches, limited to \
+             {MAX_NODES}; use a coarser `subdivide` (surface conductances are summed from the patches)",
+            opt("conductances")
         )));
     }
     Ok(())
@@ -72,10 +74,11 @@ pub fn check_deck(scene: &Scene, exchange: Level, patches: bool) -> Result<()> {
         if let Some(s) = (0..scene.surfaces.len()).find(|&s| !gray(s)) {
             let bands: Vec<String> = sp.emissivity[s].iter().map(|e| e.to_string()).collect();
             return Err(Error::Unsupported(format!(
-                "{}: --conductances writes gray conductances, but surface '{}' has band emissivities {} \
+                "{}: {} writes gray conductances, but surface '{}' has band emissivities {} \
                  ([[band]] table): with semi-gray bands the exchange depends on the temperatures, so no \
                  gray deck reproduces the solve",
                 scene.source.display(),
+                opt("conductances"),
                 scene.surfaces[s].name,
                 bands.join(", ")
             )));
@@ -98,11 +101,13 @@ pub fn check_deck(scene: &Scene, exchange: Level, patches: bool) -> Result<()> {
         &scene.source,
         &first.name,
         format!(
-            "--conductances per surface: this surface has a heat_flux condition over {} patches{more}, and \
+            "{} per surface: this surface has a heat_flux condition over {} patches{more}, and \
              the solve gives each patch its own temperature; one network node per surface cannot carry \
-             them, so the summed conductances would not reproduce the solve's heat rates. Add --patches \
+             them, so the summed conductances would not reproduce the solve's heat rates. Add {} \
              for a deck over the patches (nodes {}#0, ...), or give the surface one patch",
+            opt("conductances"),
             first.patches.len(),
+            opt("patches"),
             first.name
         ),
     )

@@ -133,8 +133,13 @@ struct Staging {
 impl Staging {
     /// Creates `out` (if needed) and an empty staging folder in it.
     fn create(out: &Path) -> Result<Self> {
-        std::fs::create_dir_all(out)
-            .map_err(|e| Error::Usage(format!("--out {}: cannot create the folder: {e}", out.display())))?;
+        std::fs::create_dir_all(out).map_err(|e| {
+            Error::Usage(format!(
+                "{} {}: cannot create the folder: {e}",
+                crate::error::opt("out"),
+                out.display()
+            ))
+        })?;
         let dir = out.join(STAGING);
         if dir.exists() {
             std::fs::remove_dir_all(&dir).map_err(|e| io(&dir, "staging folder (a leftover)", e))?;
@@ -185,10 +190,12 @@ pub fn check_options(options: &Options) -> Result<()> {
     let report = options.out.join("report.md");
     if options.quick && std::fs::read_to_string(&report).is_ok_and(|t| t.contains(FULL_MODE_MARK)) {
         return Err(Error::Usage(format!(
-            "--quick --out {}: that folder holds the full suite's report ({}); the quick subset would replace \
-             it and its charts; give another --out, or drop --out (a scratch folder is used)",
+            "{q} {o} {}: that folder holds the full suite's report ({}); the quick subset would replace \
+             it and its charts; give another {o}, or drop {o} (a scratch folder is used)",
             options.out.display(),
-            report.display()
+            report.display(),
+            q = crate::error::opt("quick"),
+            o = crate::error::opt("out"),
         )));
     }
     Ok(())

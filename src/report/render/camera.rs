@@ -60,7 +60,7 @@ impl Camera {
     /// Applies `eye=… target=… up=… fov=…` (any subset, separated by spaces or `;`) on top of
     /// `self`. Errors name the bad token.
     pub fn with_spec(mut self, spec: &str) -> Result<Camera> {
-        let bad = |msg: String| Error::Usage(format!("--camera: {msg}"));
+        let bad = |msg: String| Error::Usage(format!("{}: {msg}", crate::error::opt("camera")));
         for tok in spec.split(|c: char| c.is_whitespace() || c == ';').filter(|t| !t.is_empty()) {
             let (key, val) = tok.split_once('=').ok_or_else(|| bad(format!("'{tok}' is not key=value")))?;
             let vec = || -> Result<DVec3> {
@@ -137,7 +137,7 @@ mod tests {
         assert_eq!((d.eye, d.fov, d.target), (DVec3::new(0.0, -4.0, 1.0), 50.0, DVec3::ZERO));
         for bad in ["eye=1,2", "fov=0", "zoom=2", "eye", "up=1,0,0", "target=5,0,0", "eye=a,b,c"] {
             let e = c.with_spec(bad).unwrap_err().to_string();
-            assert!(e.starts_with("--camera"), "{bad}: {e}");
+            assert!(e.starts_with("camera"), "{bad}: {e}");
         }
     }
 }

@@ -142,8 +142,10 @@ pub fn render(scene: &Scene, patch_values: &[f64], opts: &Options) -> Result<Ima
     let (w, h) = opts.size;
     if w < MIN_SIZE.0 || h < MIN_SIZE.1 || w > MAX_SIDE || h > MAX_SIDE {
         return Err(Error::Usage(format!(
-            "--size {w}x{h}: expected between {}x{} and {MAX_SIDE}x{MAX_SIDE}",
-            MIN_SIZE.0, MIN_SIZE.1
+            "{} {w}x{h}: expected between {}x{} and {MAX_SIDE}x{MAX_SIDE}",
+            crate::error::opt("size"),
+            MIN_SIZE.0,
+            MIN_SIZE.1
         )));
     }
     let pw = (w - BAR_PANEL) as usize;

@@ -5,6 +5,7 @@
 //! set. Devices, FIFOs and folders are never opened, `file:` and network URIs never followed,
 //! and no file is read past the buffer's declared `byteLength`.
 use super::json::{self, Obj};
+use crate::error::opt;
 use serde_json::Value;
 use std::borrow::Cow;
 use std::io::Read;
@@ -170,8 +171,9 @@ fn external(folder: &Path, uri: &str, n: u64, allow_outside: bool) -> Result<Vec
     if outside && !allow_outside {
         return Err(format!(
             "the buffer file '{}' is an absolute path or leaves the glTF file's folder with '..'; \
-             buffer files must lie under that folder (--allow-outside-paths allows others)",
-            quote(&rel)
+             buffer files must lie under that folder ({} allows others)",
+            quote(&rel),
+            opt("allow_outside_paths")
         ));
     }
     if rel.is_empty() {
@@ -191,8 +193,9 @@ fn external(folder: &Path, uri: &str, n: u64, allow_outside: bool) -> Result<Vec
         if !real.starts_with(&base) {
             return Err(format!(
                 "the buffer file {shown} is a link to {}, outside the glTF file's folder \
-                 (--allow-outside-paths allows it)",
-                real.display()
+                 ({} allows it)",
+                real.display(),
+                opt("allow_outside_paths")
             ));
         }
     }
@@ -251,7 +254,7 @@ mod tests {
         for bad in ["../up.bin", "sub/../../up.bin", "/etc/passwd", "C:/x.bin", "..\\up.bin"] {
             let e = ok(bad, 4).unwrap_err();
             assert!(
-                e.contains("leaves the glTF file's folder") && e.contains("--allow-outside-paths"),
+                e.contains("leaves the glTF file's folder") && e.contains(&opt("allow_outside_paths")),
                 "{bad}: {e}"
             );
         }

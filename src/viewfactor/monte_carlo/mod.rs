@@ -73,13 +73,19 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 pub fn compute_with(scene: &Scene, params: &Params, level: Level, options: McOptions) -> Result<ViewFactors> {
     if params.samples < MIN_SAMPLES {
         return Err(Error::Usage(format!(
-            "Monte Carlo needs at least {MIN_SAMPLES} samples per patch (--samples {}): a standard error \
+            "Monte Carlo needs at least {MIN_SAMPLES} samples per patch ({} {}): a standard error \
              from fewer is undefined",
+            crate::error::opt("samples"),
             params.samples
         )));
     }
-    let samples = u32::try_from(params.samples)
-        .map_err(|_| Error::Usage(format!("--samples {} exceeds 2^32 - 1 per patch", params.samples)))?;
+    let samples = u32::try_from(params.samples).map_err(|_| {
+        Error::Usage(format!(
+            "{} {} exceeds 2^32 - 1 per patch",
+            crate::error::opt("samples"),
+            params.samples
+        ))
+    })?;
     let vis = Visibility::new(scene);
     let cell_of: Vec<u32> = match level {
         Level::Surface => scene.patches.iter().map(|p| p.surface as u32).collect(),
