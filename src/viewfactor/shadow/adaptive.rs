@@ -16,10 +16,14 @@
 //!   holds the whole receiver makes g equal to the unobstructed integrand on that cell, and a
 //!   cell with no blocker left contributes exactly 0;
 //! - **no blocker goes unseen**: a cell in whose penumbra a blocker still lies, but from none
-//!   of whose quadrature points that blocker's shadow reached the receiver, is split even when
-//!   the two rules agree. This is what View3D lacks (it misses small blockers near edges,
-//!   research/view3d.md §4 gunter2); the split stops as soon as the smaller cells' penumbrae
-//!   clear the receiver or the shadow is sampled, or at [`AdaptParams::max_depth`].
+//!   of whose quadrature points that blocker's shadow reached the receiver, carries as its error
+//!   estimate at least its unobstructed integral (0 ≤ g ≤ the unobstructed integrand, so a
+//!   shadow the points missed is bounded by it) even when the two rules agree. This is what
+//!   View3D lacks (it misses small blockers near edges, research/view3d.md §4 gunter2): such a
+//!   cell is split while its bound matters to the tolerance, and the split stops as soon as
+//!   the smaller cells' penumbrae clear the receiver or the shadow is sampled, or at
+//!   [`AdaptParams::max_depth`]. A cell whose whole unobstructed share is far below the
+//!   tolerance (a sliver receiver) is not split for it.
 use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
 use super::volume::{plane_of, Build, Class, Plane, ShadowVolume};
@@ -359,9 +363,17 @@ impl Integrator {
                 }
                 active.iter().all(|&b| hit >> (groups[b as usize] % 64) & 1 == 1)
             };
-            let must_split =
-                (!all_seen || item.cell.area() > forced_area) && item.depth < this.params.max_depth;
-            let err = (hi - lo).abs();
+            let must_split = item.cell.area() > forced_area && item.depth < this.params.max_depth;
+            // A blocker no rule point saw may still shade part of the cell: 0 ≤ g ≤ the
+            // unobstructed integrand, so the cell's unobstructed integral bounds that error.
+            let err = if all_seen {
+                (hi - lo).abs()
+            } else {
+                let (bound, evals) = this.unshaded_integral(geo, &item.cell);
+                info.evals += evals;
+                info.work += evals * VIEWPOINT_WORK;
+                (hi - lo).abs().max(bound)
+            };
             let key = if must_split { f64::INFINITY } else { err };
             let k = s.leaves.len();
             s.leaves.push(Leaf { item, hi, err });
@@ -458,6 +470,18 @@ impl Integrator {
         }
         item.start = start;
         item.len = s.pool.len() - start;
+    }
+
+    /// The higher rule's ∫ of the unobstructed integrand over `cell` (which bounds ∫ g there),
+    /// and its evaluations.
+    fn unshaded_integral(&self, geo: &ShadowGeometry, cell: &Cell) -> (f64, u64) {
+        let mut sum = 0.0;
+        let mut evals = 0;
+        self.high.each(cell, |p, w| {
+            evals += 1;
+            sum += w * geo.unshaded(p);
+        });
+        (sum, evals)
     }
 
     /// Both rules on one cell: (low, high, seen-mask, evaluations, work).
