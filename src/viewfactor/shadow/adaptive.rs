@@ -1060,5 +1060,20 @@ mod tests {
             info.evals,
             deep_info.evals
         );
+        // The emitter as one root cell (no kink cuts) at looser tolerances: each result stays
+        // within its tolerance; where no rule point sees the plate, the cell's unobstructed
+        // integral is its error estimate (it covers the missed shadow), and no cell is split
+        // for a bound the tolerance does not need.
+        for tol in [1e-3, 1.0] {
+            let loose = Integrator::new(AdaptParams { low: 3, high: 4, min_depth: 0, max_depth: 10 })
+                .with_cuts(Cuts { max_pieces: 1, faces_last: true })
+                .shaded(&geo, tol, &mut s);
+            let off = (loose.shaded - reference).abs();
+            assert!(off <= tol && loose.error <= tol, "tol {tol}: {loose:?} vs {reference}");
+            if tol > PARALLEL_UNIT {
+                assert_eq!((loose.cells, loose.evals), (1, 9 + 16 + 16), "{loose:?}");
+                assert!(loose.error >= off && loose.error > 0.5 * PARALLEL_UNIT, "{loose:?}");
+            }
+        }
     }
 }
