@@ -9,7 +9,8 @@
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
-//!   the branch is built (see [`super::policy`]).
+//!   the branch is built (see [`super::policy`]); a pair priced for integration is integrated
+//!   within the sampling price where sampling can meet its goal, and sampled past it.
 //!
 //! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
 //! integrated as the facet sum ([`super::solid`]) instead of the shadow.
