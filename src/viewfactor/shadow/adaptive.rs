@@ -186,6 +186,9 @@ pub struct AdaptInfo {
     /// True when refinement stopped because the error estimate had stopped falling
     /// ([`STALL_MIN_WORK`]); the result then carries its error, above the tolerance.
     pub stalled: bool,
+    /// True when refinement stopped at the work cap short of the tolerance: the result is
+    /// incomplete (root cells may be missing) and its error does not bound it.
+    pub capped: bool,
 }
 
 /// Work after which the integration checks, at every [`STALL_WORK_RATIO`]-fold increase of
@@ -386,6 +389,7 @@ impl Integrator {
         };
         for cell in roots {
             if info.work >= max_work {
+                info.capped = true;
                 break;
             }
             let (e, f) = push(
@@ -431,6 +435,7 @@ impl Integrator {
                 forced += f;
             }
         }
+        info.capped |= info.work >= max_work && (forced > 0 || open_err > tol);
         for (_, std::cmp::Reverse(k)) in s.heap.drain() {
             let leaf = &s.leaves[k];
             info.shaded += leaf.hi;

@@ -193,7 +193,9 @@ impl<'s> Shadows<'s> {
                         // sample where that was not enough.
                         let cap = (self.model.mc_ns(n, partial.len()) / SHADOW_UNIT_NS).ceil() as u64;
                         let r = self.integrate(i, j, u, partial, goal, cap, s);
-                        if r.info.work < cap {
+                        // A finished result is kept even past the cap (the facet sum behind
+                        // a convex solid runs to its end whatever the cap).
+                        if !r.info.capped {
                             if r.error > goal {
                                 self.misses.record(Miss { i, j, error: r.error, goal });
                             }
