@@ -22,6 +22,10 @@
 //!      first; where the kernel weights leave it short at the sample cap, the pair is
 //!      integrated instead.
 //!
+//!    A pair priced for integration that sampling could also meet is integrated within
+//!    sampling's price (counted work) and sampled past it: the fitted prices can be far off
+//!    for pairs unlike the calibration pairs (a wall pair behind a whole meshed part).
+//!
 //!    An entry whose error estimate still exceeds its goal (integration at its depth limit)
 //!    is counted, and the run names the worst ([`super::shadow::misses`]).
 //!

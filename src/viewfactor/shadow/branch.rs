@@ -9,7 +9,8 @@
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
 //!   depth [`AUTO_MIN_DEPTH`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
-//!   the branch is built (see [`super::policy`]).
+//!   the branch is built (see [`super::policy`]); a pair priced for integration is integrated
+//!   within the sampling price where sampling can meet its goal, and sampled past it.
 //!
 //! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
 //! integrated as the facet sum ([`super::solid`]) instead of the shadow.
@@ -21,7 +22,7 @@ use super::misses::{Miss, MissLog};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
     pair_goal, Choice, CostModel, Policy, AUTO_CUTS, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH,
-    MC_MAX_SAMPLES, MC_SIGMAS, SOLID_MIN_FACES,
+    MC_MAX_SAMPLES, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -165,24 +166,51 @@ impl<'s> Shadows<'s> {
             Policy::Auto { tol, seed } => {
                 let (ai, aj) = (self.scene.patches[i].polygon.area(), self.scene.patches[j].polygon.area());
                 let goal = pair_goal(tol, ai, aj);
-                match self.model.choose(u, goal, partial.len()) {
-                    Choice::Shadowed => integrate(goal, s),
-                    Choice::MonteCarlo(n) => {
-                        let m = self.sample(i, j, u, partial, (n, goal), seed, s);
-                        if MC_SIGMAS * m.var.sqrt() > goal {
-                            // The sample cap was reached first: the entry is integrated.
-                            let mut r = integrate(goal, s);
-                            r.work += m.samples as u64;
-                            return r;
-                        }
-                        Obstructed {
-                            s: m.s,
-                            var: m.var,
-                            method: MethodSet::MC_AREA,
-                            work: m.samples as u64,
-                            at_max_depth: 0,
-                        }
+                let sampled = |n: u32, spent: u64, s: &mut PairWork| {
+                    let m = self.sample(i, j, u, partial, (n, goal), seed, s);
+                    if MC_SIGMAS * m.var.sqrt() > goal {
+                        // The sample cap was reached first: the entry is integrated.
+                        let mut r = integrate(goal, s);
+                        r.work += m.samples as u64 + spent;
+                        return r;
                     }
+                    Obstructed {
+                        s: m.s,
+                        var: m.var,
+                        method: MethodSet::MC_AREA,
+                        work: m.samples as u64 + spent,
+                        at_max_depth: 0,
+                    }
+                };
+                match self.model.choose(u, goal, partial.len()) {
+                    Choice::Shadowed => {
+                        let n = CostModel::samples(u, goal);
+                        if n > MC_MAX_SAMPLES as f64 {
+                            return integrate(goal, s);
+                        }
+                        // The model's price of the integration can be far off (a wall pair
+                        // behind a whole meshed part costs hundreds of times the price fitted
+                        // on the part's own pairs): integrate within sampling's price, and
+                        // sample where that was not enough.
+                        let cap = (self.model.mc_ns(n, partial.len()) / SHADOW_UNIT_NS).ceil() as u64;
+                        let r = self.integrate(i, j, u, partial, goal, cap, s);
+                        // A finished result is kept even past the cap (the facet sum behind
+                        // a convex solid runs to its end whatever the cap).
+                        if !r.info.capped {
+                            if r.error > goal {
+                                self.misses.record(Miss { i, j, error: r.error, goal });
+                            }
+                            return Obstructed {
+                                s: r.s,
+                                var: 0.0,
+                                method: MethodSet::SHADOWED,
+                                work: r.info.evals,
+                                at_max_depth: r.info.at_max_depth,
+                            };
+                        }
+                        sampled(n as u32, r.info.evals, s)
+                    }
+                    Choice::MonteCarlo(n) => sampled(n, 0, s),
                 }
             }
         }

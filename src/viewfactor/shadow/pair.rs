@@ -116,6 +116,7 @@ pub fn shadowed(
                     at_max_depth: q.at_max_depth,
                     roots: q.roots,
                     stalled: false,
+                    capped: false,
                 };
                 let value = (s_unobs - q.blocked).max(0.0);
                 return Shadowed { s: value, error: q.error, info, swapped };
