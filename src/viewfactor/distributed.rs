@@ -9,7 +9,8 @@
 //! rank). The other ranks leave after sending. The flags and goal misses each rank's kernel
 //! recorded travel with the rows and are merged into rank 0's kernel.
 //!
-//! The wire format ([`encode`], [`decode`]) is little-endian and private to one run.
+//! The wire format ([`encode`], [`decode`]) is little-endian and private to one run (and to
+//! the part files of [`super::shard`], which carry their format version).
 use super::engine::{RawEntry, Row, RowKernel};
 use super::flags::Flag;
 use super::shadow::misses::Miss;
@@ -48,6 +49,14 @@ pub struct Gathered<'k> {
     failure: Mutex<Option<(usize, Error)>>,
 }
 
+impl<'k> Gathered<'k> {
+    /// A kernel that hands back `rows` (rows `first..`), then `failure`, with `inner`'s
+    /// warnings and flags.
+    pub(super) fn new(inner: &'k dyn RowKernel, first: usize, rows: Vec<Row>, failure: Option<(usize, Error)>) -> Self {
+        Self { inner, first, rows, failure: Mutex::new(failure) }
+    }
+}
+
 impl RowKernel for Gathered<'_> {
     fn symmetric(&self) -> bool {
         self.inner.symmetric()
@@ -75,14 +84,12 @@ impl RowKernel for Gathered<'_> {
 }
 
 /// Estimated cost of each row: the pairs it evaluates.
-#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-fn row_costs(n: usize, symmetric: bool) -> Vec<f64> {
+pub(super) fn row_costs(n: usize, symmetric: bool) -> Vec<f64> {
     (0..n).map(|i| if symmetric { (n - i) as f64 } else { n as f64 }).collect()
 }
 
 /// Computes rows `block` of `kernel` with rayon, cut at the first failure.
-#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share {
+pub(super) fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share {
     use rayon::prelude::*;
     let start = std::time::Instant::now();
     let first = block.start;
@@ -117,13 +124,15 @@ fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share
 
 /// Hash of what every rank must agree on before its rows can be mixed with the others':
 /// the geometry fingerprint, the number of patches, `options` (method and its settings, as
-/// the caller writes them) and whether the kernel is symmetric.
-pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool) -> u64 {
+/// the caller writes them), whether the kernel is symmetric, and `tree`, the hash of the
+/// acceleration trees the kernel built ([`RowKernel::tree_hash`]).
+pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool, tree: u64) -> u64 {
     let mut h = fnv::FnvHasher::default();
     h.write(crate::scene::fingerprint::geometry(scene).as_bytes());
     h.write_u64(scene.patches.len() as u64);
     h.write(options.as_bytes());
     h.write_u8(u8::from(symmetric));
+    h.write_u64(tree);
     h.finish()
 }
 
@@ -132,14 +141,18 @@ pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool) -> u64 {
 /// 0's exit code. `None` (compute as usual) without MPI or on one rank. `options` names the
 /// method, its settings and the route, for the agreement hash.
 pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Result<Option<Gathered<'k>>> {
+    // A shard run (`--shard`, `merge`) takes its rows from the shard hook instead.
+    if let Some(g) = super::shard::rows(scene, kernel, options)? {
+        return Ok(Some(g));
+    }
     #[cfg(feature = "mpi")]
     {
         use crate::distributed::{comm, partition};
         if !comm::active() {
             return Ok(None);
         }
-        let hash = agreement_hash(scene, options, kernel.symmetric());
-        comm::check_rows(hash, "scene geometry, method and options");
+        let hash = agreement_hash(scene, options, kernel.symmetric(), kernel.tree_hash());
+        comm::check_rows(hash, "scene geometry, acceleration trees, method and options");
         let (rank, size) = comm::rank_size();
         let blocks = partition::balanced(&row_costs(scene.patches.len(), kernel.symmetric()), size);
         let mine = compute_block(kernel, blocks[rank].clone());
@@ -203,19 +216,19 @@ fn encode_empty() -> Vec<u8> {
 
 // ---- wire format ----
 
-fn put_u8(b: &mut Vec<u8>, v: u8) {
+pub(super) fn put_u8(b: &mut Vec<u8>, v: u8) {
     b.push(v);
 }
-fn put_u32(b: &mut Vec<u8>, v: u32) {
+pub(super) fn put_u32(b: &mut Vec<u8>, v: u32) {
     b.extend_from_slice(&v.to_le_bytes());
 }
-fn put_u64(b: &mut Vec<u8>, v: u64) {
+pub(super) fn put_u64(b: &mut Vec<u8>, v: u64) {
     b.extend_from_slice(&v.to_le_bytes());
 }
-fn put_f64(b: &mut Vec<u8>, v: f64) {
+pub(super) fn put_f64(b: &mut Vec<u8>, v: f64) {
     b.extend_from_slice(&v.to_bits().to_le_bytes());
 }
-fn put_str(b: &mut Vec<u8>, s: &str) {
+pub(super) fn put_str(b: &mut Vec<u8>, s: &str) {
     put_u64(b, s.len() as u64);
     b.extend_from_slice(s.as_bytes());
 }
@@ -298,10 +311,10 @@ fn encode_error(b: &mut Vec<u8>, e: &Error) {
 }
 
 /// Reads what [`encode`] wrote; `None` when the bytes are damaged.
-struct Reader<'a>(&'a [u8]);
+pub(super) struct Reader<'a>(pub(super) &'a [u8]);
 
 impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Option<&[u8]> {
+    pub(super) fn take(&mut self, n: usize) -> Option<&[u8]> {
         if self.0.len() < n {
             return None;
         }
@@ -309,19 +322,19 @@ impl Reader<'_> {
         self.0 = rest;
         Some(a)
     }
-    fn u8(&mut self) -> Option<u8> {
+    pub(super) fn u8(&mut self) -> Option<u8> {
         self.take(1).map(|a| a[0])
     }
-    fn u32(&mut self) -> Option<u32> {
+    pub(super) fn u32(&mut self) -> Option<u32> {
         self.take(4).map(|a| u32::from_le_bytes(a.try_into().expect("4 bytes")))
     }
-    fn u64(&mut self) -> Option<u64> {
+    pub(super) fn u64(&mut self) -> Option<u64> {
         self.take(8).map(|a| u64::from_le_bytes(a.try_into().expect("8 bytes")))
     }
-    fn f64(&mut self) -> Option<f64> {
+    pub(super) fn f64(&mut self) -> Option<f64> {
         self.u64().map(f64::from_bits)
     }
-    fn string(&mut self) -> Option<String> {
+    pub(super) fn string(&mut self) -> Option<String> {
         let n = usize::try_from(self.u64()?).ok()?;
         self.take(n).map(|a| String::from_utf8_lossy(a).into_owned())
     }
@@ -479,7 +492,9 @@ mod tests {
     #[test]
     fn the_agreement_hash_changes_with_the_options() {
         let scene = crate::scene::Scene::default();
-        assert_ne!(agreement_hash(&scene, "auto 1e-4", true), agreement_hash(&scene, "auto 1e-3", true));
-        assert_ne!(agreement_hash(&scene, "auto", true), agreement_hash(&scene, "auto", false));
+        let h = |o: &str, s: bool, t: u64| agreement_hash(&scene, o, s, t);
+        assert_ne!(h("auto 1e-4", true, 0), h("auto 1e-3", true, 0));
+        assert_ne!(h("auto", true, 0), h("auto", false, 0));
+        assert_ne!(h("auto", true, 1), h("auto", true, 2), "the trees' hash takes part");
     }
 }

@@ -12,6 +12,7 @@
 //! - [`range`]: the final check that every written factor lies in [0, 1];
 //! - [`flags`]: entries a method could not bound, reported on stderr;
 //! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
+//! - [`shard`]: rows split between independent runs (`--shard`) and merged (`lambert merge`);
 //! - [`accuracy`]: what each method knows about its own error (leak thresholds, error model,
 //!   accuracy knob), asked by the CLI, enforcement and validation;
 //! - the method modules each provide a kernel ([`monte_carlo`]: mc-area, mc-uniform, mc-cosine).
@@ -35,6 +36,7 @@ pub mod progress;
 pub mod range;
 pub mod shadow;
 pub mod single_plane;
+pub mod shard;
 pub mod sink;
 pub mod triangle;
 
@@ -166,6 +168,14 @@ pub const DEFAULT_RESOLUTION: usize = 256;
 /// Default `auto` tolerance: 1e-4 absolute on each F (issue brief, View3D's default eps).
 pub const DEFAULT_FACTOR_TOLERANCE: f64 = 1e-4;
 
+impl Params {
+    /// The settings that change a number, as text for the agreement hash of MPI ranks and
+    /// shards (the progress display left out: it never changes one).
+    pub fn agreement(&self) -> String {
+        format!("{:?}", Params { progress: false, ..self.clone() })
+    }
+}
+
 impl Default for Params {
     fn default() -> Self {
         Self {
@@ -234,7 +244,7 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
     let mode = progress::Mode::for_stderr(params.progress);
     let progress = progress::Progress::start_costed(total, "pairs", mode, costs.iter().sum());
     // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
-    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {params:?}"))?;
+    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {}", params.agreement()))?;
     let kernel: &dyn engine::RowKernel = match &gathered {
         Some(g) => g,
         None => kernel.as_ref(),

@@ -160,6 +160,29 @@ impl Visibility {
         Self::with_params(scene, BvhBuildParams::medium_build())
     }
 
+    /// Hash of the built tree: every CWBVH node as stored, the primitive order and each
+    /// triangle's owner. Ranks or shards whose hashes differ would not trace the same rays.
+    pub fn tree_hash(&self) -> u64 {
+        use std::hash::Hasher;
+        let mut h = fnv::FnvHasher::default();
+        h.write_u64(self.bvh.nodes.len() as u64);
+        for n in &self.bvh.nodes {
+            n.p.to_array().iter().for_each(|x| h.write_u32(x.to_bits()));
+            h.write(&n.e);
+            h.write_u8(n.imask);
+            h.write_u32(n.child_base_idx);
+            h.write_u32(n.primitive_base_idx);
+            for a in [n.child_meta, n.child_min_x, n.child_max_x, n.child_min_y, n.child_max_y] {
+                h.write(&a);
+            }
+            h.write(&n.child_min_z);
+            h.write(&n.child_max_z);
+        }
+        self.bvh.primitive_indices.iter().for_each(|&k| h.write_u32(k));
+        self.owner.iter().for_each(|&k| h.write_u32(k));
+        h.finish()
+    }
+
     /// Builds with an explicit obvhs preset (benchmarks compare them).
     pub fn with_params(scene: &Scene, params: BvhBuildParams) -> Self {
         let start = Instant::now();

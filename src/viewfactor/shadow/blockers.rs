@@ -74,6 +74,18 @@ pub struct Blockers {
 }
 
 impl Blockers {
+    /// Hash of both box trees (blockers and patches) and the snap and pad lengths: the
+    /// agreement check of MPI ranks and shards.
+    pub fn tree_hash(&self) -> u64 {
+        use std::hash::Hasher;
+        let mut h = fnv::FnvHasher::default();
+        self.blocker_tree.hash_into(&mut h);
+        self.patch_tree.hash_into(&mut h);
+        h.write_u64(self.snap.to_bits());
+        h.write_u64(self.pad.to_bits());
+        h.finish()
+    }
+
     /// Collects, filters and indexes the blockers of `scene`.
     pub fn new(scene: &Scene) -> Self {
         Self::seen_from(scene, &[])
