@@ -107,7 +107,7 @@ pub struct ViewfactorsArgs {
     pub points: Option<PathBuf>,
     /// Compute only shard I of K (I = 0 to K-1) of the view-factor rows, the rows MPI rank I of
     /// K computes, and write them to -o as a part file for `lambert merge`.
-    #[arg(long, value_name = "I/K")]
+    #[arg(long, value_name = "I/K", allow_hyphen_values = true)]
     pub shard: Option<String>,
 }
 

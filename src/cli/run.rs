@@ -87,7 +87,9 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
 fn viewfactors_with(a: ViewfactorsArgs, inputs: &[Input]) -> Result<()> {
     if let Some(points) = &a.points {
         if a.shard.is_some() {
-            return Err(Error::Usage("--shard splits view-factor rows; it does not apply to --points".into()));
+            return Err(Error::Usage(
+                "--shard splits view-factor rows; it does not apply to --points".into(),
+            ));
         }
         return super::points::run(&a, points);
     }

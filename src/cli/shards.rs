@@ -84,7 +84,9 @@ pub fn replay(a: &CommonArgs, scene: &Scene) -> Vec<String> {
 /// Writes `part` through the run's planned outputs (temporary, then rename).
 pub fn write_part(mut outs: OutputSet, part: &Part) -> Result<()> {
     let bytes = shard::to_bytes(part);
-    outs.write("output", |w, p| w.write_all(&bytes).map_err(|e| Error::Io { path: p.to_path_buf(), source: e }))?;
+    outs.write("output", |w, p| {
+        w.write_all(&bytes).map_err(|e| Error::Io { path: p.to_path_buf(), source: e })
+    })?;
     outs.commit()?;
     let rows = part.rows();
     let pairs: u64 = part.share.rows.iter().map(|r| r.pairs).sum();
@@ -119,7 +121,10 @@ pub fn merge_args(a: &MergeArgs) -> Result<(ViewfactorsArgs, Vec<(PathBuf, Part)
         argv.extend(["--threads".into(), t.to_string().into()]);
     }
     let bad = |why: String| {
-        Error::Input(lambert::error::InputError::file(first, format!("its command cannot be run again: {why}")))
+        Error::Input(lambert::error::InputError::file(
+            first,
+            format!("its command cannot be run again: {why}"),
+        ))
     };
     match Cli::try_parse_from(argv) {
         Ok(Cli { command: Command::Viewfactors(v), .. }) => Ok((v, parts)),

@@ -52,7 +52,12 @@ pub struct Gathered<'k> {
 impl<'k> Gathered<'k> {
     /// A kernel that hands back `rows` (rows `first..`), then `failure`, with `inner`'s
     /// warnings and flags.
-    pub(super) fn new(inner: &'k dyn RowKernel, first: usize, rows: Vec<Row>, failure: Option<(usize, Error)>) -> Self {
+    pub(super) fn new(
+        inner: &'k dyn RowKernel,
+        first: usize,
+        rows: Vec<Row>,
+        failure: Option<(usize, Error)>,
+    ) -> Self {
         Self { inner, first, rows, failure: Mutex::new(failure) }
     }
 }

@@ -35,8 +35,8 @@ pub mod points;
 pub mod progress;
 pub mod range;
 pub mod shadow;
-pub mod single_plane;
 pub mod shard;
+pub mod single_plane;
 pub mod sink;
 pub mod triangle;
 

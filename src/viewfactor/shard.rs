@@ -264,7 +264,13 @@ pub fn check_parts(mut parts: Vec<(PathBuf, Part)>) -> Result<Vec<(PathBuf, Part
         if p.count != count {
             return Err(bad(
                 path,
-                format!("it is shard {}/{} but {} is shard {}/{count}: the parts of one run share K", p.index, p.count, p0.display(), first.index),
+                format!(
+                    "it is shard {}/{} but {} is shard {}/{count}: the parts of one run share K",
+                    p.index,
+                    p.count,
+                    p0.display(),
+                    first.index
+                ),
             ));
         }
         if p.hash != hash || p.n != n || p.replay != replay {
@@ -286,12 +292,17 @@ pub fn check_parts(mut parts: Vec<(PathBuf, Part)>) -> Result<Vec<(PathBuf, Part
         if w[0].1.index == w[1].1.index {
             return Err(bad(
                 &w[1].0,
-                format!("it is shard {}/{count}, as is {}: each shard is given once", w[1].1.index, w[0].0.display()),
+                format!(
+                    "it is shard {}/{count}, as is {}: each shard is given once",
+                    w[1].1.index,
+                    w[0].0.display()
+                ),
             ));
         }
     }
     let have: Vec<usize> = parts.iter().map(|(_, p)| p.index).collect();
-    let missing: Vec<String> = (0..count).filter(|i| !have.contains(i)).map(|i| format!("{i}/{count}")).collect();
+    let missing: Vec<String> =
+        (0..count).filter(|i| !have.contains(i)).map(|i| format!("{i}/{count}")).collect();
     if !missing.is_empty() {
         return Err(bad(
             &p0,
@@ -333,14 +344,27 @@ mod tests {
         let rows = block
             .clone()
             .map(|i| Row {
-                entries: vec![RawEntry { j: i as u32, method: MethodSet::ANALYTIC, s: 0.1 * i as f64, var: 0.0 }],
+                entries: vec![RawEntry {
+                    j: i as u32,
+                    method: MethodSet::ANALYTIC,
+                    s: 0.1 * i as f64,
+                    var: 0.0,
+                }],
                 shared_samples: 0,
                 pairs: (n - i) as u64,
             })
             .collect();
         let share =
             Share { first: block.start, rows, failure: None, flags: vec![], misses: (0, None), seconds: 0.5 };
-        Part { index, count, n, symmetric: true, hash: 42, replay: vec!["a b.toml".into(), "--patches".into()], share }
+        Part {
+            index,
+            count,
+            n,
+            symmetric: true,
+            hash: 42,
+            replay: vec!["a b.toml".into(), "--patches".into()],
+            share,
+        }
     }
 
     fn named(parts: Vec<Part>) -> Vec<(PathBuf, Part)> {
@@ -375,7 +399,9 @@ mod tests {
         assert_eq!(ok.iter().map(|(_, p)| p.index).collect::<Vec<_>>(), vec![0, 1, 2]);
         let err = |parts: Vec<Part>| check_parts(named(parts)).unwrap_err().to_string();
         assert!(err(vec![part(0, 3, 30), part(2, 3, 30)]).contains("1/3 are missing"));
-        assert!(err(vec![part(0, 2, 30), part(0, 2, 30), part(1, 2, 30)]).contains("each shard is given once"));
+        assert!(
+            err(vec![part(0, 2, 30), part(0, 2, 30), part(1, 2, 30)]).contains("each shard is given once")
+        );
         assert!(err(vec![part(0, 2, 30), part(1, 3, 30)]).contains("share K"));
         let mut other = part(1, 2, 30);
         other.hash = 7;

@@ -71,6 +71,11 @@ impl BoxTree {
             lo.to_array().iter().chain(hi.to_array().iter()).for_each(|x| h.write_u64(x.to_bits()));
         }
     }
+    /// Swaps the first two primitive indices: a tree as another build could order it.
+    #[cfg(test)]
+    pub(crate) fn swap_primitives_for_test(&mut self) {
+        self.bvh.primitive_indices.swap(0, 1);
+    }
     /// Number of boxes.
     pub fn len(&self) -> usize {
         self.boxes.len()

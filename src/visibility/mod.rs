@@ -350,6 +350,30 @@ mod tests {
         assert_send_sync::<Visibility>();
     }
 
+    /// Two unit squares facing each other at `gap`, 3 × 3 patches each.
+    fn squares(gap: f64) -> Scene {
+        let grid = |o: DVec3, u: DVec3, v: DVec3| {
+            crate::geometry::subdivide::parallelogram_grid(o, u, v, 3, 3).expect("a grid")
+        };
+        Scene::builder()
+            .surface("low", grid(DVec3::ZERO, DVec3::X, DVec3::Y), 0.9, None)
+            .surface("high", grid(DVec3::Z * gap, DVec3::Y, DVec3::X), 0.9, None)
+            .build()
+    }
+
+    #[test]
+    fn the_tree_hash_tells_equal_trees_from_different_ones() {
+        let a = Visibility::new(&squares(1.0));
+        assert_eq!(a.tree_hash(), Visibility::new(&squares(1.0)).tree_hash());
+        assert_ne!(a.tree_hash(), Visibility::new(&squares(1.5)).tree_hash(), "another geometry");
+        let mut node = a.clone();
+        node.bvh.nodes[0].child_meta[0] ^= 1;
+        assert_ne!(a.tree_hash(), node.tree_hash(), "one node byte differs");
+        let mut order = a.clone();
+        order.bvh.primitive_indices.swap(0, 1);
+        assert_ne!(a.tree_hash(), order.tree_hash(), "the primitives in another order");
+    }
+
     #[test]
     fn normalisation_is_a_power_of_two_into_the_target_band() {
         for half in [1e-6, 0.3, 1.0, 7.0, 1e5] {

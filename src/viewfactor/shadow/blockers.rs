@@ -454,6 +454,20 @@ mod tests {
     }
 
     #[test]
+    fn the_tree_hash_tells_equal_trees_from_different_ones() {
+        let a = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        let again = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        assert_eq!(a.tree_hash(), again.tree_hash(), "the same scene builds the same trees");
+        // The block moved by a hundredth: other node boxes, another hash.
+        let moved = Blockers::new(&room_with(dented_block(DVec3::splat(1.01), 0.0)));
+        assert_ne!(a.tree_hash(), moved.tree_hash());
+        // The same boxes in another primitive order (a tree built differently): another hash.
+        let mut swapped = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        swapped.blocker_tree.swap_primitives_for_test();
+        assert_ne!(a.tree_hash(), swapped.tree_hash());
+    }
+
+    #[test]
     fn closed_and_convex_bodies_are_recognised_from_shared_edges() {
         // A closed convex block: every edge linked, normals out, one convex body.
         let blockers = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
