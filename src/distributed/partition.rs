@@ -49,7 +49,12 @@ pub fn balanced(costs: &[f64], parts: usize) -> Vec<Range<usize>> {
 /// The probe rows of `part` of `parts`: rows 0, S, 2S, … (S = [`PROBE_STRIDE`]) dealt
 /// round-robin, probe k to part k mod parts.
 pub fn probe_rows(n: usize, parts: usize, part: usize) -> Vec<usize> {
-    (0..n).step_by(PROBE_STRIDE).enumerate().filter(|(k, _)| k % parts.max(1) == part).map(|(_, i)| i).collect()
+    (0..n)
+        .step_by(PROBE_STRIDE)
+        .enumerate()
+        .filter(|(k, _)| k % parts.max(1) == part)
+        .map(|(_, i)| i)
+        .collect()
 }
 
 /// Splits the rows that are not probe rows into `parts` contiguous runs (in row order) of

@@ -629,7 +629,8 @@ mod tests {
     #[test]
     fn a_listed_share_survives_the_wire_and_keeps_the_earliest_failure() {
         let s = share();
-        let mut l = Listed { at: vec![3, 11, 19], rows: s.rows.clone(), probe_seconds: 0.25, ..Listed::default() };
+        let mut l =
+            Listed { at: vec![3, 11, 19], rows: s.rows.clone(), probe_seconds: 0.25, ..Listed::default() };
         l.failure = Some((27, Error::Compute("late".into())));
         let later = Listed { failure: Some((20, Error::Compute("early".into()))), ..Listed::default() };
         l.append(later);
