@@ -119,13 +119,20 @@ fn viewfactors_with(a: ViewfactorsArgs, inputs: &[Input]) -> Result<()> {
         let replay = super::shards::replay(&a.common, &scene);
         lambert::viewfactor::shard::capture(index, count, replay);
     }
-    let out = match plan.view_factors(&scene, &mut Sink { scene: &scene }) {
-        Ok(out) => out,
-        Err(e) => match lambert::viewfactor::shard::captured() {
-            Some(part) => return super::shards::write_part(outs, &part),
-            None => return Err(e),
-        },
-    };
+    let out = plan.view_factors(&scene, &mut Sink { scene: &scene });
+    if shard.is_some() {
+        // The shard hook stops the run once its rows are computed; a run that went on (or
+        // failed before) wrote no part.
+        return match (lambert::viewfactor::shard::captured(), out) {
+            (Some(part), _) => super::shards::write_part(outs, &part),
+            (None, Err(e)) => Err(e),
+            (None, Ok(_)) => Err(Error::Compute("the shard's rows were not computed apart".into())),
+        };
+    }
+    let out = out?;
+    if lambert::viewfactor::shard::supply_pending() {
+        return Err(Error::Compute("the merge did not use the parts' rows".into()));
+    }
     let d = &out.diagnostics;
     say_warnings(&d.leak_warnings);
     if let Some(rep) = &d.enforcement {

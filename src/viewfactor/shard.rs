@@ -101,6 +101,12 @@ pub fn supply(parts: Vec<(PathBuf, Part)>) {
     *mode() = Some(Mode::Supply(parts));
 }
 
+/// True when parts given to [`supply`] are still waiting for a run (a run that computed its
+/// rows without them must not write a merged file).
+pub fn supply_pending() -> bool {
+    matches!(*mode(), Some(Mode::Supply(_)))
+}
+
 /// The shard hook (see the module docs): `None` when no shard mode is set.
 pub(super) fn rows<'k>(
     scene: &Scene,
