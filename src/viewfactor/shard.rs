@@ -213,7 +213,7 @@ pub fn read(path: &Path) -> Result<Part> {
 
 /// Parses the bytes of a part file; the error says what is wrong.
 pub fn from_bytes(bytes: &[u8]) -> std::result::Result<Part, String> {
-    let not_part = || format!("not a lambert view-factor part (written by `lambert viewfactors --shard`)");
+    let not_part = || "not a lambert view-factor part (written by `lambert viewfactors --shard`)".to_string();
     if !bytes.starts_with(MAGIC.as_bytes()) {
         return Err(not_part());
     }
