@@ -1,8 +1,9 @@
 //! The same numbers on any rank count (feature `mpi`, needs `mpiexec` on PATH, MPICH): the
 //! output files of `mpiexec -np 1/2/3 lambert …` are byte-identical to a run without MPI, for
 //! auto, analytic and Monte Carlo view factors (patch and surface level) and the solve routes
-//! (packed dense, sparse patch rows, hierarchical, iterative). Ranks that load different
-//! geometry are refused with exit code 2, and only rank 0 writes.
+//! (packed dense, sparse patch rows, hierarchical, iterative), with the measured and the
+//! estimated row split, and as merged shards. Ranks that load different geometry are refused
+//! with exit code 2, and only rank 0 writes.
 //!
 //! Run with `cargo test --release --features mpi --test mpi` (the release binary is the one
 //! `cargo build --release --features mpi` makes, so CI builds it once).
@@ -111,6 +112,42 @@ fn solves_are_the_same_on_any_rank_count() {
     ] {
         assert_same_on_any_rank_count(d, what, "solve", &furnace, &args);
     }
+}
+
+#[test]
+fn both_row_splits_and_merged_shards_give_the_same_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let room = room(d);
+    let file = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let vf = |out: &str| -> Vec<String> {
+        ["viewfactors", &room, "--patches", "-o", out].iter().map(|s| s.to_string()).collect()
+    };
+    let o = run(None, &vf(&file("single.csv")));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let want = std::fs::read(d.join("single.csv")).unwrap();
+    for split in ["measured", "estimated"] {
+        let out = file(&format!("{split}.csv"));
+        let mut cmd = Command::new("mpiexec");
+        cmd.args(["-np", "3", BIN]).args(vf(&out)).args(["--threads", "1"]);
+        let o = cmd.env("LAMBERT_MPI_BALANCE", split).env("LAMBERT_MPI_STATS", "1").output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{split}: {err}");
+        assert!(err.contains(&format!("{split} split, compute seconds max/mean")), "{split}: {err}");
+        assert!(std::fs::read(&out).unwrap() == want, "the {split} split differs from the run without MPI");
+    }
+    let mut parts = Vec::new();
+    for i in 0..3 {
+        let part = file(&format!("part_{i}"));
+        let mut args = vf(&part);
+        args.extend(["--shard".to_string(), format!("{i}/3")]);
+        assert!(run(None, &args).status.success());
+        parts.push(part);
+    }
+    let merged = file("merged.csv");
+    let o = Command::new(BIN).arg("merge").args(&parts).args(["-o", &merged]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::read(&merged).unwrap() == want, "the merged shards differ from the run without MPI");
 }
 
 /// Runs `viewfactors` under MPMD `mpiexec`: rank 0 on `a`, rank 1 on `b`, one output name.

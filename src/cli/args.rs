@@ -28,6 +28,8 @@ pub struct Cli {
 pub enum Command {
     /// Compute the view-factor matrix of a scene and write it as CSV.
     Viewfactors(ViewfactorsArgs),
+    /// Join the part files of `viewfactors --shard` runs into the CSV of a single run.
+    Merge(MergeArgs),
     /// Compute view factors, then solve the radiation exchange.
     Solve(SolveArgs),
     /// Run the textbook validation suite in cases/.
@@ -103,6 +105,28 @@ pub struct ViewfactorsArgs {
     /// and optionally name; one row per point and surface (or patch) it sees.
     #[arg(long, value_name = "CSV")]
     pub points: Option<PathBuf>,
+    /// Compute only shard I of K (I = 0 to K-1) of the view-factor rows, the rows MPI rank I of
+    /// K computes, and write them to -o as a part file for `lambert merge`.
+    #[arg(long, value_name = "I/K", allow_hyphen_values = true)]
+    pub shard: Option<String>,
+}
+
+/// `lambert merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The part files of every shard of one `viewfactors --shard` run, in any order.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// CSV output file; stdout when absent or `-`.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// The scene file, when it has moved since the shards ran [default: the path the parts
+    /// record]; it must hold the same geometry.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Worker threads for the enforcement and output, 1 to 1024 (default: all cores).
+    #[arg(long, allow_negative_numbers = true)]
+    pub threads: Option<usize>,
 }
 
 /// `lambert solve`.

@@ -1,5 +1,5 @@
 //! Orchestration of the subcommands: load → compute → report. No physics here.
-use super::args::{Command, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs};
+use super::args::{Command, MergeArgs, RenderArgs, SolveArgs, ValidateArgs, ViewfactorsArgs};
 use super::config::Config;
 use super::limits;
 use super::say;
@@ -26,6 +26,10 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Viewfactors(a) => {
             let _shown = display();
             viewfactors(a)
+        }
+        Command::Merge(a) => {
+            let _shown = display();
+            merge(a)
         }
         Command::Solve(a) => {
             let _shown = display();
@@ -78,12 +82,24 @@ fn scene_inputs(scene: &Scene) -> Vec<Input> {
 }
 
 fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
+    viewfactors_with(a, &[])
+}
+
+/// `viewfactors`, with `inputs` (the parts of a merge) that no output may overwrite.
+fn viewfactors_with(a: ViewfactorsArgs, inputs: &[Input]) -> Result<()> {
     if let Some(points) = &a.points {
+        if a.shard.is_some() {
+            return Err(Error::Usage(
+                "--shard splits view-factor rows; it does not apply to --points".into(),
+            ));
+        }
         return super::points::run(&a, points);
     }
     let cfg = Config::from_args(&a.common)?;
+    let shard = a.shard.as_deref().map(|s| super::shards::shard_arg(s, &a.common)).transpose()?;
     let vtk = check_vtk(&a.common.vtk)?;
-    let mut outs = plan_outputs(&cfg, "view-factor CSV", a.common.vtk.as_deref(), None, &[])?;
+    let what = if shard.is_some() { "view-factor part" } else { "view-factor CSV" };
+    let mut outs = plan_outputs(&cfg, what, a.common.vtk.as_deref(), None, inputs)?;
     let scene = lambert::plan::load(&cfg.scene, &cfg.load, &mut lambert::plan::Silent)?;
     outs.check_inputs(&scene_inputs(&scene))?;
     for w in &scene.warnings {
@@ -101,7 +117,24 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
     if let Some(w) = limits::mesh_cost(&scene, cfg.params.method, rayon::current_num_threads(), cheaper) {
         say::warning(format_args!("lambert: warning: {w}"));
     }
-    let out = plan.view_factors(&scene, &mut Sink { scene: &scene })?;
+    if let Some((index, count)) = shard {
+        let replay = super::shards::replay(&a.common, &scene);
+        lambert::viewfactor::shard::capture(index, count, replay);
+    }
+    let out = plan.view_factors(&scene, &mut Sink { scene: &scene });
+    if shard.is_some() {
+        // The shard hook stops the run once its rows are computed; a run that went on (or
+        // failed before) wrote no part.
+        return match (lambert::viewfactor::shard::captured(), out) {
+            (Some(part), _) => super::shards::write_part(outs, &part),
+            (None, Err(e)) => Err(e),
+            (None, Ok(_)) => Err(Error::Compute("the shard's rows were not computed apart".into())),
+        };
+    }
+    let out = out?;
+    if lambert::viewfactor::shard::supply_pending() {
+        return Err(Error::Compute("the merge did not use the parts' rows".into()));
+    }
     let d = &out.diagnostics;
     say_warnings(&d.leak_warnings);
     if let Some(rep) = &d.enforcement {
@@ -131,6 +164,17 @@ fn viewfactors(a: ViewfactorsArgs) -> Result<()> {
         say::note(format_args!("lambert: closed scene, max |row sum - 1| = {worst:.3e} ({kind} {name})"));
     }
     Ok(())
+}
+
+/// `lambert merge`: the parts are read and checked, then the shards' `viewfactors` command
+/// runs again with their rows in place of the kernel's (enforcement and output as a single run).
+fn merge(a: MergeArgs) -> Result<()> {
+    let (args, parts) = super::shards::merge_args(&a)?;
+    let inputs: Vec<Input> =
+        parts.iter().map(|(p, _)| Input::new("a part file given to lambert merge", p)).collect();
+    super::shards::say_balance(&parts);
+    lambert::viewfactor::shard::supply(parts);
+    viewfactors_with(args, &inputs)
 }
 
 /// The plan request of the options shared by `viewfactors` and `solve`.

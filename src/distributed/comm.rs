@@ -204,6 +204,25 @@ pub fn gather_bytes(mine: &[u8]) -> Option<Vec<Vec<u8>>> {
     }
 }
 
+/// Every rank's bytes on every rank, in rank order (small messages: the probe timings).
+pub fn all_gather_bytes(mine: &[u8]) -> Vec<Vec<u8>> {
+    let world = world();
+    quiet_barrier(&world);
+    let size = rank_size().1;
+    let len = mine.len() as u64;
+    let mut lens = vec![0u64; size];
+    world.all_gather_into(&len, &mut lens[..]);
+    let counts: Vec<i32> = lens.iter().map(|&l| i32::try_from(l).unwrap_or(i32::MAX)).collect();
+    let displs: Vec<i32> =
+        counts.iter().scan(0i32, |acc, &c| Some(std::mem::replace(acc, acc.saturating_add(c)))).collect();
+    let mut buf = vec![0u8; counts.iter().map(|&c| c as usize).sum()];
+    {
+        let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
+        world.all_gather_varcount_into(mine, &mut part);
+    }
+    counts.iter().zip(&displs).map(|(c, d)| buf[*d as usize..(*d + *c) as usize].to_vec()).collect()
+}
+
 /// Marks (on rank 0) that the other ranks have left after sending their rows: later row
 /// computations run on rank 0 alone.
 pub fn workers_left() {

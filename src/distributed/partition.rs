@@ -1,7 +1,25 @@
-//! Contiguous row blocks balanced by an estimated cost per row: rank k gets rows
-//! `blocks[k]`, in order, so that gathering the blocks in rank order gives the rows in row order.
+//! Row splits between ranks: estimated first, then measured.
+//!
+//! - [`balanced`]: contiguous row blocks balanced by an estimated cost per row (pairs per
+//!   row); rank k gets rows `blocks[k]`. Shards (`--shard`, no communication) use this split.
+//! - [`probe_rows`], [`rebalanced`]: an MPI run first computes a probe wave, every
+//!   [`PROBE_STRIDE`]-th row dealt round-robin to the ranks (so each rank's probe holds the
+//!   same mix of cheap and dear rows), timing each row; the ranks share the timings, and the
+//!   remaining rows are split into contiguous runs balanced by the *measured* seconds per
+//!   estimated unit around each row. Rows are independent, so which rank computes a row
+//!   never changes a number.
 
 use std::ops::Range;
+
+/// Every this-many-th row is probed: 1/8 of the rows is enough to sample the cost along the
+/// row order (neighbouring patches cost alike), and the probe wave itself is balanced.
+pub const PROBE_STRIDE: usize = 8;
+/// Probed rows on each side whose timings are pooled into the rate around a row: one row's
+/// time is noisy (a thread preempted), a few neighbours' sum is not.
+pub const RATE_WINDOW: usize = 2;
+/// Environment variable: `estimated` keeps the estimated split under MPI (no probe wave), for
+/// comparison; anything else or unset balances by measured cost.
+pub const BALANCE_VAR: &str = "LAMBERT_MPI_BALANCE";
 
 /// Splits rows `0..costs.len()` into `parts` contiguous blocks of nearly equal total cost:
 /// block k ends at the first row where the running cost reaches (k + 1)/parts of the total.
@@ -28,9 +46,93 @@ pub fn balanced(costs: &[f64], parts: usize) -> Vec<Range<usize>> {
     blocks
 }
 
+/// The probe rows of `part` of `parts`: rows 0, S, 2S, … (S = [`PROBE_STRIDE`]) dealt
+/// round-robin, probe k to part k mod parts.
+pub fn probe_rows(n: usize, parts: usize, part: usize) -> Vec<usize> {
+    (0..n)
+        .step_by(PROBE_STRIDE)
+        .enumerate()
+        .filter(|(k, _)| k % parts.max(1) == part)
+        .map(|(_, i)| i)
+        .collect()
+}
+
+/// Splits the rows that are not probe rows into `parts` contiguous runs (in row order) of
+/// nearly equal measured cost: each row's estimated cost times the seconds per estimated
+/// unit of the probes around it (`probes`: row, seconds; sorted by row; [`RATE_WINDOW`]
+/// probes pooled on each side). Without probes the estimate alone decides.
+pub fn rebalanced(estimated: &[f64], probes: &[(usize, f64)], parts: usize) -> Vec<Vec<usize>> {
+    let rest: Vec<usize> = (0..estimated.len()).filter(|i| i % PROBE_STRIDE != 0).collect();
+    let rates = probe_rates(estimated, probes);
+    let costs: Vec<f64> = rest
+        .iter()
+        .map(|&i| {
+            // The nearest probe at or before row i (the first probe for rows before it).
+            let k = probes.partition_point(|p| p.0 <= i).saturating_sub(1);
+            estimated[i] * rates.get(k).copied().unwrap_or(1.0)
+        })
+        .collect();
+    balanced(&costs, parts).into_iter().map(|r| rest[r].to_vec()).collect()
+}
+
+/// Seconds per estimated unit around each probe (pooled over [`RATE_WINDOW`] neighbours).
+fn probe_rates(estimated: &[f64], probes: &[(usize, f64)]) -> Vec<f64> {
+    (0..probes.len())
+        .map(|k| {
+            let window = &probes[k.saturating_sub(RATE_WINDOW)..(k + RATE_WINDOW + 1).min(probes.len())];
+            let secs: f64 = window.iter().map(|p| p.1.max(0.0)).sum();
+            let units: f64 = window.iter().map(|p| estimated[p.0].max(0.0)).sum();
+            if units > 0.0 && secs > 0.0 {
+                secs / units
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_probe_rows_are_dealt_round_robin_and_cover_every_stride() {
+        let n = 100;
+        let all: Vec<Vec<usize>> = (0..3).map(|p| probe_rows(n, 3, p)).collect();
+        assert_eq!(all[0][..2], [0, 3 * PROBE_STRIDE]);
+        assert_eq!(all[1][0], PROBE_STRIDE);
+        let mut joined: Vec<usize> = all.concat();
+        joined.sort_unstable();
+        assert_eq!(joined, (0..n).step_by(PROBE_STRIDE).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn measured_costs_move_rows_away_from_the_dear_end() {
+        // Equal estimates, but rows 0..500 cost 9 times as much as rows 500..1000 (small,
+        // shadowed patches): the estimated split gives two equal halves, the measured split
+        // gives the first rank half the cost, 4375/2/9 ≈ 243 of the 875 remaining rows.
+        let n = 1000;
+        let est = vec![1.0; n];
+        let probes: Vec<(usize, f64)> =
+            (0..n).step_by(PROBE_STRIDE).map(|i| (i, if i < 500 { 9e-3 } else { 1e-3 })).collect();
+        let runs = rebalanced(&est, &probes, 2);
+        let rest = n - n.div_ceil(PROBE_STRIDE);
+        assert_eq!(runs[0].len() + runs[1].len(), rest);
+        assert!(runs[0].iter().all(|i| i % PROBE_STRIDE != 0));
+        assert!(runs[0].windows(2).all(|w| w[0] < w[1]) && runs[0].last() < runs[1].first());
+        let cost = |r: &[usize]| r.iter().map(|&i| if i < 500 { 9.0 } else { 1.0 }).sum::<f64>();
+        let (a, b) = (cost(&runs[0]), cost(&runs[1]));
+        assert!((a / b - 1.0).abs() < 0.03, "measured halves cost {a} and {b}");
+        assert!(runs[0].len().abs_diff(243) <= 3, "{} rows against {}", runs[0].len(), runs[1].len());
+    }
+
+    #[test]
+    fn without_timings_the_estimate_splits_the_rest() {
+        let est: Vec<f64> = (0..64).map(|i| (64 - i) as f64).collect();
+        let runs = rebalanced(&est, &[], 2);
+        let cost = |r: &[usize]| r.iter().map(|&i| est[i]).sum::<f64>();
+        assert!((cost(&runs[0]) - cost(&runs[1])).abs() <= 64.0);
+    }
 
     fn cost(costs: &[f64], r: &Range<usize>) -> f64 {
         costs[r.clone()].iter().sum()

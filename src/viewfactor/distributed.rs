@@ -9,7 +9,8 @@
 //! rank). The other ranks leave after sending. The flags and goal misses each rank's kernel
 //! recorded travel with the rows and are merged into rank 0's kernel.
 //!
-//! The wire format ([`encode`], [`decode`]) is little-endian and private to one run.
+//! The wire format ([`encode`], [`decode`]) is little-endian and private to one run (and to
+//! the part files of [`super::shard`], which carry their format version).
 use super::flags::Flag;
 use super::row::{RawEntry, Row, RowKernel};
 use super::shadow::misses::Miss;
@@ -48,6 +49,19 @@ pub struct Gathered<'k> {
     failure: Mutex<Option<(usize, Error)>>,
 }
 
+impl<'k> Gathered<'k> {
+    /// A kernel that hands back `rows` (rows `first..`), then `failure`, with `inner`'s
+    /// warnings and flags.
+    pub(super) fn new(
+        inner: &'k dyn RowKernel,
+        first: usize,
+        rows: Vec<Row>,
+        failure: Option<(usize, Error)>,
+    ) -> Self {
+        Self { inner, first, rows, failure: Mutex::new(failure) }
+    }
+}
+
 impl RowKernel for Gathered<'_> {
     fn symmetric(&self) -> bool {
         self.inner.symmetric()
@@ -75,14 +89,12 @@ impl RowKernel for Gathered<'_> {
 }
 
 /// Estimated cost of each row: the pairs it evaluates.
-#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-fn row_costs(n: usize, symmetric: bool) -> Vec<f64> {
+pub(super) fn row_costs(n: usize, symmetric: bool) -> Vec<f64> {
     (0..n).map(|i| if symmetric { (n - i) as f64 } else { n as f64 }).collect()
 }
 
 /// Computes rows `block` of `kernel` with rayon, cut at the first failure.
-#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share {
+pub(super) fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share {
     use rayon::prelude::*;
     let start = std::time::Instant::now();
     let first = block.start;
@@ -115,15 +127,136 @@ fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share
     }
 }
 
+/// One MPI rank's rows, any set of them: row indices `at` (increasing within each wave), the
+/// rows, the first failure, each row's CPU seconds (local only), the kernel's flags and misses,
+/// and the rank's wall seconds (all rows, and the probe wave).
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+#[derive(Debug, Default)]
+struct Listed {
+    at: Vec<usize>,
+    rows: Vec<Row>,
+    times: Vec<f64>,
+    failure: Option<(usize, Error)>,
+    flags: Vec<Flag>,
+    misses: (u64, Option<Miss>),
+    seconds: f64,
+    probe_seconds: f64,
+}
+
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+impl Listed {
+    /// Appends a later wave; of two failures the one in the earlier row is kept (the one a
+    /// run without MPI reports).
+    fn append(&mut self, mut other: Listed) {
+        self.at.append(&mut other.at);
+        self.rows.append(&mut other.rows);
+        self.times.append(&mut other.times);
+        if other.failure.as_ref().is_some_and(|o| self.failure.as_ref().is_none_or(|f| o.0 < f.0)) {
+            self.failure = other.failure;
+        }
+    }
+
+    /// The wire form: indices, timings, then the rows as a [`Share`].
+    fn encode(self) -> Vec<u8> {
+        let mut b = Vec::new();
+        put_u64(&mut b, self.at.len() as u64);
+        self.at.iter().for_each(|&i| put_u64(&mut b, i as u64));
+        put_f64(&mut b, self.probe_seconds);
+        let share = Share {
+            first: 0,
+            rows: self.rows,
+            failure: self.failure,
+            flags: self.flags,
+            misses: self.misses,
+            seconds: self.seconds,
+        };
+        b.extend_from_slice(&encode(&share));
+        b
+    }
+
+    /// Reads [`Listed::encode`]'s bytes; `None` when damaged.
+    fn decode(bytes: &[u8]) -> Option<Listed> {
+        let mut r = Reader(bytes);
+        let count = usize::try_from(r.u64()?).ok()?;
+        let mut at = Vec::with_capacity(count.min(bytes.len()));
+        for _ in 0..count {
+            at.push(usize::try_from(r.u64()?).ok()?);
+        }
+        let probe_seconds = r.f64()?;
+        let s = decode(r.0)?;
+        if s.rows.len() != at.len() {
+            return None;
+        }
+        Some(Listed {
+            at,
+            rows: s.rows,
+            times: Vec::new(),
+            failure: s.failure,
+            flags: s.flags,
+            misses: s.misses,
+            seconds: s.seconds,
+            probe_seconds,
+        })
+    }
+}
+
+/// CPU seconds of the calling thread: a row's cost without the time other processes took
+/// the core from it (wall time on a loaded machine measures the neighbours, not the row).
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+fn thread_cpu_seconds() -> f64 {
+    let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec that we own; the clock id is a constant.
+    let ok = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0;
+    if ok {
+        t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
+    } else {
+        0.0
+    }
+}
+
+/// Computes rows `rows` (increasing) of `kernel` with rayon, timing each (thread CPU
+/// seconds), cut at the first failure.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+fn compute_rows(kernel: &dyn RowKernel, rows: &[usize]) -> Listed {
+    use rayon::prelude::*;
+    let outs: Vec<(Result<Row>, f64)> = rows
+        .par_iter()
+        .with_max_len(1)
+        .map(|&i| {
+            let start = thread_cpu_seconds();
+            let mut row = Row::default();
+            let out = kernel.row(i, &mut row).map(|_| row);
+            (out, thread_cpu_seconds() - start)
+        })
+        .collect();
+    let mut l = Listed::default();
+    for (&i, (o, t)) in rows.iter().zip(outs) {
+        match o {
+            Ok(r) => {
+                l.at.push(i);
+                l.rows.push(r);
+                l.times.push(t);
+            }
+            Err(e) => {
+                l.failure = Some((i, e));
+                break;
+            }
+        }
+    }
+    l
+}
+
 /// Hash of what every rank must agree on before its rows can be mixed with the others':
 /// the geometry fingerprint, the number of patches, `options` (method and its settings, as
-/// the caller writes them) and whether the kernel is symmetric.
-pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool) -> u64 {
+/// the caller writes them), whether the kernel is symmetric, and `tree`, the hash of the
+/// acceleration trees the kernel built ([`RowKernel::tree_hash`]).
+pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool, tree: u64) -> u64 {
     let mut h = fnv::FnvHasher::default();
     h.write(crate::scene::fingerprint::geometry(scene).as_bytes());
     h.write_u64(scene.patches.len() as u64);
     h.write(options.as_bytes());
     h.write_u8(u8::from(symmetric));
+    h.write_u64(tree);
     h.finish()
 }
 
@@ -132,61 +265,99 @@ pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool) -> u64 {
 /// 0's exit code. `None` (compute as usual) without MPI or on one rank. `options` names the
 /// method, its settings and the route, for the agreement hash.
 pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Result<Option<Gathered<'k>>> {
+    // A shard run (`--shard`, `merge`) takes its rows from the shard hook instead.
+    if let Some(g) = super::shard::rows(scene, kernel, options)? {
+        return Ok(Some(g));
+    }
     #[cfg(feature = "mpi")]
     {
         use crate::distributed::{comm, partition};
         if !comm::active() {
             return Ok(None);
         }
-        let hash = agreement_hash(scene, options, kernel.symmetric());
-        comm::check_rows(hash, "scene geometry, method and options");
+        let hash = agreement_hash(scene, options, kernel.symmetric(), kernel.tree_hash());
+        comm::check_rows(hash, "scene geometry, acceleration trees, method and options");
         let (rank, size) = comm::rank_size();
-        let blocks = partition::balanced(&row_costs(scene.patches.len(), kernel.symmetric()), size);
-        let mine = compute_block(kernel, blocks[rank].clone());
+        let n = scene.patches.len();
+        let est = row_costs(n, kernel.symmetric());
+        let measured = std::env::var(partition::BALANCE_VAR).map_or(true, |v| v != "estimated");
+        let start = std::time::Instant::now();
+        let mut mine = if measured {
+            // Estimated first: the probe wave, timed row by row, its timings shared.
+            let probe = compute_rows(kernel, &partition::probe_rows(n, size, rank));
+            let probe_seconds = start.elapsed().as_secs_f64();
+            let mut b = Vec::new();
+            for (i, t) in probe.at.iter().zip(&probe.times) {
+                put_u64(&mut b, *i as u64);
+                put_f64(&mut b, *t);
+            }
+            let mut probes: Vec<(usize, f64)> = Vec::new();
+            for bytes in comm::all_gather_bytes(&b) {
+                let mut r = Reader(&bytes);
+                while let (Some(i), Some(t)) = (r.u64(), r.f64()) {
+                    probes.push((i as usize, t));
+                }
+            }
+            probes.sort_by_key(|p| p.0);
+            // Then measured: the other rows split by the measured cost around them.
+            let runs = partition::rebalanced(&est, &probes, size);
+            let mut all = probe;
+            all.append(compute_rows(kernel, &runs[rank]));
+            all.probe_seconds = probe_seconds;
+            all
+        } else {
+            compute_rows(kernel, &partition::balanced(&est, size)[rank].clone().collect::<Vec<_>>())
+        };
+        mine.seconds = start.elapsed().as_secs_f64();
+        mine.flags = kernel.flags();
+        mine.misses = kernel.misses();
         if rank != 0 {
-            let bytes = encode(&mine);
-            comm::gather_bytes(&bytes);
+            comm::gather_bytes(&mine.encode());
             comm::leave();
         }
-        let local_seconds = mine.seconds;
-        let empty = Vec::new();
-        let parts = comm::gather_bytes(&encode_empty()).unwrap_or(empty);
+        let parts = comm::gather_bytes(&[]).unwrap_or_default();
         comm::workers_left();
         let stats = std::env::var_os(crate::distributed::STATS_VAR).is_some();
-        let mut all = mine;
+        let mut shares = vec![(0, mine)];
         for (r, bytes) in parts.iter().enumerate().skip(1) {
-            let share = decode(bytes).ok_or_else(|| {
+            let listed = Listed::decode(bytes).ok_or_else(|| {
                 Error::Compute(format!("the view-factor rows from MPI rank {r} arrived damaged"))
             })?;
+            shares.push((bytes.len(), listed));
+        }
+        let mut slots: Vec<Option<Row>> = vec![None; n];
+        let mut failure: Option<(usize, Error)> = None;
+        let mut seconds = Vec::with_capacity(size);
+        for (r, (sent, l)) in shares.into_iter().enumerate() {
             if stats {
                 eprintln!(
-                    "lambert: mpi: rank {r}: rows {}..{}, {:.3} s, {} bytes sent",
-                    share.first,
-                    share.first + share.rows.len(),
-                    share.seconds,
-                    bytes.len()
+                    "lambert: mpi: rank {r}: {} rows, {:.3} s ({:.3} s probing), {sent} bytes sent",
+                    l.at.len(),
+                    l.seconds,
+                    l.probe_seconds
                 );
             }
-            kernel.absorb(share.flags, share.misses);
-            if all.failure.is_none() {
-                all.failure = share.failure;
-                if all.rows.len() == share.first - all.first {
-                    all.rows.extend(share.rows);
+            seconds.push(l.seconds);
+            if r != 0 {
+                kernel.absorb(l.flags, l.misses);
+            }
+            for (i, row) in l.at.into_iter().zip(l.rows) {
+                slots[i] = Some(row);
+            }
+            if let Some((i, e)) = l.failure {
+                if failure.as_ref().is_none_or(|f| i < f.0) {
+                    failure = Some((i, e));
                 }
             }
         }
         if stats {
-            eprintln!(
-                "lambert: mpi: rank 0: rows {}..{}, {local_seconds:.3} s",
-                blocks[0].start, blocks[0].end
-            );
+            let mean = seconds.iter().sum::<f64>() / size as f64;
+            let max = seconds.iter().copied().fold(0.0, f64::max);
+            let split = if measured { "measured" } else { "estimated" };
+            eprintln!("lambert: mpi: {split} split, compute seconds max/mean {:.2}", max / mean.max(1e-12));
         }
-        Ok(Some(Gathered {
-            inner: kernel,
-            first: all.first,
-            rows: all.rows,
-            failure: Mutex::new(all.failure),
-        }))
+        let rows: Vec<Row> = slots.into_iter().map_while(|r| r).collect();
+        Ok(Some(Gathered::new(kernel, 0, rows, failure)))
     }
     #[cfg(not(feature = "mpi"))]
     {
@@ -195,27 +366,21 @@ pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Resu
     }
 }
 
-/// What rank 0 sends to its own gather: nothing.
-#[cfg(feature = "mpi")]
-fn encode_empty() -> Vec<u8> {
-    Vec::new()
-}
-
 // ---- wire format ----
 
-fn put_u8(b: &mut Vec<u8>, v: u8) {
+pub(super) fn put_u8(b: &mut Vec<u8>, v: u8) {
     b.push(v);
 }
-fn put_u32(b: &mut Vec<u8>, v: u32) {
+pub(super) fn put_u32(b: &mut Vec<u8>, v: u32) {
     b.extend_from_slice(&v.to_le_bytes());
 }
-fn put_u64(b: &mut Vec<u8>, v: u64) {
+pub(super) fn put_u64(b: &mut Vec<u8>, v: u64) {
     b.extend_from_slice(&v.to_le_bytes());
 }
-fn put_f64(b: &mut Vec<u8>, v: f64) {
+pub(super) fn put_f64(b: &mut Vec<u8>, v: f64) {
     b.extend_from_slice(&v.to_bits().to_le_bytes());
 }
-fn put_str(b: &mut Vec<u8>, s: &str) {
+pub(super) fn put_str(b: &mut Vec<u8>, s: &str) {
     put_u64(b, s.len() as u64);
     b.extend_from_slice(s.as_bytes());
 }
@@ -298,10 +463,10 @@ fn encode_error(b: &mut Vec<u8>, e: &Error) {
 }
 
 /// Reads what [`encode`] wrote; `None` when the bytes are damaged.
-struct Reader<'a>(&'a [u8]);
+pub(super) struct Reader<'a>(pub(super) &'a [u8]);
 
 impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Option<&[u8]> {
+    pub(super) fn take(&mut self, n: usize) -> Option<&[u8]> {
         if self.0.len() < n {
             return None;
         }
@@ -309,19 +474,19 @@ impl Reader<'_> {
         self.0 = rest;
         Some(a)
     }
-    fn u8(&mut self) -> Option<u8> {
+    pub(super) fn u8(&mut self) -> Option<u8> {
         self.take(1).map(|a| a[0])
     }
-    fn u32(&mut self) -> Option<u32> {
+    pub(super) fn u32(&mut self) -> Option<u32> {
         self.take(4).map(|a| u32::from_le_bytes(a.try_into().expect("4 bytes")))
     }
-    fn u64(&mut self) -> Option<u64> {
+    pub(super) fn u64(&mut self) -> Option<u64> {
         self.take(8).map(|a| u64::from_le_bytes(a.try_into().expect("8 bytes")))
     }
-    fn f64(&mut self) -> Option<f64> {
+    pub(super) fn f64(&mut self) -> Option<f64> {
         self.u64().map(f64::from_bits)
     }
-    fn string(&mut self) -> Option<String> {
+    pub(super) fn string(&mut self) -> Option<String> {
         let n = usize::try_from(self.u64()?).ok()?;
         self.take(n).map(|a| String::from_utf8_lossy(a).into_owned())
     }
@@ -477,9 +642,29 @@ mod tests {
     }
 
     #[test]
+    fn a_listed_share_survives_the_wire_and_keeps_the_earliest_failure() {
+        let s = share();
+        let mut l =
+            Listed { at: vec![3, 11, 19], rows: s.rows.clone(), probe_seconds: 0.25, ..Listed::default() };
+        l.failure = Some((27, Error::Compute("late".into())));
+        let later = Listed { failure: Some((20, Error::Compute("early".into()))), ..Listed::default() };
+        l.append(later);
+        let d = Listed::decode(&l.encode()).expect("decodes");
+        assert_eq!(d.at, vec![3, 11, 19]);
+        assert_eq!(d.rows, s.rows);
+        assert_eq!(d.probe_seconds, 0.25);
+        let (row, e) = d.failure.expect("a failure");
+        assert_eq!((row, e.to_string()), (20, "early".to_string()));
+        let bytes = Listed { at: vec![1], ..Listed::default() }.encode();
+        assert!(Listed::decode(&bytes).is_none(), "an index without its row is refused");
+    }
+
+    #[test]
     fn the_agreement_hash_changes_with_the_options() {
         let scene = crate::scene::Scene::default();
-        assert_ne!(agreement_hash(&scene, "auto 1e-4", true), agreement_hash(&scene, "auto 1e-3", true));
-        assert_ne!(agreement_hash(&scene, "auto", true), agreement_hash(&scene, "auto", false));
+        let h = |o: &str, s: bool, t: u64| agreement_hash(&scene, o, s, t);
+        assert_ne!(h("auto 1e-4", true, 0), h("auto 1e-3", true, 0));
+        assert_ne!(h("auto", true, 0), h("auto", false, 0));
+        assert_ne!(h("auto", true, 1), h("auto", true, 2), "the trees' hash takes part");
     }
 }

@@ -28,7 +28,8 @@ const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level) -> Result<ViewFactors> {
     let start = Instant::now();
     // Under mpirun: every rank computes a block of rows, rank 0 folds them all (others exit).
-    let gathered = super::distributed::rows(scene, kernel, &format!("sparse {level:?} {params:?}"))?;
+    let gathered =
+        super::distributed::rows(scene, kernel, &format!("sparse {level:?} {}", params.agreement()))?;
     let kernel: &dyn RowKernel = match &gathered {
         Some(g) => g,
         None => kernel,

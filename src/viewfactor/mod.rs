@@ -14,6 +14,7 @@
 //! - [`range`]: the final check that every written factor lies in [0, 1];
 //! - [`flags`]: entries a method could not bound, reported on stderr;
 //! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
+//! - [`shard`]: rows split between independent runs (`--shard`) and merged (`lambert merge`);
 //! - [`registry`]: the [`Method`] enum and one [`MethodInfo`] row per method (kernel, error
 //!   model, leak thresholds, knob, chart colour), asked by the plan, enforcement, validation
 //!   and the charts instead of each matching on the method;
@@ -41,6 +42,7 @@ pub mod range;
 pub mod registry;
 pub mod row;
 pub mod shadow;
+pub mod shard;
 pub mod single_plane;
 pub mod sink;
 pub mod triangle;
@@ -134,6 +136,14 @@ pub const DEFAULT_RESOLUTION: usize = 256;
 /// Default `auto` tolerance: 1e-4 absolute on each F (issue brief, View3D's default eps).
 pub const DEFAULT_FACTOR_TOLERANCE: f64 = 1e-4;
 
+impl Params {
+    /// The settings that change a number, as text for the agreement hash of MPI ranks and
+    /// shards (the progress display left out: it never changes one).
+    pub fn agreement(&self) -> String {
+        format!("{:?}", Params { progress: false, ..self.clone() })
+    }
+}
+
 impl Default for Params {
     fn default() -> Self {
         Self {
@@ -188,7 +198,7 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
     let mode = progress::Mode::for_stderr(params.progress);
     let progress = progress::Progress::start_costed(total, "pairs", mode, costs.iter().sum());
     // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
-    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {params:?}"))?;
+    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {}", params.agreement()))?;
     let kernel: &dyn engine::RowKernel = match &gathered {
         Some(g) => g,
         None => kernel.as_ref(),

@@ -54,6 +54,11 @@ pub trait RowKernel: Sync {
     fn row_costs(&self) -> Option<Vec<u64>> {
         None
     }
+    /// Hash of the acceleration trees the kernel built (BVH nodes and primitive order), so
+    /// that MPI ranks and shards whose trees differ are refused; 0 for a kernel without one.
+    fn tree_hash(&self) -> u64 {
+        0
+    }
     /// Merges the flags and misses that a copy of this kernel recorded on another MPI rank, so
     /// that [`RowKernel::warnings`] and [`RowKernel::flags`] cover every row.
     fn absorb(&self, flags: Vec<super::Flag>, misses: (u64, Option<super::shadow::misses::Miss>)) {

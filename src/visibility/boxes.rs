@@ -55,6 +55,27 @@ impl BoxTree {
             obvhs::bvh2::builder::build_bvh2(&prims, BvhBuildParams::fast_build(), &mut Duration::default());
         Self { bvh, boxes }
     }
+    /// Feeds the tree (every node's box, count and index, the primitive order) and the
+    /// stored boxes to `h`: equal hashes mean equal trees (the MPI and shard agreement check).
+    pub fn hash_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write_u64(self.bvh.nodes.len() as u64);
+        for n in &self.bvh.nodes {
+            for v in [n.aabb.min, n.aabb.max] {
+                v.to_array().iter().for_each(|x| h.write_u32(x.to_bits()));
+            }
+            h.write_u32(n.prim_count);
+            h.write_u32(n.first_index);
+        }
+        self.bvh.primitive_indices.iter().for_each(|&k| h.write_u32(k));
+        for (lo, hi) in &self.boxes {
+            lo.to_array().iter().chain(hi.to_array().iter()).for_each(|x| h.write_u64(x.to_bits()));
+        }
+    }
+    /// Swaps the first two primitive indices: a tree as another build could order it.
+    #[cfg(test)]
+    pub(crate) fn swap_primitives_for_test(&mut self) {
+        self.bvh.primitive_indices.swap(0, 1);
+    }
     /// Number of boxes.
     pub fn len(&self) -> usize {
         self.boxes.len()

@@ -160,6 +160,29 @@ impl Visibility {
         Self::with_params(scene, BvhBuildParams::medium_build())
     }
 
+    /// Hash of the built tree: every CWBVH node as stored, the primitive order and each
+    /// triangle's owner. Ranks or shards whose hashes differ would not trace the same rays.
+    pub fn tree_hash(&self) -> u64 {
+        use std::hash::Hasher;
+        let mut h = fnv::FnvHasher::default();
+        h.write_u64(self.bvh.nodes.len() as u64);
+        for n in &self.bvh.nodes {
+            n.p.to_array().iter().for_each(|x| h.write_u32(x.to_bits()));
+            h.write(&n.e);
+            h.write_u8(n.imask);
+            h.write_u32(n.child_base_idx);
+            h.write_u32(n.primitive_base_idx);
+            for a in [n.child_meta, n.child_min_x, n.child_max_x, n.child_min_y, n.child_max_y] {
+                h.write(&a);
+            }
+            h.write(&n.child_min_z);
+            h.write(&n.child_max_z);
+        }
+        self.bvh.primitive_indices.iter().for_each(|&k| h.write_u32(k));
+        self.owner.iter().for_each(|&k| h.write_u32(k));
+        h.finish()
+    }
+
     /// Builds with an explicit obvhs preset (benchmarks compare them).
     pub fn with_params(scene: &Scene, params: BvhBuildParams) -> Self {
         let start = Instant::now();
@@ -325,6 +348,30 @@ mod tests {
     #[test]
     fn visibility_is_send_and_sync() {
         assert_send_sync::<Visibility>();
+    }
+
+    /// Two unit squares facing each other at `gap`, 3 × 3 patches each.
+    fn squares(gap: f64) -> Scene {
+        let grid = |o: DVec3, u: DVec3, v: DVec3| {
+            crate::geometry::subdivide::parallelogram_grid(o, u, v, 3, 3).expect("a grid")
+        };
+        Scene::builder()
+            .surface("low", grid(DVec3::ZERO, DVec3::X, DVec3::Y), 0.9, None)
+            .surface("high", grid(DVec3::Z * gap, DVec3::Y, DVec3::X), 0.9, None)
+            .build()
+    }
+
+    #[test]
+    fn the_tree_hash_tells_equal_trees_from_different_ones() {
+        let a = Visibility::new(&squares(1.0));
+        assert_eq!(a.tree_hash(), Visibility::new(&squares(1.0)).tree_hash());
+        assert_ne!(a.tree_hash(), Visibility::new(&squares(1.5)).tree_hash(), "another geometry");
+        let mut node = a.clone();
+        node.bvh.nodes[0].child_meta[0] ^= 1;
+        assert_ne!(a.tree_hash(), node.tree_hash(), "one node byte differs");
+        let mut order = a.clone();
+        order.bvh.primitive_indices.swap(0, 1);
+        assert_ne!(a.tree_hash(), order.tree_hash(), "the primitives in another order");
     }
 
     #[test]

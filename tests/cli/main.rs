@@ -1,4 +1,4 @@
-//! Integration tests of the `lambert` command line: errors and hints, outputs, rendering, progress, determinism and fuzzing.
+//! Integration tests of the `lambert` command line: errors and hints, outputs, rendering, progress, determinism, shards and fuzzing.
 //!
 //! Every file under `tests/cli/` is a module here, and this area a module of the one
 //! integration-test binary (`tests/integration.rs`). Run one with
@@ -16,5 +16,6 @@ mod determinism;
 mod fuzz;
 mod points;
 mod quiet;
+mod shards;
 mod small_messages;
 mod vtk_output;

@@ -401,6 +401,10 @@ impl RowKernel for AnalyticKernel<'_> {
         self.shadows.as_ref().map_or((0, None), |s| s.misses().summary())
     }
 
+    fn tree_hash(&self) -> u64 {
+        self.shadows.as_ref().map_or(0, |s| s.blockers().tree_hash())
+    }
+
     fn absorb(&self, flags: Vec<Flag>, misses: (u64, Option<crate::viewfactor::shadow::misses::Miss>)) {
         for f in flags {
             self.flags.push(f);

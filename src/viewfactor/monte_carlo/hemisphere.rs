@@ -75,6 +75,10 @@ impl RowKernel for HemisphereKernel<'_> {
         false
     }
 
+    fn tree_hash(&self) -> u64 {
+        self.c.vis.tree_hash()
+    }
+
     fn row(&self, i: usize, out: &mut Row) -> Result<()> {
         let c = &self.c;
         let vis = c.vis;

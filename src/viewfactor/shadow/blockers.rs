@@ -74,6 +74,18 @@ pub struct Blockers {
 }
 
 impl Blockers {
+    /// Hash of both box trees (blockers and patches) and the snap and pad lengths: the
+    /// agreement check of MPI ranks and shards.
+    pub fn tree_hash(&self) -> u64 {
+        use std::hash::Hasher;
+        let mut h = fnv::FnvHasher::default();
+        self.blocker_tree.hash_into(&mut h);
+        self.patch_tree.hash_into(&mut h);
+        h.write_u64(self.snap.to_bits());
+        h.write_u64(self.pad.to_bits());
+        h.finish()
+    }
+
     /// Collects, filters and indexes the blockers of `scene`.
     pub fn new(scene: &Scene) -> Self {
         Self::seen_from(scene, &[])
@@ -439,6 +451,20 @@ mod tests {
             b = b.surface(&format!("wall{k}"), f, 0.9, None);
         }
         b.obstruction("block", block).build()
+    }
+
+    #[test]
+    fn the_tree_hash_tells_equal_trees_from_different_ones() {
+        let a = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        let again = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        assert_eq!(a.tree_hash(), again.tree_hash(), "the same scene builds the same trees");
+        // The block moved by a hundredth: other node boxes, another hash.
+        let moved = Blockers::new(&room_with(dented_block(DVec3::splat(1.01), 0.0)));
+        assert_ne!(a.tree_hash(), moved.tree_hash());
+        // The same boxes in another primitive order (a tree built differently): another hash.
+        let mut swapped = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        swapped.blocker_tree.swap_primitives_for_test();
+        assert_ne!(a.tree_hash(), swapped.tree_hash());
     }
 
     #[test]
