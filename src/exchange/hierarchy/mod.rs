@@ -301,10 +301,7 @@ impl Hierarchy {
             + std::mem::size_of_val(&sampled[..])
             + n_nodes * std::mem::size_of::<tree::Node>();
         let shares = held.shares(Share { links: links.len(), pairs: pairs.len(), bytes });
-        if held.distributed
-            && crate::distributed::writes_outputs()
-            && std::env::var_os(crate::distributed::STATS_VAR).is_some()
-        {
+        if crate::distributed::writes_outputs() && std::env::var_os(crate::distributed::STATS_VAR).is_some() {
             for (r, s) in shares.iter().enumerate() {
                 eprintln!(
                     "lambert: mpi: hierarchy rank {r}: chunks {:?}, {} links, {} patch pairs, {:.1} MB",
