@@ -138,10 +138,9 @@ fn hierarchical_solves_are_the_same_on_any_rank_count() {
     let d = dir.path();
     let (furnace, open) = (furnace(d), open_cube(d));
     // The obstructed room with conditions: the floor at 400 K, the rest at 300 K, ε 0.6.
-    let text = std::fs::read_to_string(room(d)).unwrap().replace(
-        "[[surface]]\n",
-        "[[surface]]\nemissivity = 0.6\ntemperature = 300.0\n",
-    );
+    let text = std::fs::read_to_string(room(d))
+        .unwrap()
+        .replace("[[surface]]\n", "[[surface]]\nemissivity = 0.6\ntemperature = 300.0\n");
     let heated = d.join("heated.toml");
     std::fs::write(&heated, text.replacen("temperature = 300.0", "temperature = 400.0", 1)).unwrap();
     let heated = heated.to_str().unwrap().to_string();
