@@ -1,9 +1,10 @@
 //! The same numbers on any rank count (feature `mpi`, needs `mpiexec` on PATH, MPICH): the
 //! output files of `mpiexec -np 1/2/3 lambert …` are byte-identical to a run without MPI, for
 //! auto, analytic and Monte Carlo view factors (patch and surface level) and the solve routes
-//! (packed dense, sparse patch rows, hierarchical, iterative), with the measured and the
-//! estimated row split, and as merged shards. Ranks that load different geometry are refused
-//! with exit code 2, and only rank 0 writes.
+//! (packed dense, sparse patch rows, hierarchical — distributed, one and two passes, open and
+//! closed — and iterative), with the measured and the estimated row split, and as merged
+//! shards; each rank holds a share of the hierarchy's links and pairs. Ranks that load
+//! different geometry are refused with exit code 2, and only rank 0 writes.
 //!
 //! Run with `cargo test --release --features mpi --test mpi` (the release binary is the one
 //! `cargo build --release --features mpi` makes, so CI builds it once).
@@ -148,6 +149,109 @@ fn both_row_splits_and_merged_shards_give_the_same_file() {
     let o = Command::new(BIN).arg("merge").args(&parts).args(["-o", &merged]).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(std::fs::read(&merged).unwrap() == want, "the merged shards differ from the run without MPI");
+}
+
+/// The open-top cube furnace (ambient at 0 K) with 6×6 patches per face (180 patches).
+fn open_cube(dir: &Path) -> String {
+    let text = std::fs::read_to_string(case("e4_cube_open_top")).unwrap();
+    let text: String =
+        text.lines()
+            .map(|l| {
+                if l.starts_with("rectangle") {
+                    format!("{l}\nsubdivide = [6, 6]\n")
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect();
+    let p = dir.join("open.toml");
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn hierarchical_solves_are_the_same_on_any_rank_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (furnace, open) = (furnace(d), open_cube(d));
+    // The obstructed room with conditions: the floor at 400 K, the rest at 300 K, ε 0.6.
+    let text = std::fs::read_to_string(room(d))
+        .unwrap()
+        .replace("[[surface]]\n", "[[surface]]\nemissivity = 0.6\ntemperature = 300.0\n");
+    let heated = d.join("heated.toml");
+    std::fs::write(&heated, text.replacen("temperature = 300.0", "temperature = 400.0", 1)).unwrap();
+    let heated = heated.to_str().unwrap().to_string();
+    // One pass at 1e-2, two passes (the first's pairs reused) at 1e-3; closed and open scenes,
+    // the room with its blocker's shadows.
+    for (what, scene, tol) in [
+        ("furnace one pass", &furnace, "1e-2"),
+        ("furnace two passes", &furnace, "1e-3"),
+        ("heated room two passes", &heated, "1e-3"),
+        ("open one pass", &open, "1e-2"),
+        ("open two passes", &open, "1e-3"),
+    ] {
+        let args = ["--patches", "--exchange", "hierarchical", "--tolerance", tol];
+        assert_same_on_any_rank_count(d, what, "solve", scene, &args);
+    }
+}
+
+/// (links, patch pairs) of each rank of the last hierarchy a run built, from its statistics.
+fn shares(np: Option<usize>, scene: &str, out: &Path) -> Vec<(usize, usize)> {
+    let mut cmd = match np {
+        Some(np) => {
+            let mut c = Command::new("mpiexec");
+            c.args(["-np", &np.to_string(), BIN]);
+            c
+        }
+        None => Command::new(BIN),
+    };
+    let o = cmd
+        .args(["solve", scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "hierarchical"])
+        .args(["--tolerance", "1e-3"])
+        .env("LAMBERT_MPI_STATS", "1")
+        .output()
+        .expect("run lambert");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let lines: Vec<(usize, usize)> = err
+        .lines()
+        .filter(|l| l.contains("mpi: hierarchy rank") && l.contains("links"))
+        .map(|l| {
+            let num = |word: &str| {
+                let before = l.split(word).next().unwrap();
+                before.trim_end().rsplit([' ', ',']).next().unwrap().parse::<usize>().unwrap()
+            };
+            (num(" links"), num(" patch pairs"))
+        })
+        .collect();
+    let k = np.unwrap_or(1);
+    assert!(lines.len() >= k, "{err}");
+    lines[lines.len() - k..].to_vec()
+}
+
+#[test]
+fn each_rank_holds_a_share_of_the_links_and_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    let whole = shares(None, &furnace, &d.join("one.csv"));
+    assert_eq!(whole.len(), 1);
+    let (links, pairs) = whole[0];
+    assert!(links > 10 && pairs > 1000, "{whole:?}");
+    for np in [2, 3] {
+        let parts = shares(Some(np), &furnace, &d.join(format!("np{np}.csv")));
+        // Every link and pair is held by exactly one rank ...
+        assert_eq!(parts.iter().map(|p| p.0).sum::<usize>(), links, "np {np}: {parts:?}");
+        assert_eq!(parts.iter().map(|p| p.1).sum::<usize>(), pairs, "np {np}: {parts:?}");
+        // ... and each holds about 1/np of them (16 chunks: 6/16 at most of 3 ranks).
+        for (r, &(l, p)) in parts.iter().enumerate() {
+            let share = (l + p) as f64 / (links + pairs) as f64;
+            assert!(
+                share > 0.5 / np as f64 && share < 1.5 / np as f64,
+                "np {np}, rank {r}: {share} of the entries"
+            );
+        }
+    }
 }
 
 /// Runs `viewfactors` under MPMD `mpiexec`: rank 0 on `a`, rank 1 on `b`, one output name.

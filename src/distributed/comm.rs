@@ -161,6 +161,15 @@ pub fn check_rows(hash: u64, what: &str) {
     }
 }
 
+/// Aborts the run: rank `rank` holds `bytes` bytes for one all-gather, more than one MPI
+/// message carries (2 GiB, MPI's int counts).
+pub fn refuse_big(rank: usize, bytes: u64) -> ! {
+    refuse(&format!(
+        "rank {rank} holds {bytes} bytes for one exchange between the ranks, more than one MPI \
+         message carries (2 GiB); run on more ranks"
+    ))
+}
+
 /// Gathers every rank's bytes to rank 0, in rank order (`None` on the other ranks).
 pub fn gather_bytes(mine: &[u8]) -> Option<Vec<Vec<u8>>> {
     let world = world();

@@ -6,12 +6,15 @@
 //! - [`partition`]: contiguous row blocks balanced by an estimated cost per row;
 //! - `comm` (feature `mpi`): the communicator: start-up, checked sync points (a tag and a hash
 //!   of the geometry compared across ranks; a mismatch aborts the run), byte gathers, and the
-//!   end of the run (every rank exits with rank 0's code).
+//!   end of the run (every rank exits with rank 0's code);
+//! - [`reduce`]: reductions in a fixed order (an ordered chain, all-gathers), bit-identical to
+//!   one process, for the distributed link hierarchy.
 //!
 //! Rank 0 is the root: it prints, writes and decides the exit code. The other ranks send their
 //! rows and leave (see `viewfactor::distributed`); their stderr is silenced unless
 //! [`VERBOSE_VAR`] is set.
 pub mod partition;
+pub mod reduce;
 
 #[cfg(feature = "mpi")]
 pub mod comm;

@@ -102,7 +102,23 @@ pub fn solve_scene_with(
     solution.heat_rate_error = Some(error);
     solution.heat_rate_shift = Some(shift);
     solution.info.solver = "conjugate gradients on the link hierarchy".into();
+    report_bytes_sent();
     Ok(ClusteredRun { solution, report, stats: h.stats, first })
+}
+
+/// Under MPI with [`crate::distributed::STATS_VAR`] set: rank 0 prints the bytes each rank sent
+/// in the hierarchy's sums (a collective: every rank calls it).
+fn report_bytes_sent() {
+    use crate::distributed::{reduce, STATS_VAR};
+    if std::env::var_os(STATS_VAR).is_none() || !reduce::active() {
+        return;
+    }
+    let sent = reduce::all_gather_u64(reduce::bytes_sent());
+    if crate::distributed::writes_outputs() {
+        for (r, b) in sent.iter().enumerate() {
+            eprintln!("lambert: mpi: hierarchy rank {r} sent {b} bytes");
+        }
+    }
 }
 
 /// A first pass at tolerance `loose`: each patch's radiosity range (W/m²) — its solved J ±

@@ -14,6 +14,12 @@
 //!
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
+//!
+//! Under MPI ([`part`]) the refinement runs on every rank, then each rank keeps and evaluates
+//! only its chunks of links and patch pairs; every sum over them (the operator's product, row
+//! sums, error estimates) is a local sum plus a combination in a fixed order, bit-identical to
+//! one process. The tree, the vectors over patches and nodes, and the sampled pairs' variances
+//! are replicated.
 use super::dense::{capped_scales, closure_scales};
 use super::enforce::{EnforceReport, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
 use super::operator::Operator;
@@ -29,9 +35,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
+pub mod part;
 pub mod refine;
 pub mod tree;
 
+pub use part::Share;
+use part::{Held, Split};
 pub use refine::Link;
 use tree::Tree;
 
@@ -59,8 +68,10 @@ pub struct Stats {
     pub leaf_pairs: usize,
     /// Visibility rays cast for cluster links.
     pub rays: u64,
-    /// Bytes of the tree, links and adjacency.
+    /// Bytes of the tree, links and adjacency this process holds.
     pub bytes: usize,
+    /// What each MPI rank holds, in rank order (one entry without MPI).
+    pub shares: Vec<Share>,
     /// Wall time of the refinement.
     pub refine: Duration,
     /// Wall time of the patch pairs.
@@ -73,6 +84,8 @@ pub struct PairCache {
     leaf_of: Vec<u32>,
     pairs: Vec<(u32, u32, f64)>,
     sampled: Vec<(u32, u32, f64)>,
+    /// The build's chunks: a later build keeps each row on the same rank.
+    split: Split,
 }
 
 impl PairCache {
@@ -93,10 +106,14 @@ pub struct Hierarchy {
     tree: Tree,
     /// Patch areas (patch order).
     areas: Vec<f64>,
-    /// Cluster links with their error bounds, sorted by (a, b).
+    /// Cluster links with their error bounds, sorted by (a, b): this process's chunks.
     links: Vec<Link>,
-    /// Exact patch pairs as (leaf node, leaf node, s), sorted.
+    /// Exact patch pairs as (leaf node, leaf node, s), sorted within each chunk: this
+    /// process's chunks.
     pairs: Vec<(u32, u32, f64)>,
+    /// The chunks and which of them this process holds.
+    split: Split,
+    held: Held,
     /// Patch pairs estimated by sampling (`auto`): (i, j, variance of s_ij in m⁴).
     sampled: Vec<(u32, u32, f64)>,
     /// Scales g of enforcement (S → G S G), patch order.
@@ -175,13 +192,28 @@ impl Hierarchy {
             prefix,
             seed: vf.seed,
         };
-        let refined = refine::refine(&ctx);
+        let refine::Refined { links, leaves, rays } = refine::refine(&ctx);
         let t_refine = start.elapsed();
         let start = Instant::now();
+        // This process's chunks (all of them without MPI); a second pass keeps the first's.
+        let (rank, size) =
+            if crate::distributed::reduce::active() { crate::distributed::rank_size() } else { (0, 1) };
+        let split = match known.as_ref() {
+            Some(k) if k.split.ranks.len() == size => k.split.clone(),
+            _ => Split::new(&leaves, scene.patches.len(), size),
+        };
+        let chunks = split.ranks[rank].clone();
+        let leaf_pairs = leaves.len();
+        let rows = split.rows_of(&chunks);
+        let mut pairs = if size > 1 {
+            let (lo, hi) =
+                (leaves.partition_point(|p| p.0 < rows.start), leaves.partition_point(|p| p.0 < rows.end));
+            leaves[lo..hi].to_vec()
+        } else {
+            leaves
+        };
         // Patch pairs by row, each row through the kernel's own row code, their values
         // written into the refinement's list in place (no second list of pairs).
-        let mut pairs = refined.leaves;
-        let leaf_pairs = pairs.len();
         let mut rows: Vec<&mut [(u32, u32, f64)]> = Vec::new();
         let mut rest = &mut pairs[..];
         while !rest.is_empty() {
@@ -226,38 +258,93 @@ impl Hierarchy {
             sampled.extend(vars.into_iter().flatten());
         }
         drop((rows, known));
-        // Patch order to leaf nodes; pairs that exchange nothing are dropped.
-        pairs.retain(|p| p.2 != 0.0);
+        // Chunk by chunk: pairs that exchange nothing are dropped, patch order goes to leaf
+        // nodes, and each chunk is sorted.
+        let starts: Vec<usize> =
+            (chunks.start..=chunks.end).map(|c| pairs.partition_point(|p| p.0 < split.rows[c])).collect();
+        let mut kept = 0;
+        let mut pair_bounds = vec![0];
+        for w in starts.windows(2) {
+            for r in w[0]..w[1] {
+                if pairs[r].2 != 0.0 {
+                    pairs[kept] = pairs[r];
+                    kept += 1;
+                }
+            }
+            pair_bounds.push(kept);
+        }
+        pairs.truncate(kept);
         let leaf_of = &tree.leaf_of;
         pairs.par_iter_mut().for_each(|p| *p = (leaf_of[p.0 as usize], leaf_of[p.1 as usize], p.2));
+        for w in pair_bounds.windows(2) {
+            pairs[w[0]..w[1]].par_sort_unstable_by_key(|p| (p.0, p.1));
+        }
         pairs.shrink_to_fit();
         let t_pairs = start.elapsed();
         let n_nodes = tree.nodes.len();
-        let links = refined.links;
-        pairs.par_sort_unstable_by_key(|p| (p.0, p.1));
+        // This process's chunks of the links.
+        let total_links = links.len();
+        let first = part::link_range(total_links, chunks.start).start;
+        let link_bounds: Vec<usize> = (chunks.start..=chunks.end)
+            .map(|c| if c == chunks.end { part::link_range(total_links, c - 1).end } else { part::link_range(total_links, c).start } - first)
+            .collect();
+        let links =
+            if size > 1 { links[first..first + link_bounds[link_bounds.len() - 1]].to_vec() } else { links };
+        let held = Held { distributed: size > 1, chunks, links: link_bounds, pairs: pair_bounds };
+        // The sampled pairs' variances are replicated: every rank's, sorted.
+        if held.distributed {
+            sampled = held.all_gather(&part::encode(&sampled)).iter().flat_map(|b| part::decode(b)).collect();
+        }
         sampled.par_sort_unstable_by_key(|p| (p.0, p.1));
         let bytes = std::mem::size_of_val(&links[..])
             + std::mem::size_of_val(&pairs[..])
             + std::mem::size_of_val(&sampled[..])
             + n_nodes * std::mem::size_of::<tree::Node>();
+        let shares = held.shares(Share { links: links.len(), pairs: pairs.len(), bytes });
+        if crate::distributed::writes_outputs() && std::env::var_os(crate::distributed::STATS_VAR).is_some() {
+            for (r, s) in shares.iter().enumerate() {
+                eprintln!(
+                    "lambert: mpi: hierarchy rank {r}: chunks {:?}, {} links, {} patch pairs, {:.1} MB",
+                    split.ranks[r],
+                    s.links,
+                    s.pairs,
+                    s.bytes as f64 / 1e6
+                );
+            }
+        }
         let stats = Stats {
             nodes: n_nodes,
-            links: links.len(),
+            links: total_links,
             leaf_pairs,
-            rays: refined.rays,
+            rays,
             bytes,
+            shares,
             refine: t_refine,
             pairs: t_pairs,
         };
         let areas = tree.geom.iter().map(|g| g.area).collect();
         let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
-        Ok(Hierarchy { tree, areas, links, pairs, sampled, g: None, names, ambient: None, stats })
+        Ok(Hierarchy {
+            tree,
+            areas,
+            links,
+            pairs,
+            split,
+            held,
+            sampled,
+            g: None,
+            names,
+            ambient: None,
+            stats,
+        })
     }
 
-    /// The patch pairs alone, for a later build of the same scene and kernel; the links and
-    /// indexes are freed.
+    /// The patch pairs alone (this process's), for a later build of the same scene and kernel;
+    /// the links and indexes are freed.
     pub fn into_pairs(self) -> PairCache {
-        PairCache { leaf_of: self.tree.leaf_of, pairs: self.pairs, sampled: self.sampled }
+        let mut pairs = self.pairs;
+        pairs.par_sort_unstable_by_key(|p| (p.0, p.1));
+        PairCache { leaf_of: self.tree.leaf_of, pairs, sampled: self.sampled, split: self.split }
     }
 
     /// Area-weighted means of `x` (patch order) over every node.
@@ -298,22 +385,22 @@ impl Hierarchy {
     }
 
     /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o. The entries are cut into
-    /// [`GATHER_CHUNKS`] fixed ranges, each spread (both directions) into its own buffer, and
-    /// the buffers are added in order: the same sums on any thread count, and no index of the
-    /// entries by their second end.
+    /// [`part::CHUNKS`] fixed chunks, each spread (both directions) into its own buffer, and
+    /// the buffers are added in chunk order (across ranks under MPI): the same sums on any
+    /// thread or rank count, and no index of the entries by their second end.
     fn gather(&self, m: &[f64]) -> Vec<f64> {
         let nodes = self.tree.nodes.len();
-        let range = |len: usize, c: usize| len * c / GATHER_CHUNKS..len * (c + 1) / GATHER_CHUNKS;
-        let bufs: Vec<Vec<f64>> = (0..GATHER_CHUNKS)
+        let (lb, pb) = (&self.held.links, &self.held.pairs);
+        let bufs: Vec<Vec<f64>> = (0..lb.len() - 1)
             .into_par_iter()
             .map(|c| {
                 let mut y = vec![0.0; nodes];
-                for l in &self.links[range(self.links.len(), c)] {
+                for l in &self.links[lb[c]..lb[c + 1]] {
                     let (a, b, s) = (l.a as usize, l.b as usize, l.s());
                     y[a] += s * m[b];
                     y[b] += s * m[a];
                 }
-                for &(a, b, s) in &self.pairs[range(self.pairs.len(), c)] {
+                for &(a, b, s) in &self.pairs[pb[c]..pb[c + 1]] {
                     let (a, b) = (a as usize, b as usize);
                     y[a] += s * m[b];
                     y[b] += s * m[a];
@@ -321,11 +408,11 @@ impl Hierarchy {
                 y
             })
             .collect();
-        let mut y = vec![0.0; nodes];
-        for b in &bufs {
-            y.par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
-        }
-        y
+        self.held.sum(nodes, |y| {
+            for b in &bufs {
+                y.par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
+            }
+        })
     }
 
     /// Per-patch bound on the row-sum error Σ_j |δs_ij| from the cluster links, m².
@@ -341,11 +428,12 @@ impl Hierarchy {
 
     /// Per patch: Σ over the links of its clusters of `f(link)`, shared by area.
     fn row_sum_of(&self, f: impl Fn(&Link) -> f64) -> Vec<f64> {
-        let mut z = vec![0.0; self.tree.nodes.len()];
-        for l in &self.links {
-            z[l.a as usize] += f(l);
-            z[l.b as usize] += f(l);
-        }
+        let z = self.held.sum(self.tree.nodes.len(), |z| {
+            for l in &self.links {
+                z[l.a as usize] += f(l);
+                z[l.b as usize] += f(l);
+            }
+        });
         self.push(&z)
     }
 
@@ -371,13 +459,14 @@ impl Hierarchy {
         let n = self.areas.len();
         let g = |k: usize| self.g.as_ref().map_or(1.0, |g| g[k]);
         let gmax = (0..self.areas.len()).map(g).fold(1.0, f64::max);
-        let mut z = vec![0.0; nodes.len()];
-        for l in self.links.iter().filter(|l| l.s > 0.0) {
-            let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
-            let dq = l.err() * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
-            z[l.a as usize] += dq;
-            z[l.b as usize] += dq;
-        }
+        let z = self.held.sum(nodes.len(), |z| {
+            for l in self.links.iter().filter(|l| l.s > 0.0) {
+                let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
+                let dq = l.err() * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
+                z[l.a as usize] += dq;
+                z[l.b as usize] += dq;
+            }
+        });
         let mut e = self.push(&z);
         // Sampled pairs: LEAK_ERR_SIGMAS standard errors of Σ_j s_ij (J_i − J_j).
         let mut var = vec![0.0; n];
@@ -438,25 +527,31 @@ impl Hierarchy {
         // Per node, over its links (o the other end, G the gradient seen from this end):
         // patch i gets A_i (α + β·(x_i − c) − J_i γ·(x_i − c)), α = −G·m_o, β = G A_o J̄_o,
         // γ = G A_o.
-        let mut alpha = vec![0.0; nodes.len()];
-        let mut beta = vec![DVec3::ZERO; nodes.len()];
-        let mut gamma = vec![DVec3::ZERO; nodes.len()];
-        for l in self.links.iter().filter(|l| l.s > 0.0) {
-            let (a, b) = (l.a as usize, l.b as usize);
-            let (na, nb) = (&nodes[a], &nodes[b]);
-            if na.planes.is_none() || nb.planes.is_none() {
-                continue;
+        // α, β, γ packed by node (7 values each), summed in link order across ranks.
+        let packed = self.held.sum(7 * nodes.len(), |z| {
+            for l in self.links.iter().filter(|l| l.s > 0.0) {
+                let (a, b) = (l.a as usize, l.b as usize);
+                let (na, nb) = (&nodes[a], &nodes[b]);
+                if na.planes.is_none() || nb.planes.is_none() {
+                    continue;
+                }
+                // A partly visible link's rays scaled its value, and so its variation.
+                let one = if self.stats.rays > 0 { refine::second_order(na, nb) } else { 0.0 };
+                let v = if one > 0.0 { (l.s() / one).min(1.0) } else { 1.0 };
+                let g = refine::kernel_gradient(na, nb) * v;
+                for (x, o, g) in [(a, b, g), (b, a, -g)] {
+                    let (db, dg) = (g * (nodes[o].area * mean[o]), g * nodes[o].area);
+                    let z = &mut z[7 * x..7 * x + 7];
+                    z[0] -= g.dot(moment[o]);
+                    for (k, d) in [db.x, db.y, db.z, dg.x, dg.y, dg.z].into_iter().enumerate() {
+                        z[1 + k] += d;
+                    }
+                }
             }
-            // A partly visible link's rays scaled its value, and so its variation.
-            let one = if self.stats.rays > 0 { refine::second_order(na, nb) } else { 0.0 };
-            let v = if one > 0.0 { (l.s() / one).min(1.0) } else { 1.0 };
-            let g = refine::kernel_gradient(na, nb) * v;
-            for (x, o, g) in [(a, b, g), (b, a, -g)] {
-                alpha[x] -= g.dot(moment[o]);
-                beta[x] += g * (nodes[o].area * mean[o]);
-                gamma[x] += g * nodes[o].area;
-            }
-        }
+        });
+        let alpha: Vec<f64> = packed.chunks_exact(7).map(|z| z[0]).collect();
+        let beta: Vec<DVec3> = packed.chunks_exact(7).map(|z| DVec3::new(z[1], z[2], z[3])).collect();
+        let gamma: Vec<DVec3> = packed.chunks_exact(7).map(|z| DVec3::new(z[4], z[5], z[6])).collect();
         // Down the tree, each sum of affine terms re-centred on the node: s + v·(x − c) and
         // t + u·(x − c); a leaf's centroid is its patch's.
         let mut acc = vec![(0.0, DVec3::ZERO, 0.0, DVec3::ZERO); nodes.len()];
@@ -547,9 +642,9 @@ impl Hierarchy {
     }
 
     fn diagnostics(&self, sums: &[f64], open: bool) -> Diagnostics {
-        let negatives = self.links.iter().filter(|l| l.s < 0.0).count()
-            + self.pairs.iter().filter(|p| p.2 < 0.0).count()
-            + self.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
+        let negatives = self.held.total(
+            self.links.iter().filter(|l| l.s < 0.0).count() + self.pairs.iter().filter(|p| p.2 < 0.0).count(),
+        ) + self.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
         // Reciprocity is exact by construction.
         Diagnostics::from_rows(sums, &self.areas, &self.names, open, 0.0, negatives)
     }
@@ -615,7 +710,7 @@ impl Hierarchy {
         .into())
     }
 
-    /// Cluster links with their error bounds.
+    /// Cluster links with their error bounds (this process's chunks under MPI).
     pub fn links(&self) -> &[Link] {
         &self.links
     }
@@ -635,6 +730,40 @@ impl Operator for Hierarchy {
         0.0
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
+        if !self.held.distributed {
+            self.local_couplings(f);
+            return;
+        }
+        // Under MPI: this rank's groups as each patch's group label (its smallest patch), every
+        // rank's labels joined on every rank: the same groups as one process's couplings.
+        let n = self.areas.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn find(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        self.local_couplings(&mut |u, v| {
+            let (a, b) = (find(&mut parent, u), find(&mut parent, v));
+            parent[a.max(b)] = a.min(b);
+        });
+        let labels: Vec<u8> = (0..n).flat_map(|u| (find(&mut parent, u) as u32).to_le_bytes()).collect();
+        for bytes in self.held.all_gather(&labels) {
+            for (u, c) in bytes.chunks_exact(4).enumerate() {
+                let root = u32::from_le_bytes(c.try_into().expect("4 bytes")) as usize;
+                if root != u {
+                    f(u, root);
+                }
+            }
+        }
+    }
+}
+
+impl Hierarchy {
+    /// Coupled patch pairs of this process's links and pairs (every pair in one process).
+    fn local_couplings(&self, f: &mut dyn FnMut(usize, usize)) {
         let ends = self.links.iter().map(|l| (l.a, l.b, l.s())).chain(self.pairs.iter().copied());
         for (a, b, s) in ends {
             if s != 0.0 {
@@ -652,10 +781,6 @@ impl Operator for Hierarchy {
 
 /// Rows of exact patch pairs evaluated per wave (bounds the memory of their raw entries).
 const PAIR_WAVE: usize = 1 << 14;
-
-/// Fixed ranges of the link and pair lists that [`Hierarchy::gather`] spreads in parallel
-/// (fixed, so that sums do not depend on the thread count).
-const GATHER_CHUNKS: usize = 16;
 
 #[cfg(test)]
 mod tests {
