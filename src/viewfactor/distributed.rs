@@ -265,10 +265,6 @@ pub fn agreement_hash(scene: &Scene, options: &str, symmetric: bool, tree: u64) 
 /// 0's exit code. `None` (compute as usual) without MPI or on one rank. `options` names the
 /// method, its settings and the route, for the agreement hash.
 pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Result<Option<Gathered<'k>>> {
-    // A shard run (`--shard`, `merge`) takes its rows from the shard hook instead.
-    if let Some(g) = super::shard::rows(scene, kernel, options)? {
-        return Ok(Some(g));
-    }
     #[cfg(feature = "mpi")]
     {
         use crate::distributed::{comm, partition};

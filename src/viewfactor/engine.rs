@@ -29,7 +29,7 @@ pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level)
     let start = Instant::now();
     // Under mpirun: every rank computes a block of rows, rank 0 folds them all (others exit).
     let gathered =
-        super::distributed::rows(scene, kernel, &format!("sparse {level:?} {}", params.agreement()))?;
+        super::shard::split_rows(scene, kernel, &format!("sparse {level:?} {}", params.agreement()))?;
     let kernel: &dyn RowKernel = match &gathered {
         Some(g) => g,
         None => kernel,

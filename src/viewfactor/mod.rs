@@ -198,7 +198,7 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
     let mode = progress::Mode::for_stderr(params.progress);
     let progress = progress::Progress::start_costed(total, "pairs", mode, costs.iter().sum());
     // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
-    let gathered = distributed::rows(scene, kernel.as_ref(), &format!("packed {}", params.agreement()))?;
+    let gathered = shard::split_rows(scene, kernel.as_ref(), &format!("packed {}", params.agreement()))?;
     let kernel: &dyn engine::RowKernel = match &gathered {
         Some(g) => g,
         None => kernel.as_ref(),

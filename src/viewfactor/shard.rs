@@ -60,6 +60,20 @@ impl Part {
     }
 }
 
+/// The rows of a split run, for the engine and the packed store: a shard run's (`--shard`,
+/// `merge`: this module's hook), else the MPI ranks' ([`super::distributed::rows`]); `None`:
+/// compute every row as usual.
+pub fn split_rows<'k>(
+    scene: &Scene,
+    kernel: &'k dyn RowKernel,
+    options: &str,
+) -> Result<Option<Gathered<'k>>> {
+    if let Some(g) = rows(scene, kernel, options)? {
+        return Ok(Some(g));
+    }
+    wire::rows(scene, kernel, options)
+}
+
 /// What the process-wide hook does.
 enum Mode {
     /// Compute shard `index` of `count`, keep it, stop the run.

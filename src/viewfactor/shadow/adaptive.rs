@@ -272,7 +272,7 @@ pub struct Cuts {
 }
 
 impl Cuts {
-    /// Every kink plane first, up to [`MAX_PIECES`] pieces, the blockers' planes first
+    /// Every kink plane first, up to `MAX_PIECES` pieces, the blockers' planes first
     /// (`analytic`: each root smooth).
     pub const ALL: Self = Self { max_pieces: MAX_PIECES, faces_last: false };
 }

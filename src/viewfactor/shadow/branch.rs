@@ -78,8 +78,9 @@ pub struct Shadows<'s> {
 }
 
 impl<'s> Shadows<'s> {
-    /// Collects the blockers of `scene`; `None` when nothing can block (convex enclosures).
-    pub fn new(scene: &'s Scene, policy: Policy) -> Option<Self> {
+    /// Collects the blockers of `scene` with the default prices; `None` when nothing can block
+    /// (convex enclosures). [`Shadows::new`] ([`super::calibrate`]) measures `auto`'s prices.
+    pub fn uncalibrated(scene: &'s Scene, policy: Policy) -> Option<Self> {
         let blockers = Blockers::new(scene);
         if blockers.is_empty() {
             return None;
@@ -102,7 +103,7 @@ impl<'s> Shadows<'s> {
             ),
             Policy::Exact { .. } => (Vec::new(), Vec::new()),
         };
-        let mut me = Self {
+        Some(Self {
             scene,
             blockers,
             integrator,
@@ -111,11 +112,12 @@ impl<'s> Shadows<'s> {
             segments,
             model: CostModel::default(),
             misses: MissLog::default(),
-        };
-        if let Policy::Auto { tol, seed } = policy {
-            me.model = super::calibrate::fit(&super::calibrate::measure(&me, tol, seed), me.model);
-        }
-        Some(me)
+        })
+    }
+
+    /// Replaces the prices `auto` chooses by (the calibration's fit).
+    pub(super) fn set_model(&mut self, model: CostModel) {
+        self.model = model;
     }
 
     /// The scene.

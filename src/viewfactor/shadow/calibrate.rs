@@ -21,10 +21,12 @@
 //! ([`crate::viewfactor::analytic::pair::polygon_polygon`]).
 use super::branch::{PairWork, Shadows};
 use super::classify::{RowShadows, Status};
+use super::policy::Policy;
 use super::policy::{
     pair_goal, CostModel, PowerLaw, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_SAMPLE_NS, MC_TEST_NS,
     SHADOW_SETUP_UNITS, SHADOW_UNIT_NS,
 };
+use crate::scene::Scene;
 use crate::viewfactor::analytic::pair::polygon_polygon;
 
 /// Rows classified to find sample pairs.
@@ -73,6 +75,20 @@ pub struct Measured {
     pub samples: u32,
     /// Their box and blocker tests.
     pub tests: u64,
+}
+
+impl<'s> Shadows<'s> {
+    /// Collects the blockers of `scene`; `None` when nothing can block (convex enclosures).
+    /// Under `auto` the pricing model is fitted to a few of the scene's own pairs
+    /// ([`measure`], [`fit`]).
+    pub fn new(scene: &'s Scene, policy: Policy) -> Option<Self> {
+        let mut me = Self::uncalibrated(scene, policy)?;
+        if let Policy::Auto { tol, seed } = policy {
+            let model = fit(&measure(&me, tol, seed), *me.model());
+            me.set_model(model);
+        }
+        Some(me)
+    }
 }
 
 /// The sample pairs of `shadows`' scene at the tolerance `tol` (see the module notes).
