@@ -9,7 +9,7 @@
 //! Variants kept elsewhere, on purpose (their results differ bit for bit):
 //! - [`Polygon::clip`](super::Polygon::clip) starts its ring at the first vertex, removes
 //!   duplicates and rejects degenerate remainders (patch vertex order feeds every result);
-//! - `viewfactor::analytic::ring::clip_into` writes a stack ring and drops repeated vertices;
+//! - `viewfactor::exact::ring::clip_into` writes a stack ring and drops repeated vertices;
 //! - `viewfactor::projection::clip` interpolates from the inside vertex, so two polygons sharing
 //!   an edge get the same crossing bit for bit (watertight rasterisation);
 //! - [`super::grid_clip`] snaps vertices onto axis-aligned lines and interpolates in a

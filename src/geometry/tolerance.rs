@@ -2,7 +2,7 @@
 //! multiplied by the size named in their doc (polygon diameter, scene size, pair size).
 //!
 //! Left beside their formulas on purpose: the branch cut-offs of the edge-pair integrand
-//! (`viewfactor::analytic::edge`: perpendicular, parallel, series), which switch between
+//! (`viewfactor::exact::edge`: perpendicular, parallel, series), which switch between
 //! closed forms rather than classify geometry, and the hierarchy's own tests
 //! (`exchange::hierarchy`).
 

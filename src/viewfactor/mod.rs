@@ -31,6 +31,7 @@ pub mod auto;
 pub mod closed_form;
 pub mod distributed;
 pub mod engine;
+pub mod exact;
 pub mod flags;
 pub mod hemicube;
 pub mod limits;

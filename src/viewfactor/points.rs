@@ -18,7 +18,6 @@
 //!   wall, or looking through a gap).
 //! - Rows run in parallel (rayon), one per point, each independent of the others, and are
 //!   summed to surfaces in patch order: the same numbers on any thread count.
-use super::analytic::lambert::point_to_polygon;
 use super::progress::{Mode, Progress};
 use super::shadow::blockers::Blockers;
 use super::shadow::classify::clip_front;
@@ -27,6 +26,7 @@ use super::{Entry, Level, MethodSet};
 use crate::geometry::Polygon;
 use crate::scene::validate::MAX_COORD;
 use crate::scene::Scene;
+use crate::viewfactor::exact::lambert::point_to_polygon;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};

@@ -19,12 +19,12 @@
 //! from a table built once per lattice offset ([`super::lattice`]), not from the ladder.
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
-use super::pair::polygon_polygon_with_round_off;
 use crate::geometry::planes::PlaneGroups;
 use crate::geometry::tolerance::PATCH_COPLANAR_REL;
 use crate::scene::Scene;
 use crate::viewfactor::accuracy::ANALYTIC_REL;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
+use crate::viewfactor::exact::pair::polygon_polygon_with_round_off;
 use crate::viewfactor::flags::{Flag, FlagLog};
 use crate::viewfactor::shadow::branch::PairWork;
 use crate::viewfactor::shadow::classify::Status;

@@ -1,21 +1,10 @@
 //! The `analytic` method: exact for planar polygons, with a Gauss ladder where provably
 //! accurate enough, and exact shadow clipping for obstructed pairs.
 //!
-//! Exact kernels:
-//! - [`lambert`]: point-to-polygon (Lambert 1760), point-to-ring and exact point-to-disk factors;
-//! - [`disk`]: the exact element-to-disk factor (full circle and clipped circular segment);
-//! - [`pair`]: polygon-to-polygon exchange area, the contour integral or the split;
-//! - [`contour`]: the double contour integral;
-//! - [`edge`]: the edge-pair terms of that integral (parallel, crossing and skew lines);
-//! - [`gauss`]: Gauss–Legendre rules graded towards known complex singularities;
-//! - [`ring`]: stack-allocated vertex rings and half-space clipping;
-//! - [`cubature`]: area cubature of Lambert's point factor (fixed and adaptive);
-//! - [`split`]: pairs of very different size (near part by contour, far part by Gauss on
-//!   Lambert's point factor);
-//! - [`angle`]: a fast, accurate atan2 for the kernels' angles.
+//! Exact kernels: [`crate::viewfactor::exact`] (re-exported here under their old paths).
 //!
 //! Shadows: obstructed pairs are the [`super::shadow`] module's; the kernel calls its
-//! [`Shadows`](super::shadow::Shadows) branch. Layering: the exact kernels above ←
+//! [`Shadows`](super::shadow::Shadows) branch. Layering: the exact kernels ←
 //! `shadow` (which integrates Lambert's edge term over shadows) ← [`kernel`] ← `auto`;
 //! no file here or in `shadow` uses `auto`.
 //!
@@ -23,19 +12,10 @@
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`lattice`]: one evaluation per offset for translated pairs of gridded surfaces;
 //! - [`kernel`]: the [`crate::viewfactor::row::RowKernel`] tying them together.
-pub mod angle;
-pub mod contour;
-pub mod cubature;
-pub mod disk;
-pub mod edge;
-pub mod gauss;
+pub use super::exact::{angle, contour, cubature, disk, edge, gauss, lambert, pair, ring, split};
 pub mod kernel;
 pub mod ladder;
-pub mod lambert;
 pub mod lattice;
-pub mod pair;
-pub mod ring;
-pub mod split;
 
 use super::accuracy::{Knob, MethodInfo, ANALYTIC_REL};
 use super::engine::RowKernel;

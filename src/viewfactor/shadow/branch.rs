@@ -273,7 +273,7 @@ impl<'s> Shadows<'s> {
 mod tests {
     use super::*;
     use crate::geometry::Polygon;
-    use crate::viewfactor::analytic::pair::polygon_polygon;
+    use crate::viewfactor::exact::pair::polygon_polygon;
     use crate::viewfactor::shadow::classify::Status;
     use crate::viewfactor::shadow::policy::EXACT_REL_TOL;
 

@@ -18,7 +18,7 @@
 //!   again in their rows (a few pairs).
 //!
 //! The unobstructed value u of a sample pair comes from the exact contour integral
-//! ([`crate::viewfactor::analytic::pair::polygon_polygon`]).
+//! ([`crate::viewfactor::exact::pair::polygon_polygon`]).
 use super::branch::{PairWork, Shadows};
 use super::classify::{RowShadows, Status};
 use super::policy::Policy;
@@ -27,7 +27,7 @@ use super::policy::{
     SHADOW_SETUP_UNITS, SHADOW_UNIT_NS,
 };
 use crate::scene::Scene;
-use crate::viewfactor::analytic::pair::polygon_polygon;
+use crate::viewfactor::exact::pair::polygon_polygon;
 
 /// Rows classified to find sample pairs.
 pub const CAL_ROWS: usize = 16;

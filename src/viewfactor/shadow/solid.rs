@@ -28,7 +28,7 @@ use super::viewpoint::{lambert, Frame};
 use super::volume::{plane_of, Plane};
 use crate::geometry::clip::clip_homogeneous;
 use crate::geometry::convex::{clip_convex, convex_contains, convex_hull, is_convex, twice_area, HalfPlane};
-use crate::viewfactor::analytic::pair::ring_ring;
+use crate::viewfactor::exact::pair::ring_ring;
 use glam::{DVec2, DVec3};
 
 /// Most pieces one face is cut into along its events (beyond, the adaptivity takes the rest).

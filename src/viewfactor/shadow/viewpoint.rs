@@ -32,7 +32,7 @@ use crate::geometry::convex::{
 };
 use crate::geometry::tolerance::SHADOW_SNAP_REL;
 use crate::geometry::union::Union;
-use crate::viewfactor::analytic::lambert::edge_term;
+use crate::viewfactor::exact::lambert::edge_term;
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;
 
