@@ -1,4 +1,4 @@
-//! Enforcement study (literature.md §3): a 1×2×3 box in 24 patches, multinomial hit counts
+//! Enforcement study (docs/literature.md §3): a 1×2×3 box in 24 patches, multinomial hit counts
 //! from the exact rows (statistically identical to mc-cosine in a convex box) at 200 and 1000
 //! rays per patch, 40 seeds; rms ΔF against the exact factors (over all 24² entries), the
 //! worst surface heat-rate error of a mixed-ε, all-temperature solve (relative to the largest

@@ -12,7 +12,7 @@ use lambert::viewfactor::single_plane::{SinglePlaneKernel, SinglePlaneOptions};
 use lambert::viewfactor::{Level, Params};
 use std::time::Instant;
 
-/// V1 and V2 for the unit cube (literature.md §1.1).
+/// V1 and V2 for the unit cube (docs/literature.md §1.1).
 const F_OPPOSITE: f64 = 0.19982490;
 const F_ADJACENT: f64 = 0.20004378;
 

@@ -1,7 +1,7 @@
 //! Named choices: the closed enums a user picks by name (view-factor method, exchange store,
 //! solver, enforcement, conductance format, length unit, rendered field). Each derives clap's
 //! [`ValueEnum`], so its names come from the compiler-checked enum (kebab or snake case of the
-//! variant, as SPEC.md spells them): the CLI's `--help` lists them, and [`parse`], [`names`]
+//! variant, as docs/SPEC.md spells them): the CLI's `--help` lists them, and [`parse`], [`names`]
 //! and [`write()`] serve the library's `FromStr` / `Display` and the Python binding.
 use crate::{Error, Result};
 /// The trait every choice derives (re-exported so that callers name it without clap).

@@ -1,4 +1,4 @@
-//! Library error type. Every variant maps to a CLI exit code (SPEC.md): bad input → 2,
+//! Library error type. Every variant maps to a CLI exit code (docs/SPEC.md): bad input → 2,
 //! failed computation → 1.
 use std::path::PathBuf;
 
@@ -146,7 +146,7 @@ impl std::error::Error for Error {
 }
 
 impl Error {
-    /// The SPEC.md exit code for this error.
+    /// The docs/SPEC.md exit code for this error.
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Input(_) | Error::Usage(_) | Error::Unsupported(_) => 2,

@@ -1,4 +1,4 @@
-//! `lambert` binary: parse, run, map errors to SPEC.md exit codes (0 ok, 1 failed, 2 bad input).
+//! `lambert` binary: parse, run, map errors to docs/SPEC.md exit codes (0 ok, 1 failed, 2 bad input).
 //!
 //! A panic is a bug whatever the input. Should one happen, the panic hook reports it as one line,
 //! `lambert: internal error: <message> at <file:line>; please report it`, with no backtrace, and

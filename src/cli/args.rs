@@ -1,4 +1,4 @@
-//! Low-level clap arguments, mirroring SPEC.md; no logic here. Every choice option is the
+//! Low-level clap arguments, mirroring docs/SPEC.md; no logic here. Every choice option is the
 //! library's own enum (clap's `ValueEnum`, [`lambert::choice`]), so `--help` lists its values.
 use clap::{Args, Parser, Subcommand};
 use lambert::exchange::Enforce;
@@ -23,7 +23,7 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// Subcommands of SPEC.md.
+/// Subcommands of docs/SPEC.md.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Compute the view-factor matrix of a scene and write it as CSV.

@@ -20,7 +20,7 @@ use std::time::Duration;
 /// computing rank needs (MPICH's blocking calls poll), and 2 ms is far below any row block.
 const POLL: Duration = Duration::from_millis(2);
 
-/// Exit code of a run whose ranks disagree (bad input: SPEC.md exit code 2).
+/// Exit code of a run whose ranks disagree (bad input: docs/SPEC.md exit code 2).
 const MISMATCH_EXIT: i32 = 2;
 
 /// Tag of the sync point before the view-factor rows are split.

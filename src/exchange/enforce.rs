@@ -1,4 +1,4 @@
-//! `--enforce none|reciprocity|closure` (SPEC.md "Enforcement defaults"):
+//! `--enforce none|reciprocity|closure` (docs/SPEC.md "Enforcement defaults"):
 //! - none: raw exchange areas; open scenes get S_i,amb = A_i − Σ_j S_ij as they come;
 //! - reciprocity: s̄ = ½(s + sᵀ); in open scenes rows that overshoot A_i are scaled down
 //!   symmetrically ([`super::scaling::capped_scaling`]) and the ambient takes the rest;
@@ -21,7 +21,7 @@ pub const CLOSURE_TOL: f64 = 1e-12;
 /// The leak thresholds are the methods' own knowledge ([`crate::viewfactor::accuracy`]).
 pub use crate::viewfactor::accuracy::{DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS, LEAK_TOL_SINGLE_PLANE};
 
-/// The SPEC.md enforcement modes (named in [`crate::choice`]).
+/// The docs/SPEC.md enforcement modes (named in [`crate::choice`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Enforce {
     /// Raw factors.

@@ -1,6 +1,6 @@
 //! Least-squares closure: minimise ½Σ(s_ij − s̄_ij)²/w_ij subject to Σ_j s_ij = A_i. The
 //! Lagrange solution is s_ij = s̄_ij + w_ij(λ_i + λ_j) with (diag(W·1) + W)λ = A − s̄·1
-//! (literature.md §3). The matrix is a signless Laplacian: singular for a bipartite component
+//! (docs/literature.md §3). The matrix is a signless Laplacian: singular for a bipartite component
 //! (two plates that see only each other); CG from λ = 0 still solves it when the closure is
 //! feasible (equal areas on both sides), and reports otherwise.
 //!

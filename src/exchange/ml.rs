@@ -1,6 +1,6 @@
 //! Constrained maximum likelihood for hit-count Monte Carlo (Daun, Morton & Howell 2005):
 //! maximise Σ_{i≤j} M_ij ln s_ij, M_ij = N_ij + N_ji, subject to Σ_j s_ij = A_i. The KKT
-//! conditions give s_ij = M_ij / (λ_i + λ_j) (literature.md §3); Newton on λ solves
+//! conditions give s_ij = M_ij / (λ_i + λ_j) (docs/literature.md §3); Newton on λ solves
 //! f_i(λ) = Σ_j M_ij/(λ_i + λ_j) − A_i = 0. The Newton matrix −∂f/∂λ is the signless Laplacian
 //! with w_ij = M_ij/(λ_i + λ_j)², solved by CG. Non-negativity is automatic and pairs never hit
 //! stay exactly 0.

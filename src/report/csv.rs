@@ -1,4 +1,4 @@
-//! CSV writers for SPEC.md outputs. Numbers use Rust's shortest round-trip f64 formatting.
+//! CSV writers for docs/SPEC.md outputs. Numbers use Rust's shortest round-trip f64 formatting.
 //!
 //! The `viewfactors` file is `from,to,factor,std_error,method,geometry`. `geometry` holds the
 //! scene's geometry fingerprint ([`crate::scene::fingerprint`]) on the first data row and is

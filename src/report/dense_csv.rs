@@ -1,4 +1,4 @@
-//! The `viewfactors` CSV (`from,to,factor,std_error,method,geometry`, SPEC.md) streamed from the lean
+//! The `viewfactors` CSV (`from,to,factor,std_error,method,geometry`, docs/SPEC.md) streamed from the lean
 //! packed triangle: rows are formatted in parallel, a block at a time, and written in order,
 //! so the output never exists as a second matrix. Byte for byte the records of [`super::csv`]
 //! (names are CSV-encoded once; numbers by [`super::push_f64`]).

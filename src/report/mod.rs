@@ -26,7 +26,7 @@ pub mod writers;
 /// Characters the exponent form must save before it replaces the plain form (keeps "1000").
 const EXPONENT_MIN_SAVING: usize = 3;
 
-/// Full-precision text for an f64 (SPEC.md): the shortest round-trip digits, in plain form unless
+/// Full-precision text for an f64 (docs/SPEC.md): the shortest round-trip digits, in plain form unless
 /// the exponent form is clearly shorter (tiny or huge magnitudes); both forms round-trip exactly.
 /// Negative zero is written `0`: the sign of a zero is round-off, never a result.
 pub fn fmt_f64(x: f64) -> String {

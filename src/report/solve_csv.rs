@@ -1,4 +1,4 @@
-//! CSV writers for `solve` (SPEC.md): the per-surface / per-patch results table and the
+//! CSV writers for `solve` (docs/SPEC.md): the per-surface / per-patch results table and the
 //! radiative conductances `from,to,radk`.
 use crate::solve::conductance::Conductances;
 use crate::solve::Solution;

@@ -1,4 +1,4 @@
-//! Splitting surfaces into patches (SPEC.md "Patches").
+//! Splitting surfaces into patches (docs/SPEC.md "Patches").
 //!
 //! - `subdivide = [nu, nv]`: a rectangle into nu×nv parallelograms; a polygon into the cells of
 //!   an nu×nv grid over its bounding box in a frame aligned with its first edge, clipped to it

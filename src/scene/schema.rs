@@ -1,4 +1,4 @@
-//! The TOML scene schema of SPEC.md as serde types. Every table denies unknown keys; values
+//! The TOML scene schema of docs/SPEC.md as serde types. Every table denies unknown keys; values
 //! carry their byte span so later checks can name the line. Numbers are read as f64 / i64 and
 //! range-checked afterwards (validate.rs), so messages say what is wrong in words.
 use serde::Deserialize;

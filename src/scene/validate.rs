@@ -25,7 +25,7 @@ pub const MAX_SEGMENTS: i64 = 4096;
 /// bounds the O(n²) simplicity check and ear clipping.
 pub const MAX_POLYGON_VERTICES: usize = 1024;
 
-/// Default number of segments of a disk's regular polygon (SPEC.md: `segments = 64`); its
+/// Default number of segments of a disk's regular polygon (docs/SPEC.md: `segments = 64`); its
 /// circumradius is chosen so the polygon has the disk's area.
 pub const DEFAULT_SEGMENTS: usize = 64;
 

@@ -1,4 +1,4 @@
-//! Semi-gray (multi-band) radiation (literature.md §5): band k covers [λ_k, λ_{k+1}) µm, each
+//! Semi-gray (multi-band) radiation (docs/literature.md §5): band k covers [λ_k, λ_{k+1}) µm, each
 //! surface has a band emissivity ε_ik, and E_bik = f_k(T_i) σT_i⁴ ([`super::planck`]).
 //!
 //! Every band is a gray problem on the same S with all rows in temperature form (flux nodes

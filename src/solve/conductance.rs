@@ -1,5 +1,5 @@
 //! Radiative conductances RADK_ij = A_i ε_i B_ij (Gebhart, B = (I − Fρ)⁻¹ F diag(ε)), the
-//! thermal-network convention (literature.md §5): Q_i = σ Σ_j RADK_ij (T_i⁴ − T_j⁴).
+//! thermal-network convention (docs/literature.md §5): Q_i = σ Σ_j RADK_ij (T_i⁴ − T_j⁴).
 //!
 //! Column j is one solve of the all-temperature system with unit emissive power on node j
 //! and zero elsewhere: RADK_ij = A_i ε_i H_i (what i absorbs of j's emission). All columns

@@ -1,4 +1,4 @@
-//! Net-radiation solve (literature.md §5): gray diffuse surfaces with temperature or flux
+//! Net-radiation solve (docs/literature.md §5): gray diffuse surfaces with temperature or flux
 //! conditions, an optional black ambient, black surfaces eliminated, in the SPD form K = D − S.
 //!
 //! - this file: [`Params`], [`Info`], [`Solution`] and the gray entry point [`solve_gray`];

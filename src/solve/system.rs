@@ -1,4 +1,4 @@
-//! The linear system of the net-radiation method (literature.md §5), SPD form:
+//! The linear system of the net-radiation method (docs/literature.md §5), SPD form:
 //! - T row (0 < ε < 1): (A_i/ρ_i) J_i − Σ_j S_ij J_j = (A_i ε_i/ρ_i) E_bi + S_i∞ E_b∞;
 //! - q row: A_i J_i − Σ_j S_ij J_j = A_i q_i + S_i∞ E_b∞;
 //! - black T row (ε = 1): J_i = E_bi is known and moves to the right-hand side.

@@ -19,7 +19,7 @@ const SCENE_FILES: [&str; 3] = ["scene.toml", "scene.gltf", "scene.glb"];
 pub struct Reference {
     /// One-line description.
     pub title: String,
-    /// Where the case comes from: catalogue number, textbook example, literature.md ID.
+    /// Where the case comes from: catalogue number, textbook example, docs/literature.md ID.
     pub citation: String,
     /// Scene file relative to the case folder (default: the first of `SCENE_FILES` present).
     #[serde(default)]

@@ -1,5 +1,5 @@
 //! Closed-form configuration factors: the validation oracles (Howell's catalogue,
-//! literature.md §1.1, IDs V1–V19).
+//! docs/literature.md §1.1, IDs V1–V19).
 //!
 //! Conventions: `F` is from surface 1 to surface 2; functions named `*_exchange` return the
 //! exchange area A₁F₁₂ (m², or m for 2-D). Every function is f64 arithmetic of the published

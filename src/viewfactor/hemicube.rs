@@ -8,7 +8,7 @@
 //!   flattened scene and the per-eye gather, homogeneous clipping to each face's pyramid
 //!   before the divide, the scanline item buffer, and the projection positions per patch.
 //!
-//! Error behaviour (literature.md §4, measured in tests/viewfactor/hemicube.rs): the delta factors are
+//! Error behaviour (docs/literature.md §4, measured in tests/viewfactor/hemicube.rs): the delta factors are
 //! a midpoint rule, O(h²) for a receiver whose projection edges align with pixels; edges
 //! crossing pixels cost O(h) (an edge on the hemicube horizon worst of all); receivers that
 //! project to a few pixels alias (a 0.05×0.05 target at unit distance: −100 % at R = 32,

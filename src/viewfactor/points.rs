@@ -1,7 +1,7 @@
 //! View factors from points to surfaces: sensors, radiometers, mean radiant temperature.
 //!
 //! A point p with unit normal n stands for a differential element dA. Its factor to a patch is
-//! Lambert's point-to-polygon formula ([`point_to_polygon`], literature V12); where a blocker
+//! Lambert's point-to-polygon formula ([`point_to_polygon`], docs/literature.md V12); where a blocker
 //! cuts part of the view, the shaded part is taken off with the pair methods' own shadow
 //! clipping from one viewpoint ([`ShadowGeometry::shaded`]): F = F_clear − g(p). Both steps
 //! are exact (no quadrature, no sampling), so every entry has a zero standard error.

@@ -10,7 +10,7 @@ use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
 
-/// The view-factor methods of SPEC.md; their names ([`crate::choice`]) are the variants in
+/// The view-factor methods of docs/SPEC.md; their names ([`crate::choice`]) are the variants in
 /// kebab case (`single-plane`, `mc-area`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Method {

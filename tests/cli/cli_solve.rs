@@ -4,7 +4,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 const BIN: &str = env!("CARGO_BIN_EXE_lambert");
-/// literature.md E1/E5 values are given to 8 digits.
+/// docs/literature.md E1/E5 values are given to 8 digits.
 const REF_TOL: f64 = 1e-6;
 
 fn run(args: &[&str]) -> Output {

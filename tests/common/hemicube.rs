@@ -9,7 +9,7 @@ use lambert::viewfactor::hemicube::{HemicubeKernel, Positions};
 use lambert::viewfactor::single_plane::{SinglePlaneKernel, SinglePlaneOptions};
 use std::f64::consts::PI;
 
-// Closed forms: the shared catalogue (literature.md §1.1) and Lambert's point factor (V12).
+// Closed forms: the shared catalogue (docs/literature.md §1.1) and Lambert's point factor (V12).
 pub use lambert::viewfactor::analytic::lambert::point_to_polygon;
 pub use lambert::viewfactor::closed_form::{
     parallel_opposed_rectangles as c11, perpendicular_common_edge as c14,
@@ -118,10 +118,10 @@ pub fn observed_order(rs: &[usize], errors: &[f64]) -> f64 {
 }
 
 // ---------------------------------------------------------------------------------------
-// Error models (literature.md §4) and exact references at the projection positions.
+// Error models (docs/literature.md §4) and exact references at the projection positions.
 
 /// Unit-cube floor centre to the opposite face (projection inside the top face): 7.4e-4 at
-/// R = 32, falling as h² (literature.md §4).
+/// R = 32, falling as h² (docs/literature.md §4).
 pub const INTERIOR_ERR_32: f64 = 7.4e-4;
 /// Same point to an adjacent face (projection edge on the hemicube horizon): 1.3e-2 at R = 32,
 /// falling as h; the worst edge case, so it bounds the pixel error of unit receivers.

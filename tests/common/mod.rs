@@ -25,7 +25,7 @@ use lambert::scene::Scene;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
-/// C-11, unit squares 1 apart (literature.md V1).
+/// C-11, unit squares 1 apart (docs/literature.md V1).
 pub const F_PARALLEL: f64 = 0.1998248957;
 /// C-14, unit squares at 90° with a common edge (V2).
 pub const F_PERPENDICULAR: f64 = 0.2000437761;

@@ -1,5 +1,5 @@
 //! Exact exchange areas between axis-aligned rectangles (test and study oracle):
-//! parallel pairs by the corner-sum formula (literature.md V7, catalogue C-13), perpendicular
+//! parallel pairs by the corner-sum formula (docs/literature.md V7, catalogue C-13), perpendicular
 //! pairs from the common-edge formula C-14 (V2) extended by bilinearity across the edge
 //! (V4) and the translation-kernel identity along it (V5):
 //! S([a,b],[c,d]) = ½[Φ(b−c) − Φ(a−c) − Φ(b−d) + Φ(a−d)].

@@ -90,7 +90,7 @@ fn max_likelihood_on_hit_counts() {
     assert_eq!(rep.method, "maximum likelihood");
     assert!(rep.iterations <= 10, "Newton steps {}", rep.iterations);
     assert_closed_and_reciprocal(&ex, &s);
-    // ML improves on the raw estimate (literature.md §3: ~30 % lower rms error).
+    // ML improves on the raw estimate (docs/literature.md §3: ~30 % lower rms error).
     let rms = |f: &dyn Fn(usize, usize) -> f64| {
         let a = scene.patch_areas();
         let mut sum = 0.0;

@@ -1,4 +1,4 @@
-//! Net-radiation solve against literature.md §1.2 (E3, E4 on the real cube, exact factors
+//! Net-radiation solve against docs/literature.md §1.2 (E3, E4 on the real cube, exact factors
 //! from C-11/C-14) and closed forms (concentric cubes), all solvers, energy balance.
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
@@ -14,7 +14,7 @@ use lambert::SIGMA;
 /// E1–E5 are quoted to 8 significant figures; the solves match to ~1e-12, so 1e-6 relative
 /// is the brief's bound with room for the reference rounding only.
 const REF_TOL: f64 = 1e-6;
-/// Oracle check of the rectangle formulas against literature.md's 8-digit values.
+/// Oracle check of the rectangle formulas against docs/literature.md's 8-digit values.
 const V_TOL: f64 = 5e-8;
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -272,7 +272,7 @@ fn solve_file(scene: &Scene, csv: &str) -> Solution {
     sol
 }
 
-/// literature.md quotes E1/E2 with σ = 5.67e-8; lambert uses CODATA σ: q scales by the ratio.
+/// docs/literature.md quotes E1/E2 with σ = 5.67e-8; lambert uses CODATA σ: q scales by the ratio.
 const SIGMA_RATIO: f64 = SIGMA / 5.67e-8;
 
 #[test]
@@ -283,7 +283,7 @@ fn e1_paint_baking_oven() {
         ("insulated", 1.0, 0.8, HeatFlux(0.0)),
     ]);
     let sol = solve_file(&scene, "tests/data/e1_oven.csv");
-    // 36 982.498 W/m at σ = 5.67e-8 is 36 984.941 W/m with CODATA σ (literature.md E1).
+    // 36 982.498 W/m at σ = 5.67e-8 is 36 984.941 W/m with CODATA σ (docs/literature.md E1).
     assert!(
         rel(sol.results[0].heat_rate, 36_982.498 * SIGMA_RATIO) < REF_TOL,
         "{}",
@@ -353,7 +353,7 @@ fn e5_concentric_spheres() {
         ("outer", 4.0 * pi * r2 * r2, 0.5, Temperature(300.0)),
     ]);
     let sol = solve_file(&scene, "tests/data/e5_spheres.csv");
-    // literature.md's 34.799455 W is computed with CODATA σ already.
+    // docs/literature.md's 34.799455 W is computed with CODATA σ already.
     assert!(rel(sol.results[0].heat_rate, 34.799455) < REF_TOL, "{}", sol.results[0].heat_rate);
 }
 

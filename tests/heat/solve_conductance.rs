@@ -1,5 +1,5 @@
 //! Radiative conductances RADK_ij = A_i ε_i B_ij (Gebhart): symmetry, row sums A_i ε_i, the
-//! ambient node, and agreement with the radiosity solve (literature.md §5).
+//! ambient node, and agreement with the radiosity solve (docs/literature.md §5).
 // Dense matrix checks read clearest with (i, j) indices.
 #![allow(clippy::needless_range_loop)]
 use crate::common;
@@ -26,7 +26,7 @@ fn e3_props() -> [(f64, BoundaryCondition); 6] {
     [wall, wall, wall, wall, (0.8, Temperature(1000.0)), (0.6, Temperature(400.0))]
 }
 
-/// Gebhart conductances are symmetric with row sums A_i ε_i to round-off (literature.md §5:
+/// Gebhart conductances are symmetric with row sums A_i ε_i to round-off (docs/literature.md §5:
 /// 2e-16 on E3); 1e-12 relative allows the sums of many terms.
 const RADK_TOL: f64 = 1e-12;
 

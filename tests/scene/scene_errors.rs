@@ -1,4 +1,4 @@
-//! Every bad-input path of SPEC.md gives `Error::Input` naming the file, the surface (when there
+//! Every bad-input path of docs/SPEC.md gives `Error::Input` naming the file, the surface (when there
 //! is one), the line (when known) and the problem.
 //!
 //! TOML cases are written to a temporary `scene.toml`; the line the error must name is marked

@@ -1,4 +1,4 @@
-//! Accuracy of the exact kernels against closed forms (literature.md §1.1, V1–V19) and, where no
+//! Accuracy of the exact kernels against closed forms (docs/literature.md §1.1, V1–V19) and, where no
 //! closed form exists, against an independent reference: tanh-sinh area quadrature of the
 //! exact Lambert point factor (`lambert_area`). Every check prints its relative error; run with
 //! `--nocapture` for the table.
@@ -626,7 +626,7 @@ fn tessellated_disks_converge_to_v8_and_v9() {
 #[test]
 fn far_field_error_stays_within_the_round_off_bound() {
     // Opposed unit squares (moved, so no edge is axis-aligned) at growing gap c: the contour
-    // terms cancel more and more (literature.md §2: ≥ 1e-16·(c/L)²); the reported bound must
+    // terms cancel more and more (docs/literature.md §2: ≥ 1e-16·(c/L)²); the reported bound must
     // cover the actual error. The f64 C-11 formula itself cancels at small X = a/c (its
     // ln(1 + X²Y²/…) and atan terms lose about 1/X² digits), so the reference is C-11 in
     // 40-digit arithmetic (mpmath).

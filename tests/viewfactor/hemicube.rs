@@ -1,4 +1,4 @@
-//! Hemicube and single-plane methods against closed forms (literature.md §1, §4).
+//! Hemicube and single-plane methods against closed forms (docs/literature.md §1, §4).
 //!
 //! Errors are split as the methods make them: *pixel* error, checked against Lambert's exact
 //! point-to-polygon factor at the same projection positions, and *position* (proximity)
@@ -51,7 +51,7 @@ fn parallel_squares_c11() {
     let (floor, ceiling) = (&scene.patches[0].polygon, &scene.patches[1].polygon);
     let exact = c11(1.0, 1.0, 1.0);
     let r = 128;
-    // Classic single hemicube: pixel error tiny, proximity error ≈ +20 % (literature §4).
+    // Classic single hemicube: pixel error tiny, proximity error ≈ +20 % (docs/literature.md §4).
     let f1 = row_factors(&hemicube(&scene, r, Positions::Centroid), &scene, 0)[1];
     let point = point_to_polygon(floor.centroid(), DVec3::Z, ceiling);
     eprintln!("C-11 centroid: pixel {:.2e}, proximity {:+.1} %", f1 - point, 100.0 * (point / exact - 1.0));
@@ -237,7 +237,7 @@ fn single_plane_misses_exactly_the_grazing_fraction() {
             "{bias}"
         );
         if let Some(lit) = literature {
-            assert!((captured - lit).abs() < 5e-5, "literature.md §4: s = 10 captures {lit}");
+            assert!((captured - lit).abs() < 5e-5, "docs/literature.md §4: s = 10 captures {lit}");
         }
     }
 }

@@ -15,7 +15,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::f64::consts::PI;
 
-/// Element at unit distance below the corner of a parallel a×b rectangle (literature V10).
+/// Element at unit distance below the corner of a parallel a×b rectangle (docs/literature.md V10).
 fn corner(a: f64, b: f64) -> f64 {
     let (sa, sb) = ((1.0 + a * a).sqrt(), (1.0 + b * b).sqrt());
     (a / sa * (b / sa).atan() + b / sb * (a / sb).atan()) / (2.0 * PI)

@@ -1,4 +1,4 @@
-//! Howell-catalogue closed forms in f64, written from literature.md §1.1 independently of
+//! Howell-catalogue closed forms in f64, written from docs/literature.md §1.1 independently of
 //! `viewfactor::closed_form`. Valid where they do not cancel catastrophically: use [`super::far`]
 //! beyond a separation of a few sizes.
 use std::f64::consts::PI;

@@ -1,5 +1,5 @@
 //! Tensor Gauss "2AI" reference, A_1 F_12 = ∫∫ cos θ_1 cos θ_2 / (π r²) dA_2 dA_1, for pairs
-//! separated by several sizes, where the closed forms lose digits to cancellation (literature
+//! separated by several sizes, where the closed forms lose digits to cancellation (docs/literature.md
 //! §2: round-off ≈ 1e-16·(c/L)²) while Gauss converges geometrically.
 use crate::geometry::quadrature::gauss_legendre;
 use glam::DVec3;

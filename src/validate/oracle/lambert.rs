@@ -1,4 +1,4 @@
-//! Lambert's point-to-polygon configuration factor (literature V12) and its Gauss integral over
+//! Lambert's point-to-polygon configuration factor (docs/literature.md V12) and its Gauss integral over
 //! an emitter polygon: A_1 F_12 = ∫_{A_1} F(dA → A_2) dA.
 use crate::geometry::quadrature::gauss_legendre;
 use glam::DVec3;

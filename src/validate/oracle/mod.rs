@@ -1,7 +1,7 @@
 //! Independent reference values for the validation studies, written apart from the methods'
 //! code paths so that an error in a method cannot hide in its own oracle.
 //!
-//! - [`lambert`]: Lambert's point-to-polygon factor (literature V12) on raw vertex rings, and
+//! - [`lambert`]: Lambert's point-to-polygon factor (docs/literature.md V12) on raw vertex rings, and
 //!   its Gauss integral over an emitter (the "1LI" reference for separated pairs);
 //! - [`closed`]: Howell-catalogue closed forms in f64 (C-11, C-14 and its strip algebra,
 //!   element-to-rectangle corner);

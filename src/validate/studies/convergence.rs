@@ -1,6 +1,6 @@
 //! Monte Carlo convergence: RMS error over seeds against samples per patch for the three
 //! estimators, with the 1/√N (independent sampling) and N^−0.656 (scrambled Sobol on this
-//! 4-D integrand, literature §4) slopes drawn.
+//! 4-D integrand, docs/literature.md §4) slopes drawn.
 use super::scenes;
 use crate::report::charts::{self, okabe_ito, Chart, Series, Style};
 use crate::viewfactor::{self, Level, Method, Params};
@@ -8,7 +8,7 @@ use crate::Result;
 use std::fmt::Write;
 use std::path::Path;
 
-/// Fitted RQMC slope of scrambled Sobol on point-plus-direction sampling (literature §4).
+/// Fitted RQMC slope of scrambled Sobol on point-plus-direction sampling (docs/literature.md §4).
 const SOBOL_SLOPE: f64 = -0.656;
 
 /// Runs the sweep, writes `mc_convergence.{svg,png}` and returns the report section.
@@ -20,7 +20,7 @@ pub fn run(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<St
     };
     let (scene, exact) = scenes::parallel_far(1.0, 1);
     let mut md = format!(
-        "## Monte Carlo convergence\n\nF(a → b) of opposed unit squares at gap 1 (one patch each, exact {exact:.12}); RMS error over {seeds} seeds against samples per patch, and the mean reported standard error. The dashed lines are the 1/√N slope and the N^{SOBOL_SLOPE} slope that scrambled Sobol points reach on this discontinuous 4-D integrand (literature §4).\n\n| method | samples | RMS error | mean reported σ | σ / RMS |\n|---|---:|---:|---:|---:|\n"
+        "## Monte Carlo convergence\n\nF(a → b) of opposed unit squares at gap 1 (one patch each, exact {exact:.12}); RMS error over {seeds} seeds against samples per patch, and the mean reported standard error. The dashed lines are the 1/√N slope and the N^{SOBOL_SLOPE} slope that scrambled Sobol points reach on this discontinuous 4-D integrand (docs/literature.md §4).\n\n| method | samples | RMS error | mean reported σ | σ / RMS |\n|---|---:|---:|---:|---:|\n"
     );
     let mut series = Vec::new();
     let mut anchor = None;

@@ -1,4 +1,4 @@
-//! Exact element-to-disk factor for any position and orientation (literature V11).
+//! Exact element-to-disk factor for any position and orientation (docs/literature.md V11).
 //!
 //! Lambert's contour integral on the exact circle x(φ) = c + R(cos φ u + sin φ w), u × w = m:
 //! with R⃗ = x − p, the integrand n·(R⃗ × dR⃗)/|R⃗|² is (A + B cos φ + C sin φ)/(D + E cos φ +

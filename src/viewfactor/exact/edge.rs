@@ -1,4 +1,4 @@
-//! Edge-pair terms of the double contour integral (literature.md §2, recipe step 4).
+//! Edge-pair terms of the double contour integral (docs/literature.md §2, recipe step 4).
 //!
 //! For edges e (from `a`, direction ê, length |e|) and f, the term is (ê·f̂)·K with
 //! K = ∫_e ∫_f ln‖x − y‖ dl_y dl_x in arclength. Three exact evaluations:

@@ -1,6 +1,6 @@
 //! Element-to-polygon and element-to-disk factors.
 //!
-//! Lambert (1760), literature V12: for an element at p with unit normal n and a ring
+//! Lambert (1760), docs/literature.md V12: for an element at p with unit normal n and a ring
 //! counter-clockwise about its normal (which faces p),
 //! F = −(1/2π) ∮ n·(R × dR)/|R|² = (1/2π) Σ_k β_k n·(R_{k+1} × R_k)/‖R_{k+1} × R_k‖,
 //! R_k = v_k − p, β_k = ∠(R_k, R_{k+1}). Valid when the whole ring lies in the element's
@@ -17,7 +17,7 @@ use std::f64::consts::TAU;
 pub use super::disk::point_to_disk;
 
 /// Lambert point-to-polygon factor F(dA → poly) for an element at `p` with unit normal `n`,
-/// polygon clipped to the element's front half-space first (literature V12).
+/// polygon clipped to the element's front half-space first (docs/literature.md V12).
 pub fn point_to_polygon(p: DVec3, n: DVec3, poly: &Polygon) -> f64 {
     let size = poly.bounding_radius();
     if poly.plane_distance(p) <= POINT_IN_PLANE_REL * size {

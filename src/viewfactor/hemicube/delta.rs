@@ -3,7 +3,7 @@
 //! ΔF = z·ΔA/[π(u² + z² + 1)²] on the four half side faces, at the pixel centres.
 //!
 //! They are the midpoint rule of the exact pixel factors, so their raw total is 1 + O(h²)
-//! (1 + 8e-6 at R = 256, 1.0154 at R = 6; literature.md §4). They are divided by that total,
+//! (1 + 8e-6 at R = 256, 1.0154 at R = 6; docs/literature.md §4). They are divided by that total,
 //! so the five faces sum to 1 up to round-off: a receiver that fills the whole hemisphere gets
 //! F = 1, never more, and a closed row sums to 1.
 use std::f64::consts::PI;
@@ -91,7 +91,7 @@ mod tests {
 
     #[test]
     fn delta_factors_sum_to_one_with_midpoint_error() {
-        // literature.md §4: 1 + 8e-6 at 256²; the midpoint error scales as h².
+        // docs/literature.md §4: 1 + 8e-6 at 256²; the midpoint error scales as h².
         let e256 = DeltaTables::new(256).midpoint_total() - 1.0;
         let e128 = DeltaTables::new(128).midpoint_total() - 1.0;
         assert!(e256 > 0.0 && e256 < 1e-5, "256: {e256:e}");

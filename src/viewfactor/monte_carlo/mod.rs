@@ -1,4 +1,4 @@
-//! Monte Carlo view factors: `mc-area`, `mc-uniform`, `mc-cosine` (DESIGN.md).
+//! Monte Carlo view factors: `mc-area`, `mc-uniform`, `mc-cosine` .
 //!
 //! - this file: options, the dispatch used by `viewfactor::compute`, the sample streams;
 //! - [`hemisphere`]: `mc-uniform` (weight 2cosθ) and `mc-cosine` (Malley, equal weights),

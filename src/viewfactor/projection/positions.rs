@@ -2,7 +2,7 @@
 //!
 //! One projection at the centroid gives the *point* factor F(x_c → j), not the area average
 //! A_i F_ij = ∫ F(x → j) dA: +20 % for opposed unit squares at unit gap, −5 % for adjacent ones
-//! (literature.md §4, Baum et al. 1989). A q×q Gauss rule over the patch (a tensor rule on a
+//! (docs/literature.md §4, Baum et al. 1989). A q×q Gauss rule over the patch (a tensor rule on a
 //! parallelogram, collapsed rules on the triangles of any other polygon) integrates that
 //! smooth-away-from-neighbours point factor to O(size/distance)^(2q).
 //!
@@ -33,7 +33,7 @@ pub enum Positions {
 }
 
 /// Patch size / neighbour distance up to which one projection is kept. The relative
-/// proximity error of a single projection is ≈ 0.1·(D/d)² (opposed squares, literature.md §4:
+/// proximity error of a single projection is ≈ 0.1·(D/d)² (opposed squares, docs/literature.md §4:
 /// 20 % at D/d = 1.41, 1.3 % at 0.28), so 0.3 keeps it near 1 %, on small far factors.
 pub const NEAR_RATIO_1: f64 = 0.3;
 /// Up to this ratio a 2×2 rule; beyond it (patches touching another surface) 3×3. Measured

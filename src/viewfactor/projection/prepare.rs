@@ -1,7 +1,7 @@
 //! Scene geometry flattened once for the projection methods (hemicube, single plane), and the
 //! per-eye gather that culls it and moves it into the eye's local frame.
 //!
-//! Visibility rules, shared by both methods (surfaces are one-sided, SPEC.md):
+//! Visibility rules, shared by both methods (surfaces are one-sided, docs/SPEC.md):
 //! - a patch polygon whose front faces the eye is a *receiver*: it occludes and is counted;
 //! - a patch polygon seen from its back is a *blocker*: a ray that hits a receiver's back side
 //!   is stopped there but counts for nobody (it would be inside a solid in a closed model);

@@ -852,7 +852,7 @@ pub fn emitter_cells(ring: &[DVec3], normal: DVec3) -> Vec<Cell> {
 mod tests {
     use super::*;
 
-    /// C-11, unit squares at gap 1 (literature V1).
+    /// C-11, unit squares at gap 1 (docs/literature.md V1).
     const PARALLEL_UNIT: f64 = 0.199_824_895_698;
 
     use crate::geometry::fixtures::square as sq;

@@ -513,7 +513,7 @@ impl HalfPlane {
     }
 }
 
-/// Lambert (literature V12) for the ring `q` in z = 0 seen from p with unit normal n:
+/// Lambert (docs/literature.md V12) for the ring `q` in z = 0 seen from p with unit normal n:
 /// (1/2π) Σ_k β_k n·(R_{k+1} × R_k)/‖R_{k+1} × R_k‖, R_k = (q_k, 0) − p.
 pub(super) fn lambert(p: DVec3, n: DVec3, ring: &[DVec2]) -> f64 {
     let m = ring.len();

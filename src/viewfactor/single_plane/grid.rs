@@ -85,7 +85,7 @@ mod tests {
 
     #[test]
     fn plane_captures_the_literature_fractions() {
-        // literature.md §4: 0.554, 0.917, 0.968, 0.9919 for s = 1, 3, 5, 10.
+        // docs/literature.md §4: 0.554, 0.917, 0.968, 0.9919 for s = 1, 3, 5, 10.
         for (s, want) in [(1.0, 0.554), (3.0, 0.917), (5.0, 0.968), (10.0, 0.9919)] {
             let got = PlaneGrid::new(8, s, Spacing::EqualAngle).captured();
             assert!((got - want).abs() < 6e-4, "s = {s}: {got}");
