@@ -137,7 +137,10 @@ def timed(cmd, cwd, log, timeout):
                 p.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 pass
-            os.killpg(p.pid, signal.SIGKILL)
+            try:
+                os.killpg(p.pid, signal.SIGKILL)  # whatever is left of the session
+            except ProcessLookupError:
+                pass
             p.wait()
             status = f"timeout {timeout:.0f} s"
     try:
