@@ -128,9 +128,21 @@ def timed(cmd, cwd, log, timeout):
         try:
             status = "ok" if p.wait(timeout=timeout) == 0 else f"exit {p.returncode}"
         except subprocess.TimeoutExpired:
-            os.killpg(p.pid, signal.SIGKILL)
+            # end the timed program first, so that /usr/bin/time still reports its CPU time and
+            # peak RSS up to the cut; then the whole session
+            kids = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
+            for k in kids:
+                os.kill(int(k), signal.SIGKILL)
+            try:
+                p.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                pass
+            try:
+                os.killpg(p.pid, signal.SIGKILL)  # whatever is left of the session
+            except ProcessLookupError:
+                pass
             p.wait()
-            return f"timeout {timeout:.0f} s", time.time() - t0, float("nan"), float("nan")
+            status = f"timeout {timeout:.0f} s"
     try:
         e, u, s, m = open(tfile).read().split()[-4:]
         return status, float(e), float(u) + float(s), float(m) / 1024
@@ -358,7 +370,14 @@ def main():
     pick = set(filter(None, args.cases.split(",")))
     cases = [c for c in CASES if (not pick or c[0] in pick) and (c[5] or not args.quick or pick)]
     pb_dir = fetch_pybullet(args.out) if any(c[1] in PB_FILES for c in cases) else None
+    # rows of other cases from an earlier call into the same OUT are kept, so that cases run one
+    # call at a time add up to one table
     rows = []
+    prev = os.path.join(args.out, "results.csv")
+    if pick and os.path.exists(prev):
+        with open(prev) as fh:
+            rows = [{k: parse(v) for k, v in r.items() if v != ""} for r in csv.DictReader(fh)
+                    if r["case"] not in pick]
     for case in cases:
         run_case(case, args, pb_dir, v3d, rows)
         write_outputs(rows, args.out)
