@@ -165,8 +165,15 @@ pub fn hint(facts: &SceneFacts, rows: &[LeakRow]) -> String {
         }
         s.push_str(&format!("; close it, or {}", ambient_advice(facts)));
         says.push(s);
-    } else if facts.all_checked_meshes && !open.is_empty() {
-        says.push(format!("{}; radiation leaves through the openings", open.join("; ")));
+    } else if !open.is_empty() {
+        // Open meshes among the leaking rows' surfaces (or anywhere, when the mesh checks see
+        // the whole scene): small openings leave the area vectors cancelling, but sight lines
+        // through them still leave, or reach back faces, which take no exchange.
+        says.push(format!(
+            "{}; radiation leaves through the openings (or reaches back faces, which take none), whatever \
+             the method's accuracy",
+            open.join("; ")
+        ));
     }
     // 4. No enclosure: everything faces outward.
     let outward: Vec<&crate::scene::orientation::Body> =
@@ -354,6 +361,26 @@ mod tests {
         let h = hint(&f, &[row("room#0", 0.9, &[])]);
         assert!(h.contains("do not close") && h.contains("'room' is an open mesh, 4 boundary edges"), "{h}");
         assert!(h.contains("add an [ambient]") && !h.contains("reverse"), "{h}");
+    }
+
+    /// An open part in a room of shapes: its small openings leave the area vectors cancelling,
+    /// but its leaking rows are blamed on the openings, never on sampling.
+    #[test]
+    fn an_open_part_is_blamed_before_sampling_even_when_the_area_vectors_cancel() {
+        let mut f = room_and_part();
+        f.all_checked_meshes = false;
+        f.defects.push(MeshDefect { surface: "part".into(), boundary_edges: 54, against: 0 });
+        let rows = [row("part#1", 0.978, &[("room#2", 0.1, 5e-5)])];
+        let h = hint(&f, &rows);
+        assert!(
+            h.contains("'part' is an open mesh, 54 boundary edges; radiation leaves through the openings"),
+            "{h}"
+        );
+        assert!(!h.contains("sampling") && !h.contains("tolerance"), "{h}");
+        // An open surface whose rows do not leak is not named when the checks see only part of
+        // the scene.
+        let h = hint(&f, &[row("room#0", 0.978, &[("part#1", 0.1, 5e-5)])]);
+        assert!(h.contains("sampling, not geometry") && !h.contains("open mesh"), "{h}");
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! Blocker detection for the unshadowed analytic method: which patch pairs have part of their
+//! Occluder detection for the unshadowed analytic method: which patch pairs have part of their
 //! view cut by another patch or an obstruction.
 //!
 //! **Criterion.** For convex parts A ⊂ patch i (clipped to j's front half-space) and B ⊂ patch j
@@ -22,33 +22,33 @@ use rayon::prelude::*;
 
 /// What blocks a view: a patch (index into [`Scene::patches`]) or an obstruction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Blocker {
+pub enum Occluder {
     /// A patch of an exchanging surface.
     Patch(usize),
     /// Obstruction `.0`, polygon `.1`.
     Obstruction(usize, usize),
 }
 
-impl Blocker {
+impl Occluder {
     /// Human-readable name: `surface 'wall' (patch wall#3)` or `obstruction 'shade'`.
     pub fn describe(&self, scene: &Scene) -> String {
         match *self {
-            Blocker::Patch(p) => {
+            Occluder::Patch(p) => {
                 let s = &scene.surfaces[scene.patches[p].surface];
                 format!("surface '{}' (patch {})", s.name, scene.patch_name(p))
             }
-            Blocker::Obstruction(k, _) => format!("obstruction '{}'", scene.obstructions[k].name),
+            Occluder::Obstruction(k, _) => format!("obstruction '{}'", scene.obstructions[k].name),
         }
     }
 }
 
 /// One convex blocker polygon projected into its group's plane frame.
 #[derive(Debug, Clone)]
-struct Blocker2 {
-    owner: Blocker,
-    pts: Vec<[f64; 2]>,
-    lo: [f64; 2],
-    hi: [f64; 2],
+struct Projected {
+    owner: Occluder,
+    pts: Vec<DVec2>,
+    lo: DVec2,
+    hi: DVec2,
 }
 
 /// An active blocking plane with its blockers.
@@ -57,10 +57,10 @@ struct Group {
     plane: Plane,
     e1: DVec3,
     e2: DVec3,
-    blockers: Vec<Blocker2>,
+    blockers: Vec<Projected>,
 }
 
-/// Blocker detection for one scene.
+/// Occluder detection for one scene.
 #[derive(Debug, Clone)]
 pub struct Occlusion {
     tol: f64,
@@ -98,10 +98,10 @@ impl Occlusion {
     pub fn new(scene: &Scene) -> Self {
         let scale = scene_size(scene);
         let tol = OCCLUSION_TOL * scale;
-        let mut polys: Vec<(&Polygon, Blocker)> =
-            scene.patches.iter().enumerate().map(|(p, patch)| (&patch.polygon, Blocker::Patch(p))).collect();
+        let mut polys: Vec<(&Polygon, Occluder)> =
+            scene.patches.iter().enumerate().map(|(p, patch)| (&patch.polygon, Occluder::Patch(p))).collect();
         for (k, o) in scene.obstructions.iter().enumerate() {
-            polys.extend(o.polygons.iter().enumerate().map(|(m, poly)| (poly, Blocker::Obstruction(k, m))));
+            polys.extend(o.polygons.iter().enumerate().map(|(m, poly)| (poly, Occluder::Obstruction(k, m))));
         }
         let grouping = PlaneGroups::new(polys.iter().map(|(p, _)| *p), scale, tol);
         // Side census per plane: a plane blocks only if two different patches lie strictly on
@@ -142,10 +142,13 @@ impl Occlusion {
         for ((poly, owner), &g) in polys.iter().zip(&grouping.id) {
             if let Some(group) = groups[g as usize].as_mut() {
                 for part in convex_parts(poly) {
-                    let pts: Vec<[f64; 2]> =
-                        part.vertices().iter().map(|v| [v.dot(group.e1), v.dot(group.e2)]).collect();
+                    let pts: Vec<DVec2> = part
+                        .vertices()
+                        .iter()
+                        .map(|v| DVec2::new(v.dot(group.e1), v.dot(group.e2)))
+                        .collect();
                     let (lo, hi) = bbox(&pts);
-                    group.blockers.push(Blocker2 { owner: *owner, pts, lo, hi });
+                    group.blockers.push(Projected { owner: *owner, pts, lo, hi });
                 }
             }
         }
@@ -169,7 +172,7 @@ impl Occlusion {
     }
 
     /// A blocker that cuts part of the view between patches `i` and `j`, if any.
-    pub fn first_blocker(&self, scene: &Scene, i: usize, j: usize) -> Option<Blocker> {
+    pub fn first_blocker(&self, scene: &Scene, i: usize, j: usize) -> Option<Occluder> {
         if self.groups.is_empty() || i == j {
             return None;
         }
@@ -192,13 +195,13 @@ impl Occlusion {
                     let Some(x) = self.section(g, a, b) else { continue };
                     let (lo, hi) = bbox(&x);
                     for k in &g.blockers {
-                        if matches!(k.owner, Blocker::Patch(p) if p == i || p == j) {
+                        if matches!(k.owner, Occluder::Patch(p) if p == i || p == j) {
                             continue;
                         }
-                        if k.lo[0] >= hi[0] - self.tol
-                            || k.hi[0] <= lo[0] + self.tol
-                            || k.lo[1] >= hi[1] - self.tol
-                            || k.hi[1] <= lo[1] + self.tol
+                        if k.lo.x >= hi.x - self.tol
+                            || k.hi.x <= lo.x + self.tol
+                            || k.lo.y >= hi.y - self.tol
+                            || k.hi.y <= lo.y + self.tol
                         {
                             continue;
                         }
@@ -213,7 +216,7 @@ impl Occlusion {
     }
 
     /// Every pair i < j whose view is partly blocked, with a blocker (row order).
-    pub fn blocked_pairs(&self, scene: &Scene) -> Vec<(usize, usize, Blocker)> {
+    pub fn blocked_pairs(&self, scene: &Scene) -> Vec<(usize, usize, Occluder)> {
         if self.is_clear() {
             return Vec::new();
         }
@@ -229,7 +232,7 @@ impl Occlusion {
 
     /// The section conv(a ∪ b) ∩ plane as a convex polygon in the plane frame, when it has
     /// interior (a and b together strictly on both sides).
-    fn section(&self, g: &Group, a: &Polygon, b: &Polygon) -> Option<Vec<[f64; 2]>> {
+    fn section(&self, g: &Group, a: &Polygon, b: &Polygon) -> Option<Vec<DVec2>> {
         let verts: Vec<(DVec3, f64)> =
             a.vertices().iter().chain(b.vertices()).map(|v| (*v, g.plane.distance(*v))).collect();
         let mut pts = Vec::with_capacity(16);
@@ -246,7 +249,7 @@ impl Occlusion {
             }
             let _ = k;
         }
-        let p2: Vec<[f64; 2]> = pts.iter().map(|v| [v.dot(g.e1), v.dot(g.e2)]).collect();
+        let p2: Vec<DVec2> = pts.iter().map(|v| DVec2::new(v.dot(g.e1), v.dot(g.e2))).collect();
         let hull = convex_hull(p2);
         (hull.len() >= 3).then_some(hull)
     }
@@ -272,39 +275,36 @@ fn scene_size(scene: &Scene) -> f64 {
     }
 }
 
-fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    pts.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
-        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
-    })
+fn bbox(pts: &[DVec2]) -> (DVec2, DVec2) {
+    pts.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)))
 }
 
 /// Convex hull of the distinct points of `p`, counter-clockwise, collinear points dropped
 /// (the shared [`geometry::convex::convex_hull`](crate::geometry::convex::convex_hull) on the
 /// sorted, de-duplicated points).
-fn convex_hull(mut p: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
-    p.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    p.dedup();
-    let mut pts: Vec<DVec2> = p.iter().map(|q| DVec2::new(q[0], q[1])).collect();
+fn convex_hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
+    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    pts.dedup();
     let mut hull = Vec::with_capacity(2 * pts.len());
     crate::geometry::convex::convex_hull(&mut pts, &mut hull);
-    hull.iter().map(|q| [q.x, q.y]).collect()
+    hull
 }
 
 /// True when two convex polygons overlap by more than `tol` along every separating-axis
 /// candidate (the edge normals of both).
 // Not `geometry::convex::convex_disjoint`: projected intervals with a thickness `tol`.
-fn overlap_2d(a: &[[f64; 2]], b: &[[f64; 2]], tol: f64) -> bool {
+fn overlap_2d(a: &[DVec2], b: &[DVec2], tol: f64) -> bool {
     for poly in [a, b] {
         for k in 0..poly.len() {
             let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-            let axis = [q[1] - p[1], p[0] - q[0]];
-            let len = axis[0].hypot(axis[1]);
+            let axis = DVec2::new(q.y - p.y, p.x - q.x);
+            let len = axis.length();
             if len == 0.0 {
                 continue;
             }
-            let proj = |s: &[[f64; 2]]| {
+            let proj = |s: &[DVec2]| {
                 s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    let d = (v[0] * axis[0] + v[1] * axis[1]) / len;
+                    let d = v.dot(axis) / len;
                     (lo.min(d), hi.max(d))
                 })
             };
@@ -323,13 +323,14 @@ mod tests {
 
     #[test]
     fn hull_and_overlap() {
-        let h = convex_hull(vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]]);
+        let v = |p: &[[f64; 2]]| p.iter().map(|&[x, y]| DVec2::new(x, y)).collect::<Vec<_>>();
+        let h = convex_hull(v(&[[0.0, 0.0], [1.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]]));
         assert_eq!(h.len(), 4, "{h:?}");
-        let sq = |x: f64| vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]];
+        let sq = |x: f64| v(&[[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]]);
         assert!(overlap_2d(&sq(0.0), &sq(0.5), 1e-9));
         assert!(!overlap_2d(&sq(0.0), &sq(1.0), 1e-9), "touching along an edge is not overlap");
         assert!(!overlap_2d(&sq(0.0), &sq(1.5), 1e-9));
-        let tri = vec![[1.2, -1.0], [2.0, 0.5], [1.2, 2.0]];
+        let tri = v(&[[1.2, -1.0], [2.0, 0.5], [1.2, 2.0]]);
         assert!(!overlap_2d(&sq(0.0), &tri, 1e-9));
     }
 }
