@@ -152,7 +152,7 @@ fn viewfactors_with(a: ViewfactorsArgs, inputs: &[Input]) -> Result<()> {
     let worst = out.worst_row.clone();
     writing();
     let results = Results::ViewFactors { scene: &scene, outcome: &out };
-    write_all(&mut outs, &result_writers(vtk), &results)?;
+    write_results(&mut outs, vtk, &results)?;
     outs.commit()?;
     say::note(format_args!(
         "lambert: {} patches, {pairs} pairs, {secs:.3} s ({:.3e} pairs/s), method {method}{store}",
@@ -478,20 +478,16 @@ fn finish_solve(
         report::fmt_f64(scale),
         if ok { "" } else { " -- WARNING: not conserved; enforce closure for closed scenes" }
     ));
-    write_all(outs, &result_writers(vtk), &Results::Solution { scene, solution: &out })
+    write_results(outs, vtk, &Results::Solution { scene, solution: &out })
 }
 
-/// The writers of a `viewfactors` or `solve` run's results: the VTK mesh when asked, then
-/// the CSV table.
-fn result_writers(vtk: Option<report::vtk::VtkKind>) -> Vec<&'static dyn Writer> {
-    let mut writers: Vec<&'static dyn Writer> = Vec::new();
-    match vtk {
-        Some(VtkKind::UnstructuredGrid) => writers.push(&Vtk(VtkKind::UnstructuredGrid)),
-        Some(VtkKind::PolyData) => writers.push(&Vtk(VtkKind::PolyData)),
-        None => {}
-    }
+/// Writes a `viewfactors` or `solve` run's results: the VTK mesh when asked, then the CSV
+/// table.
+fn write_results(outs: &mut OutputSet, vtk: Option<VtkKind>, results: &Results) -> Result<()> {
+    let vtk = vtk.map(Vtk);
+    let mut writers: Vec<&dyn Writer> = vtk.iter().map(|v| v as &dyn Writer).collect();
     writers.push(&Table);
-    writers
+    write_all(outs, &writers, results)
 }
 
 /// `validate --quick` writes here unless `--out` is given (never over the committed report).

@@ -350,7 +350,7 @@ pub fn load_with(path: &std::path::Path, options: &LoadOptions) -> crate::Result
 /// Every scene format, in the order the messages list them: the TOML scene, then the model
 /// formats ([`readers::MODELS`]), each of which is a scene by itself too.
 pub static READERS: [&dyn readers::Reader; 5] =
-    [&TomlScene, &readers::Gltf, &readers::Stl, &readers::Obj, &readers::Vs3];
+    [&TomlScene, &readers::Gltf, &readers::STL, &readers::OBJ, &readers::Vs3];
 
 /// The TOML scene format (SPEC's): surfaces, `[[model]]` files, defaults and the ambient.
 struct TomlScene;

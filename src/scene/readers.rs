@@ -45,7 +45,7 @@ pub trait Reader: Sync {
 }
 
 /// The formats a `[[model]]` may be, in the order the messages list them.
-pub static MODELS: [&dyn Reader; 4] = [&Gltf, &Stl, &Obj, &Vs3];
+pub static MODELS: [&dyn Reader; 4] = [&Gltf, &STL, &OBJ, &Vs3];
 
 /// The reader among `readers` of `path`'s extension (case-insensitive), if any.
 pub fn find(readers: &[&'static dyn Reader], path: &Path) -> Option<&'static dyn Reader> {
@@ -108,43 +108,29 @@ impl Reader for Gltf {
     }
 }
 
-/// STL, ASCII or binary: one surface per file unless split.
-pub struct Stl;
-
-impl Reader for Stl {
-    fn name(&self) -> &'static str {
-        "STL"
-    }
-    fn extensions(&self) -> &'static [&'static str] {
-        &["stl"]
-    }
-    fn takes_mesh_options(&self) -> bool {
-        true
-    }
-    fn takes_unit_and_split(&self) -> bool {
-        true
-    }
-    fn model(
-        &self,
-        path: &Path,
-        opts: &MeshOptions,
-        layer: Layer,
-        _: &LoadOptions,
-    ) -> Result<(ModelEntry, Vec<String>)> {
-        let c = mesh_model::build(path, stl_scene::read(path)?, opts, Split::File)?;
-        Ok((ModelEntry { model: c.model, layer, report: Some(c.report), notes: c.notes }, Vec::new()))
-    }
+/// A triangle-soup format read into groups (STL, OBJ) and built into surfaces by
+/// [`mesh_model::build`]: unit, weld, split and repair all apply.
+pub struct TriangleFile {
+    name: &'static str,
+    extensions: &'static [&'static str],
+    read: fn(&Path) -> std::result::Result<mesh_model::RawMesh, InputError>,
+    default_split: Split,
 }
 
-/// Wavefront OBJ: one surface per group or object unless split.
-pub struct Obj;
+/// STL, ASCII or binary: one surface per file unless split.
+pub static STL: TriangleFile =
+    TriangleFile { name: "STL", extensions: &["stl"], read: stl_scene::read, default_split: Split::File };
 
-impl Reader for Obj {
+/// Wavefront OBJ: one surface per group or object unless split.
+pub static OBJ: TriangleFile =
+    TriangleFile { name: "OBJ", extensions: &["obj"], read: obj_scene::read, default_split: Split::Group };
+
+impl Reader for TriangleFile {
     fn name(&self) -> &'static str {
-        "OBJ"
+        self.name
     }
     fn extensions(&self) -> &'static [&'static str] {
-        &["obj"]
+        self.extensions
     }
     fn takes_mesh_options(&self) -> bool {
         true
@@ -159,7 +145,7 @@ impl Reader for Obj {
         layer: Layer,
         _: &LoadOptions,
     ) -> Result<(ModelEntry, Vec<String>)> {
-        let c = mesh_model::build(path, obj_scene::read(path)?, opts, Split::Group)?;
+        let c = mesh_model::build(path, (self.read)(path)?, opts, self.default_split)?;
         Ok((ModelEntry { model: c.model, layer, report: Some(c.report), notes: c.notes }, Vec::new()))
     }
 }

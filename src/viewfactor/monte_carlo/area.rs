@@ -13,7 +13,7 @@
 //! The weight k·V/p(j, y) = k·V·A_R/(½ + ½·A_j·k) is bounded by 2A_R/A_j: finite variance
 //! everywhere. Each sample lands on one receiver (multinomial, like hit counting). A pair with
 //! no blocker candidates in the BVH (`Visibility::candidates_between`) needs no ray.
-use super::super::accuracy::{mc_error_bound, no_own_leak_tol, Knob, MethodInfo};
+use super::super::accuracy::MethodInfo;
 use super::super::engine::{Row, RowKernel};
 use super::super::MethodSet;
 use super::tally::{IdHasher, TallyPool};
@@ -27,17 +27,7 @@ use std::f64::consts::FRAC_1_PI;
 use std::hash::BuildHasherDefault;
 
 /// The `mc-area` row of the method registry (error: a few standard errors).
-pub const INFO: MethodInfo = MethodInfo {
-    knob: Knob::Samples,
-    symmetric: false,
-    monte_carlo: true,
-    counts_hits: false,
-    exact_shadows: false,
-    kernel: |_, _| Ok(None),
-    error_bound: mc_error_bound,
-    own_leak_tol: no_own_leak_tol,
-    colour: (crate::palette::VERMILLION, false),
-};
+pub const INFO: MethodInfo = super::info(crate::palette::VERMILLION, false);
 
 /// Probability of the uniform-area technique in the two-technique mixture.
 const UNIFORM_SHARE: f64 = 0.5;

@@ -7,7 +7,7 @@
 //!
 //! A ray that ends on a back side or on an obstruction is absorbed and counts for no patch; a
 //! ray that leaves the scene goes to the ambient (open scenes) or shows as a row-sum deficit.
-use super::super::accuracy::{mc_error_bound, no_own_leak_tol, Knob, MethodInfo};
+use super::super::accuracy::MethodInfo;
 use super::super::engine::{Row, RowKernel};
 use super::super::MethodSet;
 use super::tally::TallyPool;
@@ -17,30 +17,10 @@ use crate::Result;
 use glam::DVec2;
 
 /// The `mc-uniform` row of the method registry (error: a few standard errors; hit counts).
-pub const UNIFORM_INFO: MethodInfo = MethodInfo {
-    knob: Knob::Samples,
-    symmetric: false,
-    monte_carlo: true,
-    counts_hits: true,
-    exact_shadows: false,
-    kernel: |_, _| Ok(None),
-    error_bound: mc_error_bound,
-    own_leak_tol: no_own_leak_tol,
-    colour: (crate::palette::ORANGE, false),
-};
+pub const UNIFORM_INFO: MethodInfo = super::info(crate::palette::ORANGE, true);
 
 /// The `mc-cosine` row of the method registry (error: a few standard errors; hit counts).
-pub const COSINE_INFO: MethodInfo = MethodInfo {
-    knob: Knob::Samples,
-    symmetric: false,
-    monte_carlo: true,
-    counts_hits: true,
-    exact_shadows: false,
-    kernel: |_, _| Ok(None),
-    error_bound: mc_error_bound,
-    own_leak_tol: no_own_leak_tol,
-    colour: (crate::palette::BLUISH_GREEN, false),
-};
+pub const COSINE_INFO: MethodInfo = super::info(crate::palette::BLUISH_GREEN, true);
 
 /// Direction distribution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

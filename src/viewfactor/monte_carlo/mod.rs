@@ -102,6 +102,23 @@ pub fn compute_with(scene: &Scene, params: &Params, level: Level, options: McOpt
     engine::run(scene, kernel.as_ref(), params, level)
 }
 
+/// A Monte Carlo method's registry row: samples as the knob, a few standard errors as the
+/// error model, its own sampler (no row kernel); `counts_hits` for the hit-counting estimators.
+const fn info(colour: (u8, u8, u8), counts_hits: bool) -> super::MethodInfo {
+    use super::accuracy::{mc_error_bound, no_own_leak_tol, Knob};
+    super::MethodInfo {
+        knob: Knob::Samples,
+        symmetric: false,
+        monte_carlo: true,
+        counts_hits,
+        exact_shadows: false,
+        kernel: |_, _| Ok(None),
+        error_bound: mc_error_bound,
+        own_leak_tol: no_own_leak_tol,
+        colour: (colour, false),
+    }
+}
+
 /// What every estimator needs.
 #[derive(Clone, Copy)]
 pub(crate) struct Common<'a> {
