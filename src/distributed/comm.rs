@@ -92,7 +92,7 @@ fn world() -> SimpleCommunicator {
 }
 
 /// A barrier that sleeps between tests instead of spinning.
-fn quiet_barrier(world: &SimpleCommunicator) {
+pub(crate) fn quiet_barrier(world: &SimpleCommunicator) {
     let mut req = world.immediate_barrier();
     loop {
         match req.test() {
@@ -211,25 +211,6 @@ pub fn gather_bytes(mine: &[u8]) -> Option<Vec<Vec<u8>>> {
         root.gather_varcount_into(mine);
         None
     }
-}
-
-/// Every rank's bytes on every rank, in rank order (small messages: the probe timings).
-pub fn all_gather_bytes(mine: &[u8]) -> Vec<Vec<u8>> {
-    let world = world();
-    quiet_barrier(&world);
-    let size = rank_size().1;
-    let len = mine.len() as u64;
-    let mut lens = vec![0u64; size];
-    world.all_gather_into(&len, &mut lens[..]);
-    let counts: Vec<i32> = lens.iter().map(|&l| i32::try_from(l).unwrap_or(i32::MAX)).collect();
-    let displs: Vec<i32> =
-        counts.iter().scan(0i32, |acc, &c| Some(std::mem::replace(acc, acc.saturating_add(c)))).collect();
-    let mut buf = vec![0u8; counts.iter().map(|&c| c as usize).sum()];
-    {
-        let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
-        world.all_gather_varcount_into(mine, &mut part);
-    }
-    counts.iter().zip(&displs).map(|(c, d)| buf[*d as usize..(*d + *c) as usize].to_vec()).collect()
 }
 
 /// Marks (on rank 0) that the other ranks have left after sending their rows: later row

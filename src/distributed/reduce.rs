@@ -126,9 +126,10 @@ mod mpi_impl {
         }
     }
 
-    /// Every rank's bytes, in rank order.
+    /// Every rank's bytes, in rank order; ranks that arrive early wait without spinning.
     pub fn all_gather_bytes(mine: &[u8]) -> Vec<Vec<u8>> {
         let world = SimpleCommunicator::world();
+        super::super::comm::quiet_barrier(&world);
         let size = world.size() as usize;
         let len = mine.len() as u64;
         let mut lens = vec![0u64; size];

@@ -288,7 +288,7 @@ pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Resu
                 put_f64(&mut b, *t);
             }
             let mut probes: Vec<(usize, f64)> = Vec::new();
-            for bytes in comm::all_gather_bytes(&b) {
+            for bytes in crate::distributed::reduce::all_gather_bytes(&b) {
                 let mut r = Reader(&bytes);
                 while let (Some(i), Some(t)) = (r.u64(), r.f64()) {
                     probes.push((i as usize, t));
