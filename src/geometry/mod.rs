@@ -8,6 +8,7 @@
 //! - [`planes`]: grouping polygons by unoriented plane (coplanar pairs, blocker planes).
 //! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
 //! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
+//! - [`loops`]: closed rings from the loose edges of a cycle (a silhouette's outline).
 //! - [`union`]: the union of many plane polygons by one boolean (`i_overlay`).
 //! - [`tolerance`]: every geometric epsilon, one name per concept, with its reason.
 //!
@@ -16,6 +17,7 @@ pub mod clip;
 pub mod convex;
 mod glue;
 pub mod grid_clip;
+pub mod loops;
 pub mod planes;
 pub mod polygon;
 pub mod quadrature;
