@@ -134,7 +134,7 @@ impl Occlusion {
             .zip(&active)
             .map(|(plane, &on)| {
                 on.then(|| {
-                    let (e1, e2) = plane.normal.any_orthonormal_pair();
+                    let (e1, e2) = plane.n.any_orthonormal_pair();
                     Group { plane: *plane, e1, e2, blockers: Vec::new() }
                 })
             })
