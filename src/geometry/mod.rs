@@ -2,10 +2,12 @@
 //!
 //! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
+//! - [`frame`]: the one orthonormal frame (origin, t, b, n) and its constructors.
 //! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
 //! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
-//! - [`planes`]: grouping polygons by unoriented plane (coplanar pairs, blocker planes).
+//! - [`planes`]: the one plane type; grouping polygons by unoriented plane (coplanar pairs,
+//!   blocker planes).
 //! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
 //! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
 //! - [`union`]: the union of many plane polygons by one boolean (`i_overlay`).
@@ -14,6 +16,7 @@
 //! Everything here is pure math; nothing depends on scenes or methods.
 pub mod clip;
 pub mod convex;
+pub mod frame;
 mod glue;
 pub mod grid_clip;
 pub mod planes;

@@ -35,11 +35,12 @@ use std::sync::Mutex;
 
 pub(crate) mod delta;
 
-use super::projection::prepare::{Eye, Gathered, Prepared, NO_RECEIVER};
+use super::projection::prepare::{Gathered, Prepared, NO_RECEIVER};
 use super::projection::raster::{DepthPlane, ItemBuffer};
 pub use super::projection::Positions;
 pub use super::projection::MAX_RESOLUTION;
 use super::projection::{checked_resolution, clip, credit, emit, positions, NEAR_REL, RECEIVER_DEPTH_BIAS};
+use crate::geometry::frame::Frame;
 
 /// The `hemicube` row of the method registry: error the point bias plus the raster term.
 pub const INFO: MethodInfo = MethodInfo {
@@ -191,7 +192,7 @@ impl RowKernel for HemicubeKernel<'_> {
         let rule = positions::rule(poly, self.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
         for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
-            let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.positions.turn(k));
+            let eye = Frame::along(x, poly.normal(), v[1] - v[0]).turned(self.positions.turn(k));
             ws.gathered.gather(&self.prep, &eye, i);
             for face in &self.faces {
                 self.render_face(face, &mut ws, w);

@@ -6,7 +6,7 @@ use crate::common::analytic_scenes::{grid, l_room};
 use crate::common::concave_meshes::{extruded, L_PROFILE};
 use crate::common::{cube_interior, rect};
 use glam::{DQuat, DVec2};
-use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame};
+use lambert::geometry::{frame::Frame, sampling::sample_cosine_hemisphere};
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
 use lambert::viewfactor::points::{compute, PointFactors, ViewPoint, ON_PLANE_REL, ROW_SUM_TOL};

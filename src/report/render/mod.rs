@@ -179,13 +179,13 @@ pub fn render(scene: &Scene, patch_values: &[f64], opts: &Options) -> Result<Ima
 
 /// The image-plane frame of the picture: fitted to the scene below the caption unless the
 /// camera's own zoom is asked for (`fit` off).
-pub fn frame(cam: &Camera, tris: &[Tri], opts: &Options, caption_h: i32) -> raster::Frame {
+pub fn frame(cam: &Camera, tris: &[Tri], opts: &Options, caption_h: i32) -> raster::Intrinsics {
     let (pw, h) = ((opts.size.0 - BAR_PANEL) as usize, opts.size.1 as usize);
     if !opts.fit {
-        return raster::Frame::centred(cam, pw, h);
+        return raster::Intrinsics::centred(cam, pw, h);
     }
     let top = caption_h as f64 + FRAME_PAD / 2.0;
-    raster::Frame::fit(cam, tris, pw, h, (FRAME_PAD, pw as f64 - FRAME_PAD, top, h as f64 - FRAME_PAD))
+    raster::Intrinsics::fit(cam, tris, pw, h, (FRAME_PAD, pw as f64 - FRAME_PAD, top, h as f64 - FRAME_PAD))
 }
 
 /// Headlight (a light at the eye): `base` scaled by AMBIENT + (1 − AMBIENT)·|n·ray|, so a

@@ -27,8 +27,8 @@
 use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
 use super::volume::{Build, Class, ShadowVolume};
-use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::convex::{ear_indices, is_convex_local};
+use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, EVENT_LEVEL_REL, PARALLELOGRAM_REL};
 use glam::DVec3;
@@ -1013,9 +1013,9 @@ mod tests {
             let mut ring = Vec::new();
             cells.iter().all(|c| {
                 c.ring(&mut ring);
-                let (lo, hi) = ring
-                    .iter()
-                    .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(plane.distance(v)), h.max(plane.distance(v))));
+                let (lo, hi) = ring.iter().fold((f64::MAX, f64::MIN), |(l, h), &v| {
+                    (l.min(plane.distance(v)), h.max(plane.distance(v)))
+                });
                 lo >= -1e-9 || hi <= 1e-9
             })
         };

@@ -24,10 +24,11 @@
 //! changes): hundreds of kinks over one emitter for a 1,280-facet sphere, each needing its own
 //! cells. Here each face carries only its own few events.
 use super::adaptive::{cut_along, emitter_cells, segment_meets_ring, Integrator};
-use super::viewpoint::{lambert, Frame};
-use crate::geometry::planes::{plane_of, Plane};
+use super::viewpoint::lambert;
 use crate::geometry::clip::clip_homogeneous;
 use crate::geometry::convex::{clip_convex, convex_contains, convex_hull, is_convex, twice_area, HalfPlane};
+use crate::geometry::frame::Frame;
+use crate::geometry::planes::{plane_of, Plane};
 use crate::viewfactor::exact::pair::ring_ring;
 use glam::{DVec2, DVec3};
 
@@ -109,7 +110,7 @@ pub fn blocked(
         if twice_area(&s.ring) <= snap * snap {
             continue;
         }
-        let e_f: Vec<DVec3> = s.ring.iter().map(|q| fe.to_world(q.extend(0.0))).collect();
+        let e_f: Vec<DVec3> = s.ring.iter().map(|q| fe.point_to_world(q.extend(0.0))).collect();
         if lands_inside(&e_f, f, &fr, &r2, snap, &mut s.rays) {
             let x = ring_ring(&e_f, n_e, f, pf.n);
             info.blocked += x.value;

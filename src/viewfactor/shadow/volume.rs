@@ -17,9 +17,9 @@
 //! blocked. Anything else is partial and goes to the shadow integrator.
 use crate::geometry::clip::clip_ring_keep;
 use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area, HalfPlane};
-pub use crate::visibility::boxes::Region;
 pub(super) use crate::geometry::planes::plane_of;
 use crate::geometry::planes::Plane;
+pub use crate::visibility::boxes::Region;
 use glam::{DVec2, DVec3};
 
 /// How a receiver relates to one blocker's shadow.
@@ -335,7 +335,6 @@ fn points_outside(pts: &[DVec2], ring: &[DVec2], snap: f64) -> bool {
         None => false,
     })
 }
-
 
 #[cfg(test)]
 mod tests {
