@@ -1,7 +1,8 @@
 //! Planar simple polygons: construction with validation, Newell normal, area, centroid,
 //! ear-clipping triangulation and Sutherland–Hodgman clipping by a plane.
-use super::tolerance::{CONVEX_TURN_REL, DEGENERACY_TOL, PLANARITY_TOL};
-use glam::{DMat3, DVec3};
+use super::tolerance::{DEGENERACY_TOL, PLANARITY_TOL};
+use super::convex::{ear_indices, is_convex_local};
+use glam::{DMat3, DVec2, DVec3};
 
 /// Why a vertex list is not a valid polygon.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -145,22 +146,20 @@ impl Polygon {
     pub fn plane_distance(&self, p: DVec3) -> f64 {
         (p - self.centroid).dot(self.normal)
     }
-    /// True when every interior angle is below 180° (within round-off).
+    /// True when every interior angle is below 180° (within round-off): the one corner test,
+    /// [`is_convex_local`], on the polygon's in-plane coordinates.
     pub fn is_convex(&self) -> bool {
-        let n = self.vertices.len();
-        (0..n).all(|k| {
-            let (a, b, c) = (self.vertices[k], self.vertices[(k + 1) % n], self.vertices[(k + 2) % n]);
-            (b - a).cross(c - b).dot(self.normal) >= -CONVEX_TURN_REL * (b - a).length() * (c - b).length()
-        })
+        is_convex_local(&project(&self.vertices, self.normal))
     }
 
-    /// Ear-clipping triangulation; triangles keep the polygon's orientation.
+    /// Ear-clipping triangulation ([`ear_indices`]); triangles keep the polygon's orientation.
     pub fn triangulate(&self) -> Vec<[DVec3; 3]> {
         let v = &self.vertices;
-        if self.is_convex() {
+        let p = project(v, self.normal);
+        if is_convex_local(&p) {
             return (1..v.len() - 1).map(|k| [v[0], v[k], v[k + 1]]).collect();
         }
-        ear_clip(v, self.normal)
+        ear_indices(&p).into_iter().map(|t| t.map(|k| v[k])).collect()
     }
 
     /// Part of the polygon on the side `(x − point)·normal ≥ 0`; `None` if nothing of positive
@@ -244,16 +243,17 @@ fn dedup_ring(v: &mut Vec<DVec3>) {
 }
 
 /// In-plane 2-D coordinates along two axes orthogonal to `normal`.
-fn project(v: &[DVec3], normal: DVec3) -> Vec<[f64; 2]> {
+fn project(v: &[DVec3], normal: DVec3) -> Vec<DVec2> {
     let (u, w) = normal.any_orthonormal_pair();
-    v.iter().map(|p| [p.dot(u), p.dot(w)]).collect()
+    v.iter().map(|p| DVec2::new(p.dot(u), p.dot(w))).collect()
 }
 
-fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+/// Twice the signed area of triangle (a, b, c): positive when counter-clockwise.
+fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    (b - a).perp_dot(c - a)
 }
 
-fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], eps: f64) -> bool {
+fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2, eps: f64) -> bool {
     let (d1, d2) = (orient(c, d, a), orient(c, d, b));
     let (d3, d4) = (orient(a, b, c), orient(a, b, d));
     if ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps))
@@ -262,12 +262,12 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], eps: f64) 
         return true;
     }
     // Touching: an endpoint on the other segment.
-    let on = |p: [f64; 2], q: [f64; 2], r: [f64; 2], o: f64| {
+    let on = |p: DVec2, q: DVec2, r: DVec2, o: f64| {
         o.abs() <= eps
-            && r[0] >= p[0].min(q[0]) - 1e-15
-            && r[0] <= p[0].max(q[0]) + 1e-15
-            && r[1] >= p[1].min(q[1]) - 1e-15
-            && r[1] <= p[1].max(q[1]) + 1e-15
+            && r.x >= p.x.min(q.x) - 1e-15
+            && r.x <= p.x.max(q.x) + 1e-15
+            && r.y >= p.y.min(q.y) - 1e-15
+            && r.y <= p.y.max(q.y) + 1e-15
     };
     on(c, d, a, d1) || on(c, d, b, d2) || on(a, b, c, d3) || on(a, b, d, d4)
 }
@@ -289,46 +289,6 @@ fn first_crossing(v: &[DVec3], normal: DVec3) -> Option<(usize, usize)> {
         }
     }
     None
-}
-
-/// Ear clipping in the polygon's plane; O(n²), robust for simple polygons.
-fn ear_clip(v: &[DVec3], normal: DVec3) -> Vec<[DVec3; 3]> {
-    let p = project(v, normal);
-    let mut idx: Vec<usize> = (0..v.len()).collect();
-    let mut tris = Vec::with_capacity(v.len() - 2);
-    let mut guard = 0;
-    while idx.len() > 3 && guard < 10 * v.len() * v.len() {
-        guard += 1;
-        let m = idx.len();
-        let mut clipped = false;
-        for k in 0..m {
-            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
-            if orient(p[ia], p[ib], p[ic]) <= 0.0 {
-                continue;
-            }
-            let inside = idx.iter().any(|&q| {
-                q != ia
-                    && q != ib
-                    && q != ic
-                    && orient(p[ia], p[ib], p[q]) >= 0.0
-                    && orient(p[ib], p[ic], p[q]) >= 0.0
-                    && orient(p[ic], p[ia], p[q]) >= 0.0
-            });
-            if !inside {
-                tris.push([v[ia], v[ib], v[ic]]);
-                idx.remove(k);
-                clipped = true;
-                break;
-            }
-        }
-        if !clipped {
-            break;
-        }
-    }
-    if idx.len() == 3 {
-        tris.push([v[idx[0]], v[idx[1]], v[idx[2]]]);
-    }
-    tris
 }
 
 /// The outer product d dᵀ (second moments of area: a point mass's, and the parallel-axis shift).
