@@ -8,8 +8,10 @@
 //! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
 //! - [`planes`]: the one plane type; grouping polygons by unoriented plane (coplanar pairs,
 //!   blocker planes).
-//! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
-//! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
+//! - [`clip`]: the Sutherland–Hodgman clippers: the one loop of convex rings (plain and
+//!   homogeneous) and the named variants whose arithmetic differs.
+//! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness and overlap,
+//!   convexity, ear clipping.
 //! - [`union`]: the union of many plane polygons by one boolean (`i_overlay`).
 //! - [`tolerance`]: every geometric epsilon, one name per concept, with its reason.
 //!

@@ -1,7 +1,8 @@
 //! Planar simple polygons: construction with validation, Newell normal, area, centroid,
 //! ear-clipping triangulation and Sutherland–Hodgman clipping by a plane.
-use super::tolerance::{DEGENERACY_TOL, PLANARITY_TOL};
+use super::clip::clip_ring_keep;
 use super::convex::{ear_indices, is_convex_local};
+use super::tolerance::{DEGENERACY_TOL, PLANARITY_TOL};
 use glam::{DMat3, DVec2, DVec3};
 
 /// Why a vertex list is not a valid polygon.
@@ -165,8 +166,6 @@ impl Polygon {
     /// Part of the polygon on the side `(x − point)·normal ≥ 0`; `None` if nothing of positive
     /// area remains. Sutherland–Hodgman, so a non-convex polygon may come back with
     /// zero-width bridges, which integrate to nothing.
-    // Not `super::clip::clip_ring`: the ring starts at the first vertex (patch vertex order
-    // feeds every result), with de-duplication and a degeneracy check.
     pub fn clip(&self, point: DVec3, normal: DVec3) -> Option<Polygon> {
         let d: Vec<f64> = self.vertices.iter().map(|v| (*v - point).dot(normal)).collect();
         if d.iter().all(|&x| x >= 0.0) {
@@ -177,15 +176,12 @@ impl Polygon {
         }
         let n = self.vertices.len();
         let mut out = Vec::with_capacity(n + 2);
-        for k in 0..n {
-            let (a, b) = (self.vertices[k], self.vertices[(k + 1) % n]);
-            let (da, db) = (d[k], d[(k + 1) % n]);
-            if da >= 0.0 {
-                out.push(a);
-            }
-            if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-                out.push(a + (b - a) * (da / (da - db)));
-            }
+        clip_ring_keep(&self.vertices, |v| (v - point).dot(normal), 0.0, &mut out);
+        // The loop starts on the closing edge: a crossing there goes last, so the ring starts
+        // at the first vertex as the patch's does.
+        let (dl, d0) = (d[n - 1], d[0]);
+        if (dl > 0.0 && d0 < 0.0) || (dl < 0.0 && d0 > 0.0) {
+            out.rotate_left(1);
         }
         dedup_ring(&mut out);
         if out.len() < 3 {

@@ -39,7 +39,8 @@ use super::projection::prepare::{Gathered, Prepared, NO_RECEIVER};
 use super::projection::raster::{DepthPlane, ItemBuffer};
 pub use super::projection::Positions;
 pub use super::projection::MAX_RESOLUTION;
-use super::projection::{checked_resolution, clip, credit, emit, positions, NEAR_REL, RECEIVER_DEPTH_BIAS};
+use super::projection::{checked_resolution, credit, emit, positions, NEAR_REL, RECEIVER_DEPTH_BIAS};
+use crate::geometry::clip::watertight as clip;
 use crate::geometry::frame::Frame;
 
 /// The `hemicube` row of the method registry: error the point bias plus the raster term.

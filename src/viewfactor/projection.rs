@@ -3,7 +3,7 @@
 //!
 //! - `prepare`: the flattened scene and the per-eye gather (receiver / blocker rules: front
 //!   faces receive; back faces and obstructions only block);
-//! - `clip`: homogeneous clipping to a pyramid before the perspective divide;
+//! - clipping to a pyramid before the perspective divide: [`crate::geometry::clip::watertight`];
 //! - `raster`: the scanline item buffer, point sampled at pixel centres;
 //! - `positions`: one or several projection positions per patch;
 //! - the shared limits and the accumulation of a row (`credit`, `emit`).
@@ -12,7 +12,6 @@ use super::MethodSet;
 use crate::{Error, Result};
 use prepare::NO_RECEIVER;
 
-pub(crate) mod clip;
 pub(crate) mod positions;
 pub(crate) mod prepare;
 pub(crate) mod raster;

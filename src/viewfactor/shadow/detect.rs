@@ -13,6 +13,7 @@
 //! (the cube) no plane qualifies, so the check costs O(N·planes) once and nothing per pair.
 //! Candidate search within an active plane is a linear scan with a bounding-box test; a BVH
 //! will replace it.
+use crate::geometry::convex::convex_overlap;
 use crate::geometry::planes::{Plane, PlaneGroups};
 use crate::geometry::tolerance::OCCLUSION_TOL;
 use crate::geometry::Polygon;
@@ -205,7 +206,7 @@ impl Occlusion {
                         {
                             continue;
                         }
-                        if overlap_2d(&x, &k.pts, self.tol) {
+                        if convex_overlap(&x, &k.pts, self.tol) {
                             return Some(k.owner);
                         }
                     }
@@ -290,47 +291,14 @@ fn convex_hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     hull
 }
 
-/// True when two convex polygons overlap by more than `tol` along every separating-axis
-/// candidate (the edge normals of both).
-// Not `geometry::convex::convex_disjoint`: projected intervals with a thickness `tol`.
-fn overlap_2d(a: &[DVec2], b: &[DVec2], tol: f64) -> bool {
-    for poly in [a, b] {
-        for k in 0..poly.len() {
-            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-            let axis = DVec2::new(q.y - p.y, p.x - q.x);
-            let len = axis.length();
-            if len == 0.0 {
-                continue;
-            }
-            let proj = |s: &[DVec2]| {
-                s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    let d = v.dot(axis) / len;
-                    (lo.min(d), hi.max(d))
-                })
-            };
-            let ((alo, ahi), (blo, bhi)) = (proj(a), proj(b));
-            if ahi <= blo + tol || bhi <= alo + tol {
-                return false;
-            }
-        }
-    }
-    true
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn hull_and_overlap() {
+    fn hull_of_distinct_points() {
         let v = |p: &[[f64; 2]]| p.iter().map(|&[x, y]| DVec2::new(x, y)).collect::<Vec<_>>();
         let h = convex_hull(v(&[[0.0, 0.0], [1.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]]));
         assert_eq!(h.len(), 4, "{h:?}");
-        let sq = |x: f64| v(&[[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]]);
-        assert!(overlap_2d(&sq(0.0), &sq(0.5), 1e-9));
-        assert!(!overlap_2d(&sq(0.0), &sq(1.0), 1e-9), "touching along an edge is not overlap");
-        assert!(!overlap_2d(&sq(0.0), &sq(1.5), 1e-9));
-        let tri = v(&[[1.2, -1.0], [2.0, 0.5], [1.2, 2.0]]);
-        assert!(!overlap_2d(&sq(0.0), &tri, 1e-9));
     }
 }

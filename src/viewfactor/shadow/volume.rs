@@ -16,7 +16,7 @@
 //! A convex receiver outside one penumbra plane is clear; one inside every umbra plane is
 //! blocked. Anything else is partial and goes to the shadow integrator.
 use crate::geometry::clip::clip_ring_keep;
-use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area, HalfPlane};
+use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area};
 pub(super) use crate::geometry::planes::plane_of;
 use crate::geometry::planes::Plane;
 pub use crate::visibility::boxes::Region;
@@ -299,7 +299,7 @@ impl Part {
         }
         let mut hull = Vec::with_capacity(pts.len());
         convex_hull(&mut pts, &mut hull);
-        convex_disjoint(&hull, &self.b2, snap) || (hull.len() < 3 && points_outside(&hull, &self.b2, snap))
+        convex_disjoint(&hull, &self.b2, snap)
     }
 
     fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
@@ -324,16 +324,6 @@ impl Part {
 /// (a remainder under three vertices is kept: the caller tests it).
 fn clip_side(ring: &[DVec3], p: Plane, snap: f64, out: &mut Vec<DVec3>) {
     clip_ring_keep(ring, |x| p.distance(x), snap, out);
-}
-
-/// True when every point lies outside the convex ring (beyond one of its edges).
-// Not `geometry::convex::convex_disjoint`: no three-vertex guard on `ring`.
-fn points_outside(pts: &[DVec2], ring: &[DVec2], snap: f64) -> bool {
-    let m = ring.len();
-    (0..m).any(|k| match HalfPlane::left_of(ring[k], ring[(k + 1) % m]) {
-        Some(h) => pts.iter().all(|&q| h.eval(q) <= snap),
-        None => false,
-    })
 }
 
 #[cfg(test)]
