@@ -13,7 +13,6 @@ use super::frame::Frame;
 use super::glue::{area2, glue_all, P};
 use super::tolerance::GRID_SNAP_REL;
 use super::{Polygon, PolygonError};
-use glam::DVec3;
 
 /// Grid line k of n over [lo, hi]; the last one is `hi` exactly.
 fn line(lo: f64, hi: f64, k: usize, n: usize) -> f64 {
@@ -136,6 +135,7 @@ fn to_polygon(frame: &Frame, ring: &[P]) -> Result<Option<Polygon>, PolygonError
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     /// Area conservation required by the scene format (relative).
     const AREA_TOL: f64 = 1e-12;
