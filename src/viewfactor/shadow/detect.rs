@@ -18,30 +18,9 @@ use crate::geometry::planes::{Plane, PlaneGroups};
 use crate::geometry::tolerance::OCCLUSION_TOL;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
+use crate::visibility::Occluder;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
-
-/// What blocks a view: a patch (index into [`Scene::patches`]) or an obstruction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Occluder {
-    /// A patch of an exchanging surface.
-    Patch(usize),
-    /// Obstruction `.0`, polygon `.1`.
-    Obstruction(usize, usize),
-}
-
-impl Occluder {
-    /// Human-readable name: `surface 'wall' (patch wall#3)` or `obstruction 'shade'`.
-    pub fn describe(&self, scene: &Scene) -> String {
-        match *self {
-            Occluder::Patch(p) => {
-                let s = &scene.surfaces[scene.patches[p].surface];
-                format!("surface '{}' (patch {})", s.name, scene.patch_name(p))
-            }
-            Occluder::Obstruction(k, _) => format!("obstruction '{}'", scene.obstructions[k].name),
-        }
-    }
-}
 
 /// One convex blocker polygon projected into its group's plane frame.
 #[derive(Debug, Clone)]
@@ -102,7 +81,12 @@ impl Occlusion {
         let mut polys: Vec<(&Polygon, Occluder)> =
             scene.patches.iter().enumerate().map(|(p, patch)| (&patch.polygon, Occluder::Patch(p))).collect();
         for (k, o) in scene.obstructions.iter().enumerate() {
-            polys.extend(o.polygons.iter().enumerate().map(|(m, poly)| (poly, Occluder::Obstruction(k, m))));
+            polys.extend(
+                o.polygons
+                    .iter()
+                    .enumerate()
+                    .map(|(m, poly)| (poly, Occluder::Obstruction { obstruction: k, polygon: m })),
+            );
         }
         let grouping = PlaneGroups::new(polys.iter().map(|(p, _)| *p), scale, tol);
         // Side census per plane: a plane blocks only if two different patches lie strictly on
