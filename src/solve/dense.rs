@@ -1,6 +1,6 @@
 //! The lean dense solve: the net-radiation system K J = b (K = D − S̄ on the unknowns, black
 //! surfaces eliminated, docs/literature.md §5) solved by Jacobi-preconditioned conjugate gradients
-//! with the symmetric packed mat-vec of [`crate::viewfactor::triangle::Triangle`]. K is never assembled: the only N²
+//! with the symmetric packed mat-vec of [`crate::viewfactor::packed::PackedTriangular`]. K is never assembled: the only N²
 //! object is the triangle of exchange areas, read once per iteration.
 //!
 //! - [`solve_gray`]: solve on an enforced [`DenseExchange`];

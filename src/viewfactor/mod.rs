@@ -6,7 +6,7 @@
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
 //! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
 //!   diagnostics; never an N×N dense temporary;
-//! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
+//! - [`packed`]: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
 //! - [`points`]: factors from points (sensors) to every surface or patch, exact shadows;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
@@ -36,6 +36,7 @@ pub mod flags;
 pub mod hemicube;
 pub mod limits;
 pub mod monte_carlo;
+pub mod packed;
 pub mod points;
 pub mod progress;
 pub mod projection;
@@ -46,7 +47,6 @@ pub mod shadow;
 pub mod shard;
 pub mod single_plane;
 pub mod sink;
-pub mod triangle;
 
 pub use accuracy::MethodInfo;
 pub use flags::Flag;
@@ -180,10 +180,10 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 }
 
 /// Computes the patch-level exchange areas of `scene` straight into the lean packed store
-/// ([`triangle::Triangle`]): symmetric kernels fill their rows in parallel, the others are
+/// ([`packed::PackedTriangular`]): symmetric kernels fill their rows in parallel, the others are
 /// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
 /// per-entry variances and hit counts need the sparse store.
-pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangle::Triangle>> {
+pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<packed::PackedTriangular>> {
     let Some(kernel) = row_kernel(scene, params)? else { return Ok(None) };
     progress::enter(progress::Phase::ViewFactors);
     let n = scene.patches.len() as u64;
@@ -204,7 +204,7 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
         Some(g) => g,
         None => kernel.as_ref(),
     };
-    let t = triangle::fill(scene, kernel, &progress, &costs)?;
+    let t = packed::fill(scene, kernel, &progress, &costs)?;
     progress.finish();
     Ok(Some(t))
 }
