@@ -11,18 +11,15 @@ use super::diagnostics::{Diagnostics, WORST_ROWS};
 use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS};
 use super::linalg::{cg, max_iter, Linear, CG_TOL};
 use super::operator::Operator;
+use super::scaling::{MAX_CAPPED, MAX_NEWTON};
 use crate::error::InputError;
 use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::MethodSet;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
-/// Newton steps allowed (as [`super::scaling`]).
-const MAX_NEWTON: usize = 50;
 /// Loosest relative CG residual of a Newton step (inexact Newton forcing term).
 const NEWTON_FORCING: f64 = 1e-2;
-/// Fixed-point sweeps allowed for the capped scaling of open scenes.
-const MAX_CAPPED: usize = 10_000;
 
 /// The packed triangle of exchange areas with node names and, for open scenes, the ambient.
 #[derive(Debug, Clone, PartialEq)]

@@ -50,7 +50,7 @@ pub fn write_triangle<W: Write>(
         }
     };
     let names: Vec<String> = names.iter().map(|s| encode(s)).collect::<Result<_>>()?;
-    let ambient = encode(super::csv::AMBIENT)?;
+    let ambient = encode(crate::solve::AMBIENT)?;
     let n = t.n;
     let block = |lo: usize| -> Vec<String> {
         let hi = (lo + BLOCK_ROWS).min(n);

@@ -39,7 +39,7 @@ use super::projection::prepare::{Gathered, Prepared, NO_RECEIVER};
 use super::projection::raster::{DepthPlane, ItemBuffer};
 pub use super::projection::Positions;
 pub use super::projection::MAX_RESOLUTION;
-use super::projection::{checked_resolution, credit, emit, positions, NEAR_REL, RECEIVER_DEPTH_BIAS};
+use super::projection::{checked_resolution, credit, emit, positions, EYE_NEAR_REL, RECEIVER_DEPTH_BIAS};
 use crate::geometry::clip::watertight as clip;
 use crate::geometry::frame::Frame;
 
@@ -108,7 +108,7 @@ impl<'a> HemicubeKernel<'a> {
     pub fn new(scene: &'a Scene, resolution: usize, positions: Positions) -> Result<Self> {
         let r = checked_resolution("hemicube", resolution)?;
         let prep = Prepared::new(scene);
-        let near = NEAR_REL * prep.near_scale;
+        let near = EYE_NEAR_REL * prep.near_scale;
         let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
         let faces = [
             Face::new(x, y, z, true, r, near),

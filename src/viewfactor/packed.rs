@@ -9,7 +9,7 @@
 //! - [`fill`]: runs a [`RowKernel`] straight into the triangle. Symmetric kernels (j > i only)
 //!   write their row into its own packed slice in parallel; the others are computed in
 //!   bounded waves and folded serially, each cell receiving s_ij then s_ji.
-use super::engine::{RawEntry, Row, RowKernel};
+use super::engine::{RawEntry, Row, RowKernel, WAVE_ENTRY_BUDGET};
 use super::progress::Progress;
 use super::MethodSet;
 use crate::scene::Scene;
@@ -338,9 +338,6 @@ fn fill_symmetric(
 
 /// Cells per task when the store's pages are mapped up front (2 MB).
 const PREFAULT_CHUNK: usize = 1 << 18;
-
-/// Entries buffered per wave of a non-symmetric kernel (as the row engine).
-const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 
 fn fill_folded(
     t: &mut PackedTriangular,

@@ -24,7 +24,7 @@ pub const MAX_RESOLUTION: usize = 4096;
 /// Near plane w ≥ ε as a fraction of the scene size (at most [`prepare::LOCAL_SPAN`] patch
 /// radii): only guards the perspective divide (the side planes of each face pyramid pass
 /// through the eye, so nothing else is cut).
-pub(crate) const NEAR_REL: f64 = 1e-9;
+pub(crate) const EYE_NEAR_REL: f64 = 1e-9;
 
 /// Receivers' inverse depth is scaled by 1 + this, so a front face beats a coincident
 /// blocker (a plate modelled as two back-to-back surfaces) despite round-off; it exceeds the

@@ -28,7 +28,7 @@ use super::closed_form::element_to_rectangle_corner;
 use super::engine::{Row, RowKernel};
 use super::flags::{Flag, FlagLog};
 use super::projection::prepare::{Gathered, Prepared};
-use super::projection::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
+use super::projection::{checked_resolution, credit, emit, positions, Positions, EYE_NEAR_REL};
 use super::{MethodSet, Params};
 use crate::geometry::frame::Frame;
 use crate::scene::Scene;
@@ -156,7 +156,7 @@ impl RowKernel for SinglePlaneKernel<'_> {
         let poly = &self.scene.patches[i].polygon;
         let rule = positions::rule(poly, self.options.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
-        let near = NEAR_REL * self.prep.near_scale;
+        let near = EYE_NEAR_REL * self.prep.near_scale;
         let mut cut: Vec<u32> = Vec::new();
         for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
             let eye = Frame::along(x, poly.normal(), v[1] - v[0]).turned(self.options.positions.turn(k));

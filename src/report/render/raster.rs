@@ -12,7 +12,7 @@ pub const CREASE_COS: f32 = 0.866;
 
 /// Near plane as a fraction of the eye–target distance: in front of the eye, yet far closer
 /// than any surface the camera is meant to see.
-const NEAR_REL: f64 = 1e-4;
+const CAMERA_NEAR_REL: f64 = 1e-4;
 
 /// What covers a pixel.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,7 +87,7 @@ impl Intrinsics {
         (x0, x1, y0, y1): (f64, f64, f64, f64),
     ) -> Intrinsics {
         let (right, up, fwd) = cam.basis();
-        let near = NEAR_REL * (cam.target - cam.eye).length();
+        let near = CAMERA_NEAR_REL * (cam.target - cam.eye).length();
         let mut b = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
         for p in tris.iter().flat_map(|t| t.p) {
             let d = p - cam.eye;
@@ -166,7 +166,7 @@ impl Raster {
             up,
             fwd,
             focal: frame.focal,
-            near: NEAR_REL * (cam.target - cam.eye).length(),
+            near: CAMERA_NEAR_REL * (cam.target - cam.eye).length(),
             cx: frame.cx,
             cy: frame.cy,
         };
