@@ -1,4 +1,4 @@
-//! Enforcement on the lean packed triangle ([`PackedTriangular`]), in place and without an N×N copy:
+//! Enforcement on the lean packed triangle (`PackedTriangular`), in place and without an N×N copy:
 //! - the leak check of closed scenes on the raw rows (same thresholds as [`mod@super::enforce`]:
 //!   a leaking closed scene is refused, never stretched);
 //! - closure by symmetric scaling s_ij = s̄_ij g_i g_j: Newton on log g with the scaled
@@ -137,7 +137,7 @@ fn rescale(t: &mut PackedTriangular, g: &[f64]) {
 }
 
 /// Closure Σ_j s̄_ij g_i g_j = A_i by Newton on log g (the step solves
-/// Σ_j w_ij(u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s, see [`super::scaling`]);
+/// Σ_j w_ij(u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s, see `super::scaling`);
 /// returns the CG iterations spent.
 pub fn symmetric_scaling(t: &mut PackedTriangular, tol: f64) -> Result<usize> {
     let (g, total) = closure_scales(t, tol)?;
@@ -240,7 +240,7 @@ pub use super::memory::MEM_AVAILABLE_ENV;
 pub const DENSE_PEAK_FACTOR: f64 = 1.25;
 
 /// Refuses (exit 2) a dense request for `n` nodes whose store, `bytes_per_pair` × n²/2 plus
-/// headroom, exceeds the memory available to the process ([`super::memory::available`]:
+/// headroom, exceeds the memory available to the process (`super::memory::available`:
 /// free memory, rlimits, cgroup), before anything large is allocated.
 pub fn check_fits(n: usize, bytes_per_pair: f64, source: &std::path::Path) -> Result<()> {
     let need = n as f64 * (n as f64 + 1.0) / 2.0 * bytes_per_pair * DENSE_PEAK_FACTOR;
@@ -252,10 +252,11 @@ pub fn check_fits(n: usize, bytes_per_pair: f64, source: &std::path::Path) -> Re
         source,
         format!(
             "{n} patches need about {:.1} GB for the dense exchange matrix (n²/2 pairs × {bytes_per_pair} bytes) \
-             but only {:.1} GB is available ({}); use `--exchange hierarchical`, or coarser `subdivide`",
+             but only {:.1} GB is available ({}); use `{} hierarchical`, or coarser `subdivide`",
             need / 1e9,
             avail.bytes as f64 / 1e9,
-            avail.bound
+            avail.bound,
+            crate::error::opt("exchange"),
         ),
     )
     .into())

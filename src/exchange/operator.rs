@@ -1,10 +1,10 @@
 //! The exchange operator that enforcement and the solves work on, whatever stores it: the
 //! sparse patch pairs ([`Exchange`], sprs CSR), the packed triangle of the dense path
-//! ([`PackedTriangular`]) or the link hierarchy of the clustered path. Everything they need is a
+//! (`PackedTriangular`) or the link hierarchy of the clustered path. Everything they need is a
 //! scaled mat-vec W S W x, the areas, the diagonal s_ii, the row sums and (for the anchoring
 //! diagnostic only) the coupled pairs. The systems built on it (closure Newton steps, the
 //! net-radiation K = D − S) reach faer's conjugate gradients as a
-//! [`super::linalg::Linear`] over [`Operator::matvec_scaled`].
+//! `super::linalg::Linear` over [`Operator::matvec_scaled`].
 use super::Exchange;
 use crate::viewfactor::packed::PackedTriangular;
 use rayon::prelude::*;

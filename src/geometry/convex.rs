@@ -1,7 +1,7 @@
 //! 2-D convex polygon operations (behind exact shadow clipping and blocker classification).
 //!
 //! - [`HalfPlane`]: a unit-normal line n·q + c ≥ 0 (kept side); [`clip_convex`] clips a
-//!   ring to one with the shared clipper ([`super::clip::clip_ring`]);
+//!   ring to one with the shared clipper (`super::clip::clip_ring`);
 //! - [`subtract_convex`]: piece \ shadow as disjoint convex pieces (View3D's `PolygonOverlap`
 //!   idea, without its 12-vertex limit), so a union of shadows leaves a non-convex remainder
 //!   held as a [`PieceSet`];
@@ -233,7 +233,7 @@ pub fn convex_contains(ring: &[DVec2], pts: &[DVec2], margin: f64) -> bool {
 }
 
 /// True when every turn of the counter-clockwise ring is left or straight, a right turn down
-/// to [`CONVEX_TURN_REL`] × (largest |q|²) counting as straight.
+/// to `CONVEX_TURN_REL` × (largest |q|²) counting as straight.
 pub fn is_convex(ring: &[DVec2]) -> bool {
     let m = ring.len();
     let scale = ring.iter().map(|q| q.length_squared()).fold(0.0, f64::max);
@@ -243,7 +243,7 @@ pub fn is_convex(ring: &[DVec2]) -> bool {
     })
 }
 
-/// As [`is_convex`], a right turn down to [`CONVEX_TURN_REL`] × the product of the two edge
+/// As [`is_convex`], a right turn down to `CONVEX_TURN_REL` × the product of the two edge
 /// lengths at the corner counting as straight (the scale of [`Polygon::is_convex`](super::Polygon::is_convex)).
 pub fn is_convex_local(ring: &[DVec2]) -> bool {
     let m = ring.len();

@@ -297,7 +297,7 @@ fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
 }
 
 /// The entries a method flagged (error not bounded, receiver cut), naming the pairs; at most
-/// [`FLAGS_SHOWN`], then the count of the rest.
+/// `FLAGS_SHOWN`, then the count of the rest.
 pub fn flag_warnings(scene: &Scene, flags: &[Flag]) -> Vec<String> {
     // A surface of one patch is named as itself.
     let name = |p: usize| {

@@ -1,6 +1,6 @@
 //! The lean dense solve: the net-radiation system K J = b (K = D − S̄ on the unknowns, black
 //! surfaces eliminated, docs/literature.md §5) solved by Jacobi-preconditioned conjugate gradients
-//! with the symmetric packed mat-vec of [`crate::viewfactor::packed::PackedTriangular`]. K is never assembled: the only N²
+//! with the symmetric packed mat-vec of `crate::viewfactor::packed::PackedTriangular`. K is never assembled: the only N²
 //! object is the triangle of exchange areas, read once per iteration.
 //!
 //! - [`solve_gray`]: solve on an enforced [`DenseExchange`];
@@ -19,7 +19,7 @@ use crate::viewfactor::Level;
 use crate::{Error, Result, SIGMA};
 use std::time::Instant;
 
-/// Accepted residual when round-off stalls CG before [`CG_TOL`] (at which the heat rates agree
+/// Accepted residual when round-off stalls CG before `CG_TOL` (at which the heat rates agree
 /// with a direct factorisation to ~1e-12: K is diagonally dominant wherever a temperature
 /// anchors it): far below the 1e-9 energy balance.
 pub const CG_STALL_TOL: f64 = 1e-12;

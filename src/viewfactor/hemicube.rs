@@ -4,7 +4,7 @@
 //! form factors of the pixels it wins.
 //!
 //! - `delta`: the delta form factor tables, one per resolution;
-//! - the projection base it shares with the single-plane method ([`super::projection`]): the
+//! - the projection base it shares with the single-plane method (`super::projection`): the
 //!   flattened scene and the per-eye gather, homogeneous clipping to each face's pyramid
 //!   before the divide, the scanline item buffer, and the projection positions per patch.
 //!

@@ -7,7 +7,7 @@
 //! - `warnock`: projection and the subdivision itself.
 //!
 //! Scene gathering, clipping and the receiver/blocker rules are the projection base it shares
-//! with the hemicube ([`super::projection`]): front faces receive, back faces and obstructions
+//! with the hemicube (`super::projection`): front faces receive, back faces and obstructions
 //! only block.
 //!
 //! **Grazing-angle bias.** The plane sees only directions within atan(s) of the normal in

@@ -1,9 +1,9 @@
 //! Visibility: one BVH (obvhs CWBVH) over every triangle of every patch and obstruction.
 //!
 //! - this file: [`Visibility`] (build, coordinate frame, occluder table) and the result types;
-//! - [`boxes`]: a box hierarchy for region queries with a caller's predicate;
-//! - [`query`]: closest hit, occlusion between two points, blocker candidates of a patch pair;
-//! - [`triangle`]: the watertight ray–triangle test.
+//! - `boxes`: a box hierarchy for region queries with a caller's predicate;
+//! - `query`: closest hit, occlusion between two points, blocker candidates of a patch pair;
+//! - `triangle`: the watertight ray–triangle test.
 //!
 //! Design (measured choices in research/crates.md §1 and validation/rays.md):
 //! - Traversal geometry is f32, in a *normalised frame*: the scene is centred and scaled by a
@@ -42,9 +42,9 @@ use glam::Vec3A;
 use obvhs::{aabb::Aabb, cwbvh::CwBvh, Boundable, BvhBuildParams};
 use std::time::{Duration, Instant};
 
-pub mod boxes;
-pub mod query;
-pub mod triangle;
+pub(crate) mod boxes;
+pub(crate) mod query;
+pub(crate) mod triangle;
 
 /// Box padding, as a fraction of the scene diagonal: 1e-6–1e-5 cures obvhs's degenerate trees
 /// for axis-aligned triangles (research/crates.md §1.3) at no measurable cost.

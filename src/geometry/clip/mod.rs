@@ -20,7 +20,7 @@
 //! - `validate::oracle::lambert::clip_ring` is the validation oracle's own, independent code.
 use glam::DVec3;
 
-pub mod watertight;
+pub(crate) mod watertight;
 
 /// Sutherland–Hodgman on a convex ring of 2-D or 3-D points: keeps `dist(x) ≥ 0`, a signed
 /// distance, writing the kept ring to `out` (cleared first; left empty when fewer than three

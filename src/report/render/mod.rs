@@ -2,8 +2,8 @@
 //!
 //! - [`values`]: one column of a `solve` CSV spread onto the patches;
 //! - [`camera`]: the pinhole camera, its default framing and `--camera` syntax;
-//! - [`raster`]: the z-buffer rasteriser with Gouraud (vertex-smoothed) values;
-//! - [`colormap`]: viridis, value range, colour-bar ticks;
+//! - `raster`: the z-buffer rasteriser with Gouraud (vertex-smoothed) values;
+//! - `colormap`: viridis, value range, colour-bar ticks;
 //! - this file: triangles from the patch mesh, the picture with outlines, caption and colour
 //!   bar (plotters on an RGB buffer, vendored DejaVu Sans), and the PNG file.
 //!
@@ -16,8 +16,8 @@
 //! given, and labels both its ends; the scene is framed below the caption for any camera; an
 //! axis triad sits in the lower-left corner.
 pub mod camera;
-pub mod colormap;
-pub mod raster;
+pub(crate) mod colormap;
+pub(crate) mod raster;
 pub mod values;
 
 use super::mesh::PatchMesh;

@@ -153,11 +153,13 @@ impl Raster {
 
     /// Draws every triangle seen by `cam`; `two_sided` draws result back faces as neutral
     /// instead of culling them.
+    #[cfg(test)]
     pub fn draw(&mut self, cam: &Camera, tris: &[Tri], two_sided: bool) {
         self.draw_framed(cam, Intrinsics::centred(cam, self.w, self.h), tris, two_sided);
     }
 
-    /// [`Raster::draw`] with the image plane placed by `frame`.
+    /// Draws every triangle seen by `cam` (back faces as in `draw`) with the image plane placed
+    /// by `frame`.
     pub fn draw_framed(&mut self, cam: &Camera, frame: Intrinsics, tris: &[Tri], two_sided: bool) {
         let (right, up, fwd) = cam.basis();
         let view = View {

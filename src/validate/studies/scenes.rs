@@ -83,7 +83,7 @@ pub fn blocked_squares(n: usize) -> Scene {
 
 /// Room 3 m cube around the block \[1,2\]³: row F(floor → ·) by exact shadow integration in
 /// cases/_generator (o3_obstructed_room, converged to 1e-12; the row closes to 4e-12).
-pub mod room_ref {
+pub(crate) mod room_ref {
     /// Floor to ceiling, past the block.
     pub const OPPOSITE: f64 = 0.12772265829922155;
     /// Floor to one wall, past the block.

@@ -304,13 +304,10 @@ impl Integrator {
     pub fn solid_min(&self) -> Option<usize> {
         self.solid_min
     }
-    /// The controls.
-    pub fn params(&self) -> &AdaptParams {
-        &self.params
-    }
 
     /// ∫_E g dA over the emitter of `geo` with every kept blocker active, to the absolute
     /// tolerance `tol` (m²).
+    #[cfg(test)]
     pub fn shaded(&self, geo: &ShadowGeometry, tol: f64, s: &mut AdaptScratch) -> AdaptInfo {
         self.shaded_within(geo, tol, u64::MAX, s)
     }

@@ -6,7 +6,7 @@
 //! sight lines of positive measure iff relint(K) meets int(H). K lies in a plane P, so this holds
 //! iff A ∪ B has points strictly on both sides of P and relint(K) overlaps relint(H ∩ P) in P:
 //! a 2-D separating-axis test between two convex polygons, with overlaps thinner than
-//! [`OCCLUSION_TOL`]·(scene size) counted as touching.
+//! `OCCLUSION_TOL`·(scene size) counted as touching.
 //!
 //! **Pre-filter.** Blockers are grouped by plane. A plane can only block when some patch has a
 //! vertex strictly on one side and another patch strictly on the other; in a convex enclosure
