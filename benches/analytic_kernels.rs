@@ -7,8 +7,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{DAffine3, DQuat, DVec3};
 use lambert::geometry::Polygon;
 use lambert::scene::Disk;
-use lambert::viewfactor::analytic::lambert::{point_to_disk, point_to_polygon};
-use lambert::viewfactor::analytic::pair::polygon_polygon;
+use lambert::viewfactor::exact::lambert::{point_to_disk, point_to_polygon};
+use lambert::viewfactor::exact::pair::polygon_polygon;
 use std::hint::black_box;
 
 fn rect(o: DVec3, u: DVec3, w: DVec3) -> Polygon {

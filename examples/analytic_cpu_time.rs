@@ -3,7 +3,7 @@
 //! Reads the thread's on-CPU nanoseconds from /proc/thread-self/schedstat (Linux only).
 use glam::{DAffine3, DQuat, DVec3};
 use lambert::geometry::Polygon;
-use lambert::viewfactor::analytic::pair::polygon_polygon;
+use lambert::viewfactor::exact::pair::polygon_polygon;
 use std::hint::black_box;
 
 fn cpu_ns() -> u64 {

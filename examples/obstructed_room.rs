@@ -10,7 +10,7 @@
 use lambert::geometry::subdivide::parallelogram_grid;
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
-use lambert::viewfactor::analytic::pair::polygon_polygon;
+use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
 use lambert::viewfactor::{self, Level, Method, MethodSet, Params};

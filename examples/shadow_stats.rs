@@ -10,7 +10,7 @@
 //! `DUMP=file` it appends `i j A_iF_ij u error blockers viewpoints roots cells` per pair
 //! (compare two targets to measure the error of the looser one); with `ONLY=j` it integrates
 //! only the pairs with receiver j; with `PAIR=i,j` it prints those patches' vertices and stops.
-use lambert::viewfactor::analytic::pair::polygon_polygon;
+use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::EXACT_REL_TOL;
 use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};

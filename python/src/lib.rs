@@ -195,7 +195,7 @@ impl PyScene {
     /// Warnings of the loader.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.scene.warnings.clone()
+        spelled(&self.scene.warnings)
     }
     /// The geometry fingerprint that saved view factors carry.
     #[getter]
@@ -248,7 +248,7 @@ impl PyScene {
         let d = vf_dict(py, &out.vf)?;
         d.set_item("raw_row_sums", PyArray1::from_vec(py, out.raw_row_sums))?;
         d.set_item("store", out.store)?;
-        d.set_item("warnings", out.said.warnings)?;
+        d.set_item("warnings", spelled(&out.said.warnings))?;
         d.set_item("notes", out.said.notes)?;
         Ok((d, PyViewFactors { scene: self.scene.clone(), vf: Arc::new(out.vf) }))
     }
@@ -314,7 +314,7 @@ impl PyScene {
         })?;
         let d = PyDict::new(py);
         d.set_item("path", out.path)?;
-        d.set_item("warnings", out.said.warnings)?;
+        d.set_item("warnings", spelled(&out.said.warnings))?;
         d.set_item("notes", out.said.notes)?;
         let info = &out.solution.info;
         d.set_item("solver", info.solver.to_string())?;
@@ -436,4 +436,9 @@ fn _lambert(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySolution>()?;
     m.add("SIGMA", lambert::SIGMA)?;
     Ok(())
+}
+
+/// Library messages with their option marks spelled as the keyword arguments of this package.
+fn spelled(lines: &[String]) -> Vec<String> {
+    lines.iter().map(|w| lambert::error::spell_options(w, &lambert::error::keyword)).collect()
 }

@@ -26,5 +26,6 @@ pub fn note(line: Arguments<'_>) {
 
 /// A warning line, as given (also under `-q`).
 pub fn warning(line: Arguments<'_>) {
+    let line = lambert::error::spell_options(&line.to_string(), &super::args::flag);
     Display::suspend(|| eprintln!("{line}"));
 }

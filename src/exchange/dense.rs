@@ -1,4 +1,4 @@
-//! Enforcement on the lean packed triangle ([`Triangle`]), in place and without an N×N copy:
+//! Enforcement on the lean packed triangle (`PackedTriangular`), in place and without an N×N copy:
 //! - the leak check of closed scenes on the raw rows (same thresholds as [`mod@super::enforce`]:
 //!   a leaking closed scene is refused, never stretched);
 //! - closure by symmetric scaling s_ij = s̄_ij g_i g_j: Newton on log g with the scaled
@@ -11,24 +11,21 @@ use super::diagnostics::{Diagnostics, WORST_ROWS};
 use super::enforce::{Enforce, EnforceParams, EnforceReport, LEAK_SIGMAS};
 use super::linalg::{cg, max_iter, Linear, CG_TOL};
 use super::operator::Operator;
+use super::scaling::{MAX_CAPPED, MAX_NEWTON};
 use crate::error::InputError;
-use crate::viewfactor::triangle::Triangle;
+use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::MethodSet;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
-/// Newton steps allowed (as [`super::scaling`]).
-const MAX_NEWTON: usize = 50;
 /// Loosest relative CG residual of a Newton step (inexact Newton forcing term).
 const NEWTON_FORCING: f64 = 1e-2;
-/// Fixed-point sweeps allowed for the capped scaling of open scenes.
-const MAX_CAPPED: usize = 10_000;
 
 /// The packed triangle of exchange areas with node names and, for open scenes, the ambient.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DenseExchange {
     /// The symmetric exchange areas.
-    pub t: Triangle,
+    pub t: PackedTriangular,
     /// Node names.
     pub names: Vec<String>,
     /// S_i,amb = A_i − Σ_j S_ij for open scenes.
@@ -37,7 +34,7 @@ pub struct DenseExchange {
 
 /// Rows of a closed scene short of 1 by more than the method's error (as
 /// [`super::enforce::leaks`]): (node, row sum, threshold), worst first.
-pub fn leaks(t: &Triangle) -> Vec<(usize, f64, f64)> {
+pub fn leaks(t: &PackedTriangular) -> Vec<(usize, f64, f64)> {
     let mut out: Vec<(usize, f64, f64)> = (0..t.n)
         .filter_map(|i| {
             let p = t.raw_row_sums[i] / t.areas[i];
@@ -64,7 +61,7 @@ fn diagnostics(
 }
 
 /// max |s̄_ij| and the count of negative entries, in one pass over the store.
-fn max_abs_and_negatives(t: &Triangle) -> (f64, usize) {
+fn max_abs_and_negatives(t: &PackedTriangular) -> (f64, usize) {
     t.s.par_iter()
         .fold(|| (0.0, 0), |(m, k), &x| (f64::max(m, x.abs()), k + usize::from(x < 0.0)))
         .reduce(|| (0.0, 0), |a, b| (a.0.max(b.0), a.1 + b.1))
@@ -130,7 +127,7 @@ fn closure_error(sums: &[f64], areas: &[f64]) -> f64 {
 }
 
 /// Multiplies s̄_ij by g_i g_j in place.
-fn rescale(t: &mut Triangle, g: &[f64]) {
+fn rescale(t: &mut PackedTriangular, g: &[f64]) {
     let rows = t.rows_mut();
     rows.into_par_iter().enumerate().for_each(|(i, row)| {
         for (s, gj) in row.iter_mut().zip(&g[i..]) {
@@ -140,9 +137,9 @@ fn rescale(t: &mut Triangle, g: &[f64]) {
 }
 
 /// Closure Σ_j s̄_ij g_i g_j = A_i by Newton on log g (the step solves
-/// Σ_j w_ij(u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s, see [`super::scaling`]);
+/// Σ_j w_ij(u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s, see `super::scaling`);
 /// returns the CG iterations spent.
-pub fn symmetric_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
+pub fn symmetric_scaling(t: &mut PackedTriangular, tol: f64) -> Result<usize> {
     let (g, total) = closure_scales(t, tol)?;
     rescale(t, &g);
     Ok(total)
@@ -208,7 +205,7 @@ pub fn closure_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
 
 /// Open scenes: scales rows whose sum exceeds A_i(1 + tol) down until Σ_j S_ij ≤ A_i, by
 /// g_i ← min(1, √(g_i A_i / (S̄g)_i)); returns sweeps.
-pub fn capped_scaling(t: &mut Triangle, tol: f64) -> Result<usize> {
+pub fn capped_scaling(t: &mut PackedTriangular, tol: f64) -> Result<usize> {
     let (g, sweeps) = capped_scales(t, tol)?;
     if g.iter().any(|&x| x != 1.0) {
         rescale(t, &g);
@@ -243,7 +240,7 @@ pub use super::memory::MEM_AVAILABLE_ENV;
 pub const DENSE_PEAK_FACTOR: f64 = 1.25;
 
 /// Refuses (exit 2) a dense request for `n` nodes whose store, `bytes_per_pair` × n²/2 plus
-/// headroom, exceeds the memory available to the process ([`super::memory::available`]:
+/// headroom, exceeds the memory available to the process (`super::memory::available`:
 /// free memory, rlimits, cgroup), before anything large is allocated.
 pub fn check_fits(n: usize, bytes_per_pair: f64, source: &std::path::Path) -> Result<()> {
     let need = n as f64 * (n as f64 + 1.0) / 2.0 * bytes_per_pair * DENSE_PEAK_FACTOR;
@@ -255,10 +252,11 @@ pub fn check_fits(n: usize, bytes_per_pair: f64, source: &std::path::Path) -> Re
         source,
         format!(
             "{n} patches need about {:.1} GB for the dense exchange matrix (n²/2 pairs × {bytes_per_pair} bytes) \
-             but only {:.1} GB is available ({}); use `--exchange hierarchical`, or coarser `subdivide`",
+             but only {:.1} GB is available ({}); use `{} hierarchical`, or coarser `subdivide`",
             need / 1e9,
             avail.bytes as f64 / 1e9,
-            avail.bound
+            avail.bound,
+            crate::error::opt("exchange"),
         ),
     )
     .into())

@@ -1,7 +1,7 @@
 //! `--enforce none|reciprocity|closure` (docs/SPEC.md "Enforcement defaults"):
 //! - none: raw exchange areas; open scenes get S_i,amb = A_i − Σ_j S_ij as they come;
 //! - reciprocity: s̄ = ½(s + sᵀ); in open scenes rows that overshoot A_i are scaled down
-//!   symmetrically ([`super::scaling::capped_scaling`]) and the ambient takes the rest;
+//!   symmetrically (`super::scaling::capped_scaling`) and the ambient takes the rest;
 //! - closure (closed scenes): first the leak check ([`leaks`]): a row short of 1 by more than
 //!   the method's error is refused (exit 2), never stretched. Then constrained maximum
 //!   likelihood for hit-count Monte Carlo, symmetric scaling otherwise (or an explicit
@@ -18,7 +18,7 @@ use std::str::FromStr;
 
 /// Closure target: max |Σ_j F_ij − 1| after enforcement (a few hundred ulps of 1).
 pub const CLOSURE_TOL: f64 = 1e-12;
-/// The leak thresholds are the methods' own knowledge ([`crate::viewfactor::accuracy`]).
+/// The leak thresholds are the methods' own knowledge (`crate::viewfactor::accuracy`).
 pub use crate::viewfactor::accuracy::{DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS, LEAK_TOL_SINGLE_PLANE};
 
 /// The docs/SPEC.md enforcement modes (named in [`crate::choice`]).

@@ -17,7 +17,7 @@
 use super::Exchange;
 use crate::error::opt;
 use crate::scene::orientation::SceneFacts;
-use crate::viewfactor::triangle::Triangle;
+use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::ViewFactors;
 
 /// Leaking rows named in a hint.
@@ -96,7 +96,7 @@ pub fn rows_from_exchange(ex: &Exchange, leaks: &[(usize, f64)]) -> Vec<LeakRow>
 
 /// The leaking rows `(row, row sum)` of the packed store, whose sampled entries are its
 /// exceptions with a variance (one pass over them).
-pub fn rows_from_triangle(t: &Triangle, names: &[String], leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+pub fn rows_from_triangle(t: &PackedTriangular, names: &[String], leaks: &[(usize, f64)]) -> Vec<LeakRow> {
     let mut slot = vec![usize::MAX; t.n];
     let mut rows: Vec<LeakRow> = leaks
         .iter()
@@ -420,8 +420,8 @@ mod tests {
     }
 
     /// Three patches of area 2; entries 0–1 sampled (σ of s̄ = 0.02), 1–2 exact.
-    fn stores() -> (ViewFactors, Triangle) {
-        use crate::viewfactor::triangle::Exception;
+    fn stores() -> (ViewFactors, PackedTriangular) {
+        use crate::viewfactor::packed::Exception;
         use crate::viewfactor::{Entry, Level, MethodSet};
         let names: Vec<String> = ["a#0", "a#1", "b#0"].iter().map(|s| s.to_string()).collect();
         let e = |to: u32, factor: f64, std_error: f64| Entry {
@@ -442,7 +442,7 @@ mod tests {
             flags: Vec::new(),
             warnings: Vec::new(),
         };
-        let mut t = Triangle::zeros(3, vec![2.0; 3]).unwrap();
+        let mut t = PackedTriangular::zeros(3, vec![2.0; 3]).unwrap();
         let (k01, k12) = (t.offset(0) + 1, t.offset(1) + 1);
         t.s[k01] = 0.6;
         t.s[k12] = 1.0;

@@ -36,16 +36,16 @@ const CHUNK: usize = 4096;
 /// correction, heat rates within ~1e-12 of a direct factorisation).
 pub const CG_TOL: f64 = 1e-14;
 
-/// CG iterations allowed per node (plus [`CG_ITER_FLOOR`]) in the enforcement solves: a
+/// CG iterations allowed per node (plus [`ENFORCE_CG_ITER_FLOOR`]) in the enforcement solves: a
 /// signless Laplacian of a view-factor graph converges in tens of iterations; this only stops
 /// a runaway.
 const CG_ITER_PER_NODE: usize = 4;
 /// Floor of the enforcement solves' iteration budget (see [`CG_ITER_PER_NODE`]).
-const CG_ITER_FLOOR: usize = 2000;
+const ENFORCE_CG_ITER_FLOOR: usize = 2000;
 
 /// Iterations allowed to an enforcement solve over `n` nodes.
 pub fn max_iter(n: usize) -> usize {
-    CG_ITER_FLOOR + CG_ITER_PER_NODE * n
+    ENFORCE_CG_ITER_FLOOR + CG_ITER_PER_NODE * n
 }
 
 /// faer's parallelism inside [`cg`]: sequential, because faer splits its reductions (dot

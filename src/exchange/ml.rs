@@ -9,7 +9,7 @@ use super::Exchange;
 use crate::{Error, Result};
 
 /// Newton steps allowed (3–5 are typical from λ_i = n_i/A_i).
-const MAX_NEWTON: usize = 60;
+const ML_MAX_NEWTON: usize = 60;
 
 /// Replaces the raw (non-symmetric) hit-count matrix `ex` by the ML closure; returns the
 /// Newton steps taken. `ex.samples` must hold the rays per row.
@@ -47,7 +47,7 @@ pub fn max_likelihood(ex: &mut Exchange, tol: f64) -> Result<usize> {
         Some(super::scaling::closure_error(ex))
     };
     let mut err = eval(&lambda, ex).ok_or_else(|| Error::Compute("ML closure: rows without rays".into()))?;
-    for step in 0..MAX_NEWTON {
+    for step in 0..ML_MAX_NEWTON {
         if err <= tol {
             return Ok(step);
         }
@@ -75,9 +75,9 @@ pub fn max_likelihood(ex: &mut Exchange, tol: f64) -> Result<usize> {
         }
     }
     if err <= tol {
-        return Ok(MAX_NEWTON);
+        return Ok(ML_MAX_NEWTON);
     }
     Err(Error::Compute(format!(
-        "ML closure did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
+        "ML closure did not converge: closure error {err:.3e} after {ML_MAX_NEWTON} Newton steps"
     )))
 }

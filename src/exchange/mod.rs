@@ -4,17 +4,17 @@
 //! - this file: [`Exchange`] (sparse S in sprs CSR, per-entry variance and method, ambient
 //!   column), assembly from any method's [`ViewFactors`], symmetrisation s̄ = ½(s + sᵀ),
 //!   aggregation to surfaces and conversion back to [`ViewFactors`] for output;
-//! - [`diagnostics`]: row-sum, reciprocity and sign residuals, worst rows by name;
+//! - `diagnostics`: row-sum, reciprocity and sign residuals, worst rows by name;
 //! - [`mod@enforce`]: `--enforce none|reciprocity|closure`, the leak check and method dispatch;
-//! - [`leak`]: why a closed scene leaks, checked against the geometry facts;
-//! - [`scaling`]: symmetric diagonal scaling s_ij = s̄_ij g_i g_j (also capped, for open scenes);
-//! - [`lsq`]: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1;
-//! - [`ml`]: constrained maximum likelihood s_ij = M_ij/(λ_i + λ_j) (Daun, Morton & Howell 2005);
+//! - `leak`: why a closed scene leaks, checked against the geometry facts;
+//! - `scaling`: symmetric diagonal scaling s_ij = s̄_ij g_i g_j (also capped, for open scenes);
+//! - `lsq`: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1;
+//! - `ml`: constrained maximum likelihood s_ij = M_ij/(λ_i + λ_j) (Daun, Morton & Howell 2005);
 //! - [`operator`]: the symmetric operator (packed triangle or link hierarchy) that the lean
 //!   enforcement and solve work on;
 //! - [`hierarchy`]: clustered exchange with error-bounded links for large scenes;
-//! - [`linalg`]: deterministic parallel reductions and the PSD conjugate-gradient solver;
-//! - [`memory`]: the memory a run may still allocate (free memory, rlimits, cgroup).
+//! - `linalg`: deterministic parallel reductions and the PSD conjugate-gradient solver;
+//! - `memory`: the memory a run may still allocate (free memory, rlimits, cgroup).
 //!
 //! Everything is O(nnz): no dense N×N temporary is ever formed.
 use crate::viewfactor::{Entry, Level, MethodSet, ViewFactors};
@@ -23,16 +23,16 @@ use sprs::CsMat;
 use std::time::Duration;
 
 pub mod dense;
-pub mod diagnostics;
+pub(crate) mod diagnostics;
 pub mod enforce;
 pub mod hierarchy;
-pub mod leak;
-pub mod linalg;
-pub mod lsq;
-pub mod memory;
-pub mod ml;
+pub(crate) mod leak;
+pub(crate) mod linalg;
+pub(crate) mod lsq;
+pub(crate) mod memory;
+pub(crate) mod ml;
 pub mod operator;
-pub mod scaling;
+pub(crate) mod scaling;
 
 pub use diagnostics::Diagnostics;
 /// One CSR row under construction: (columns, values, variances, methods).

@@ -1,12 +1,12 @@
 //! The exchange operator that enforcement and the solves work on, whatever stores it: the
 //! sparse patch pairs ([`Exchange`], sprs CSR), the packed triangle of the dense path
-//! ([`Triangle`]) or the link hierarchy of the clustered path. Everything they need is a
+//! (`PackedTriangular`) or the link hierarchy of the clustered path. Everything they need is a
 //! scaled mat-vec W S W x, the areas, the diagonal s_ii, the row sums and (for the anchoring
 //! diagnostic only) the coupled pairs. The systems built on it (closure Newton steps, the
 //! net-radiation K = D − S) reach faer's conjugate gradients as a
-//! [`super::linalg::Linear`] over [`Operator::matvec_scaled`].
+//! `super::linalg::Linear` over [`Operator::matvec_scaled`].
 use super::Exchange;
-use crate::viewfactor::triangle::Triangle;
+use crate::viewfactor::packed::PackedTriangular;
 use rayon::prelude::*;
 
 /// A symmetric operator of exchange areas S (m²) over n patches.
@@ -36,7 +36,7 @@ pub trait Operator: Sync {
     fn couplings(&self, f: &mut dyn FnMut(usize, usize));
 }
 
-impl Operator for Triangle {
+impl Operator for PackedTriangular {
     fn len(&self) -> usize {
         self.n
     }
@@ -44,13 +44,13 @@ impl Operator for Triangle {
         &self.areas
     }
     fn matvec_scaled(&self, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
-        Triangle::matvec_scaled(self, w, x)
+        PackedTriangular::matvec_scaled(self, w, x)
     }
     fn self_term(&self, i: usize) -> f64 {
         self.row(i)[0]
     }
     fn row_sums(&self) -> Vec<f64> {
-        Triangle::row_sums(self)
+        PackedTriangular::row_sums(self)
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
         for i in 0..self.n {

@@ -12,9 +12,9 @@ use crate::{Error, Result};
 use rayon::prelude::*;
 
 /// Newton steps allowed; quadratic convergence needs 3–6 from any sane start.
-const MAX_NEWTON: usize = 50;
+pub(super) const MAX_NEWTON: usize = 50;
 /// Fixed-point sweeps allowed for the capped variant (only noise-level overshoots occur).
-const MAX_CAPPED: usize = 10_000;
+pub(super) const MAX_CAPPED: usize = 10_000;
 
 /// max_i |Σ_j S_ij / A_i − 1|.
 pub fn closure_error(ex: &Exchange) -> f64 {

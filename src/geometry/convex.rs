@@ -1,7 +1,7 @@
 //! 2-D convex polygon operations (behind exact shadow clipping and blocker classification).
 //!
 //! - [`HalfPlane`]: a unit-normal line n·q + c ≥ 0 (kept side); [`clip_convex`] clips a
-//!   ring to one with the shared clipper ([`super::clip::clip_ring`]);
+//!   ring to one with the shared clipper (`super::clip::clip_ring`);
 //! - [`subtract_convex`]: piece \ shadow as disjoint convex pieces (View3D's `PolygonOverlap`
 //!   idea, without its 12-vertex limit), so a union of shadows leaves a non-convex remainder
 //!   held as a [`PieceSet`];
@@ -194,6 +194,33 @@ fn separated_by_edges(a: &[DVec2], b: &[DVec2], snap: f64) -> bool {
         })
 }
 
+/// True when two convex polygons overlap by more than `tol` along every separating-axis
+/// candidate (the edge normals of both). Unlike [`convex_disjoint`] it takes either
+/// orientation and compares projected intervals, with a thickness `tol` instead of a snap.
+pub fn convex_overlap(a: &[DVec2], b: &[DVec2], tol: f64) -> bool {
+    for poly in [a, b] {
+        for k in 0..poly.len() {
+            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+            let axis = DVec2::new(q.y - p.y, p.x - q.x);
+            let len = axis.length();
+            if len == 0.0 {
+                continue;
+            }
+            let proj = |s: &[DVec2]| {
+                s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    let d = v.dot(axis) / len;
+                    (lo.min(d), hi.max(d))
+                })
+            };
+            let ((alo, ahi), (blo, bhi)) = (proj(a), proj(b));
+            if ahi <= blo + tol || bhi <= alo + tol {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 /// True when every point of `pts` lies in the convex counter-clockwise ring `ring`, at least
 /// `margin` inside every edge.
 pub fn convex_contains(ring: &[DVec2], pts: &[DVec2], margin: f64) -> bool {
@@ -206,7 +233,7 @@ pub fn convex_contains(ring: &[DVec2], pts: &[DVec2], margin: f64) -> bool {
 }
 
 /// True when every turn of the counter-clockwise ring is left or straight, a right turn down
-/// to [`CONVEX_TURN_REL`] × (largest |q|²) counting as straight.
+/// to `CONVEX_TURN_REL` × (largest |q|²) counting as straight.
 pub fn is_convex(ring: &[DVec2]) -> bool {
     let m = ring.len();
     let scale = ring.iter().map(|q| q.length_squared()).fold(0.0, f64::max);
@@ -216,7 +243,7 @@ pub fn is_convex(ring: &[DVec2]) -> bool {
     })
 }
 
-/// As [`is_convex`], a right turn down to [`CONVEX_TURN_REL`] × the product of the two edge
+/// As [`is_convex`], a right turn down to `CONVEX_TURN_REL` × the product of the two edge
 /// lengths at the corner counting as straight (the scale of [`Polygon::is_convex`](super::Polygon::is_convex)).
 pub fn is_convex_local(ring: &[DVec2]) -> bool {
     let m = ring.len();
@@ -360,5 +387,18 @@ mod tests {
         let touching = sq(1.0 - 1e-13, 0.0, 1.0);
         assert!(convex_disjoint(&hull, &touching, 1e-12), "contact within snap counts as apart");
         assert!(!convex_disjoint(&hull, &touching, 0.0));
+    }
+
+    #[test]
+    fn overlap_needs_more_than_contact_in_either_orientation() {
+        let v = |p: &[[f64; 2]]| p.iter().map(|&[x, y]| DVec2::new(x, y)).collect::<Vec<_>>();
+        let sq = |x: f64| v(&[[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]]);
+        assert!(convex_overlap(&sq(0.0), &sq(0.5), 1e-9));
+        assert!(!convex_overlap(&sq(0.0), &sq(1.0), 1e-9), "touching along an edge is not overlap");
+        assert!(!convex_overlap(&sq(0.0), &sq(1.5), 1e-9));
+        let tri = v(&[[1.2, -1.0], [2.0, 0.5], [1.2, 2.0]]);
+        assert!(!convex_overlap(&sq(0.0), &tri, 1e-9));
+        let cw: Vec<DVec2> = sq(0.5).into_iter().rev().collect();
+        assert!(convex_overlap(&sq(0.0), &cw, 1e-9));
     }
 }

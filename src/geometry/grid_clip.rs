@@ -9,50 +9,10 @@
 //!   line are put on it, so the two sides of a shared edge agree bit for bit and gluing is
 //!   exact. A cell may hold several disjoint pieces; each becomes a
 //!   patch. If a glued ring fails validation, its convex pieces are kept instead.
+use super::frame::Frame;
 use super::glue::{area2, glue_all, P};
 use super::tolerance::GRID_SNAP_REL;
 use super::{Polygon, PolygonError};
-use glam::DVec3;
-
-/// A local frame in a polygon's plane: origin, first-edge axis e1, e2 = n × e1.
-#[derive(Debug, Clone, Copy)]
-pub struct PlaneFrame {
-    /// Origin (the first vertex).
-    pub origin: DVec3,
-    /// Unit axis along the first edge.
-    pub e1: DVec3,
-    /// Unit axis n × e1.
-    pub e2: DVec3,
-}
-
-impl PlaneFrame {
-    /// The frame of `poly` aligned with its first edge.
-    pub fn of(poly: &Polygon) -> Self {
-        let v = poly.vertices();
-        let n = poly.normal();
-        let edge = v[1] - v[0];
-        let e1 = (edge - n * edge.dot(n)).normalize();
-        Self { origin: v[0], e1, e2: n.cross(e1) }
-    }
-    /// In-plane coordinates (s, t) of `p`.
-    pub fn to_2d(&self, p: DVec3) -> P {
-        let d = p - self.origin;
-        [d.dot(self.e1), d.dot(self.e2)]
-    }
-    /// The point o + s·e1 + t·e2.
-    pub fn to_3d(&self, p: P) -> DVec3 {
-        self.origin + self.e1 * p[0] + self.e2 * p[1]
-    }
-    /// Bounding box [min, max] of the polygon's vertices in this frame.
-    pub fn bounds(&self, poly: &Polygon) -> (P, P) {
-        poly.vertices()
-            .iter()
-            .map(|v| self.to_2d(*v))
-            .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
-                ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
-            })
-    }
-}
 
 /// Grid line k of n over [lo, hi]; the last one is `hi` exactly.
 fn line(lo: f64, hi: f64, k: usize, n: usize) -> f64 {
@@ -107,15 +67,15 @@ fn clip(ring: &[P], axis: usize, c: f64, sign: f64, snap: f64) -> Vec<P> {
 
 /// Splits the polygon into grid cells (see the module docs); cells run row by row along e1.
 pub fn polygon_grid(poly: &Polygon, nu: usize, nv: usize) -> Result<Vec<Polygon>, PolygonError> {
-    let frame = PlaneFrame::of(poly);
+    let frame = Frame::of_polygon(poly);
     let (lo, hi) = frame.bounds(poly);
     let snap = GRID_SNAP_REL * (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let xs: Vec<f64> = (0..=nu).map(|i| line(lo[0], hi[0], i, nu)).collect();
     let ys: Vec<f64> = (0..=nv).map(|j| line(lo[1], hi[1], j, nv)).collect();
     let sources: Vec<Vec<P>> = if poly.is_convex() {
-        vec![poly.vertices().iter().map(|v| frame.to_2d(*v)).collect()]
+        vec![poly.vertices().iter().map(|v| frame.in_plane(*v).to_array()).collect()]
     } else {
-        poly.triangulate().iter().map(|t| t.iter().map(|v| frame.to_2d(*v)).collect()).collect()
+        poly.triangulate().iter().map(|t| t.iter().map(|v| frame.in_plane(*v).to_array()).collect()).collect()
     };
     let mut cells: Vec<Vec<Vec<P>>> = vec![Vec::new(); nu * nv];
     for src in &sources {
@@ -164,8 +124,8 @@ fn span(lines: &[f64], lo: f64, hi: f64) -> std::ops::Range<usize> {
 }
 
 /// The ring as a 3-D polygon; `None` for a sliver too thin to be a polygon.
-fn to_polygon(frame: &PlaneFrame, ring: &[P]) -> Result<Option<Polygon>, PolygonError> {
-    match Polygon::new(ring.iter().map(|p| frame.to_3d(*p)).collect()) {
+fn to_polygon(frame: &Frame, ring: &[P]) -> Result<Option<Polygon>, PolygonError> {
+    match Polygon::new(ring.iter().map(|p| frame.from_plane((*p).into())).collect()) {
         Ok(p) => Ok(Some(p)),
         Err(PolygonError::Degenerate | PolygonError::TooFewVertices(_)) => Ok(None),
         Err(e) => Err(e),
@@ -175,6 +135,7 @@ fn to_polygon(frame: &PlaneFrame, ring: &[P]) -> Result<Option<Polygon>, Polygon
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     /// Area conservation required by the scene format (relative).
     const AREA_TOL: f64 = 1e-12;

@@ -39,14 +39,6 @@ impl Loops {
         self.points.clear();
         self.rings.clear();
     }
-    /// Number of edges pushed.
-    pub fn len(&self) -> usize {
-        self.edges.len()
-    }
-    /// True when no edge was pushed.
-    pub fn is_empty(&self) -> bool {
-        self.edges.is_empty()
-    }
     /// Adds the directed edge a → b.
     pub fn push(&mut self, a: DVec2, b: DVec2) {
         self.edges.push([a, b]);

@@ -1,29 +1,34 @@
 //! Geometry level 0: planar polygons in f64.
 //!
-//! - [`polygon`]: validated planar polygon (normal, area, centroid), triangulation, clipping.
+//! - `polygon`: validated planar polygon (normal, area, centroid), triangulation, clipping.
 //! - [`quadrature`]: Gauss–Legendre rules on segments, triangles and quads.
+//! - [`frame`]: the one orthonormal frame (origin, t, b, n) and its constructors.
 //! - [`sampling`]: warps to patches and hemispheres, each with its pdf and inverse.
 //! - [`subdivide`]: parallelogram grids, disk rings × sectors, triangle refinement.
-//! - [`grid_clip`]: grid cells of any simple polygon, clipped, then glued (`glue`, private).
-//! - [`planes`]: grouping polygons by unoriented plane (coplanar pairs, blocker planes).
-//! - [`clip`]: the one Sutherland–Hodgman clipper of convex rings (plain and homogeneous).
-//! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness, convexity.
-//! - [`loops`]: closed rings from the loose edges of a cycle (a silhouette's outline).
-//! - [`union`]: the union of many plane polygons by one boolean (`i_overlay`).
-//! - [`tolerance`]: every geometric epsilon, one name per concept, with its reason.
+//! - `grid_clip`: grid cells of any simple polygon, clipped, then glued (`glue`, private).
+//! - `planes`: the one plane type; grouping polygons by unoriented plane (coplanar pairs,
+//!   blocker planes).
+//! - `clip`: the Sutherland–Hodgman clippers: the one loop of convex rings (plain and
+//!   homogeneous) and the named variants whose arithmetic differs.
+//! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness and overlap,
+//!   convexity, ear clipping.
+//! - `loops`: closed rings from the loose edges of a cycle (a silhouette's outline).
+//! - `union`: the union of many plane polygons by one boolean (Clipper2's sweep).
+//! - `tolerance`: every geometric epsilon, one name per concept, with its reason.
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
-pub mod clip;
+pub(crate) mod clip;
 pub mod convex;
+pub mod frame;
 mod glue;
-pub mod grid_clip;
-pub mod loops;
-pub mod planes;
-pub mod polygon;
+pub(crate) mod grid_clip;
+pub(crate) mod loops;
+pub(crate) mod planes;
+pub(crate) mod polygon;
 pub mod quadrature;
 pub mod sampling;
 pub mod subdivide;
-pub mod tolerance;
+pub(crate) mod tolerance;
 pub mod union;
 
 pub use glam::DVec3;

@@ -1,5 +1,6 @@
-//! Grouping polygons by the (unoriented) plane they lie in: coplanar patch pairs exchange
-//! nothing, and blockers in one plane are tested together.
+//! The one plane type ([`Plane`], oriented or canonical-unoriented) and grouping polygons by
+//! the (unoriented) plane they lie in: coplanar patch pairs exchange nothing, and blockers in
+//! one plane are tested together.
 use super::tolerance::PLANE_NORMAL_COS_TOL;
 use super::Polygon;
 use glam::DVec3;
@@ -8,17 +9,21 @@ use std::collections::HashMap;
 /// Quantisation of the hash key; only speeds up the search, membership is verified exactly.
 const KEY_STEPS: f64 = 1e6;
 
-/// An unoriented plane n·x = h with n's first non-zero component positive.
+/// A plane n·x + d = 0 with a unit normal n; `distance` is signed, positive on n's side.
+///
+/// [`Plane::of`] gives the unoriented plane of a polygon (n's first non-zero component
+/// positive, for grouping); [`Plane::through`] and [`plane_of`] give oriented ones (the
+/// half-space n·x + d ≥ 0 is the region of interest of the shadow volumes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
-    /// Unit normal (canonical sign).
-    pub normal: DVec3,
-    /// Offset h = n·x for points x on the plane.
-    pub offset: f64,
+    /// Unit normal.
+    pub n: DVec3,
+    /// Offset: −n·x for points x on the plane.
+    pub d: f64,
 }
 
 impl Plane {
-    /// The unoriented plane of `poly`.
+    /// The unoriented plane of `poly`: its normal with the first non-zero component positive.
     pub fn of(poly: &Polygon) -> Self {
         let mut n = poly.normal();
         let flip = if n.x != 0.0 {
@@ -31,12 +36,62 @@ impl Plane {
         if flip {
             n = -n;
         }
-        Plane { normal: n, offset: n.dot(poly.centroid()) }
+        Plane { n, d: -n.dot(poly.centroid()) }
     }
-    /// Signed distance of `p`.
-    pub fn distance(&self, p: DVec3) -> f64 {
-        self.normal.dot(p) - self.offset
+    /// The plane through a, b, c oriented by (b − a) × (c − a); `None` when they are collinear
+    /// within `min_len` (the normal's length before normalising).
+    pub fn through(a: DVec3, b: DVec3, c: DVec3, min_len: f64) -> Option<Self> {
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        if !(len > min_len) {
+            return None;
+        }
+        let n = n / len;
+        Some(Self { n, d: -n.dot(a) })
     }
+    /// Signed distance of `x`, positive on the normal's side.
+    #[inline]
+    pub fn distance(&self, x: DVec3) -> f64 {
+        self.n.dot(x) + self.d
+    }
+    /// The opposite orientation.
+    pub fn flipped(&self) -> Self {
+        Self { n: -self.n, d: -self.d }
+    }
+    /// Largest signed distance over the axis-aligned box [lo, hi].
+    pub fn box_max(&self, lo: DVec3, hi: DVec3) -> f64 {
+        let c = 0.5 * (lo + hi);
+        let h = 0.5 * (hi - lo);
+        self.distance(c) + self.n.abs().dot(h)
+    }
+    /// Smallest signed distance over the axis-aligned box [lo, hi].
+    pub fn box_min(&self, lo: DVec3, hi: DVec3) -> f64 {
+        let c = 0.5 * (lo + hi);
+        let h = 0.5 * (hi - lo);
+        self.distance(c) - self.n.abs().dot(h)
+    }
+}
+
+/// The oriented plane of a ring (any vertex count, possibly not quite planar): Newell's normal
+/// (right-hand rule) through the vertex mean; `None` for fewer than 3 vertices or a zero area.
+pub fn plane_of(ring: &[DVec3]) -> Option<Plane> {
+    let m = ring.len();
+    if m < 3 {
+        return None;
+    }
+    let mut n = DVec3::ZERO;
+    let mut c = DVec3::ZERO;
+    for k in 0..m {
+        let (a, b) = (ring[k], ring[(k + 1) % m]);
+        n += a.cross(b);
+        c += a;
+    }
+    let len = n.length();
+    if !(len > 0.0) {
+        return None;
+    }
+    let n = n / len;
+    Some(Plane { n, d: -n.dot(c / m as f64) })
 }
 
 /// Plane groups of a polygon list: `id[k]` is the group of polygon k; `planes[g]` its plane.
@@ -56,14 +111,14 @@ impl PlaneGroups {
         let mut index: HashMap<[i64; 4], Vec<u32>> = HashMap::new();
         let key = |p: &Plane| {
             let q = |x: f64| (x * KEY_STEPS).round() as i64;
-            [q(p.normal.x), q(p.normal.y), q(p.normal.z), q(p.offset / length_scale)]
+            [q(p.n.x), q(p.n.y), q(p.n.z), q(-p.d / length_scale)]
         };
         for poly in polys {
             let plane = Plane::of(poly);
             let found = index.get(&key(&plane)).and_then(|cands| {
                 cands.iter().copied().find(|&c| {
                     let rep = &g.planes[c as usize];
-                    rep.normal.dot(plane.normal) > 1.0 - PLANE_NORMAL_COS_TOL
+                    rep.n.dot(plane.n) > 1.0 - PLANE_NORMAL_COS_TOL
                         && poly.vertices().iter().all(|v| rep.distance(*v).abs() <= tol)
                 })
             });

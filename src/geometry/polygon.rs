@@ -1,7 +1,9 @@
 //! Planar simple polygons: construction with validation, Newell normal, area, centroid,
 //! ear-clipping triangulation and Sutherland–Hodgman clipping by a plane.
-use super::tolerance::{CONVEX_TURN_REL, DEGENERACY_TOL, PLANARITY_TOL};
-use glam::{DMat3, DVec3};
+use super::clip::clip_ring_keep;
+use super::convex::{ear_indices, is_convex_local};
+use super::tolerance::{DEGENERACY_TOL, PLANARITY_TOL};
+use glam::{DMat3, DVec2, DVec3};
 
 /// Why a vertex list is not a valid polygon.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -145,29 +147,25 @@ impl Polygon {
     pub fn plane_distance(&self, p: DVec3) -> f64 {
         (p - self.centroid).dot(self.normal)
     }
-    /// True when every interior angle is below 180° (within round-off).
+    /// True when every interior angle is below 180° (within round-off): the one corner test,
+    /// [`is_convex_local`], on the polygon's in-plane coordinates.
     pub fn is_convex(&self) -> bool {
-        let n = self.vertices.len();
-        (0..n).all(|k| {
-            let (a, b, c) = (self.vertices[k], self.vertices[(k + 1) % n], self.vertices[(k + 2) % n]);
-            (b - a).cross(c - b).dot(self.normal) >= -CONVEX_TURN_REL * (b - a).length() * (c - b).length()
-        })
+        is_convex_local(&project(&self.vertices, self.normal))
     }
 
-    /// Ear-clipping triangulation; triangles keep the polygon's orientation.
+    /// Ear-clipping triangulation ([`ear_indices`]); triangles keep the polygon's orientation.
     pub fn triangulate(&self) -> Vec<[DVec3; 3]> {
         let v = &self.vertices;
-        if self.is_convex() {
+        let p = project(v, self.normal);
+        if is_convex_local(&p) {
             return (1..v.len() - 1).map(|k| [v[0], v[k], v[k + 1]]).collect();
         }
-        ear_clip(v, self.normal)
+        ear_indices(&p).into_iter().map(|t| t.map(|k| v[k])).collect()
     }
 
     /// Part of the polygon on the side `(x − point)·normal ≥ 0`; `None` if nothing of positive
     /// area remains. Sutherland–Hodgman, so a non-convex polygon may come back with
     /// zero-width bridges, which integrate to nothing.
-    // Not `super::clip::clip_ring`: the ring starts at the first vertex (patch vertex order
-    // feeds every result), with de-duplication and a degeneracy check.
     pub fn clip(&self, point: DVec3, normal: DVec3) -> Option<Polygon> {
         let d: Vec<f64> = self.vertices.iter().map(|v| (*v - point).dot(normal)).collect();
         if d.iter().all(|&x| x >= 0.0) {
@@ -178,15 +176,12 @@ impl Polygon {
         }
         let n = self.vertices.len();
         let mut out = Vec::with_capacity(n + 2);
-        for k in 0..n {
-            let (a, b) = (self.vertices[k], self.vertices[(k + 1) % n]);
-            let (da, db) = (d[k], d[(k + 1) % n]);
-            if da >= 0.0 {
-                out.push(a);
-            }
-            if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-                out.push(a + (b - a) * (da / (da - db)));
-            }
+        clip_ring_keep(&self.vertices, |v| (v - point).dot(normal), 0.0, &mut out);
+        // The loop starts on the closing edge: a crossing there goes last, so the ring starts
+        // at the first vertex as the patch's does.
+        let (dl, d0) = (d[n - 1], d[0]);
+        if (dl > 0.0 && d0 < 0.0) || (dl < 0.0 && d0 > 0.0) {
+            out.rotate_left(1);
         }
         dedup_ring(&mut out);
         if out.len() < 3 {
@@ -244,16 +239,17 @@ fn dedup_ring(v: &mut Vec<DVec3>) {
 }
 
 /// In-plane 2-D coordinates along two axes orthogonal to `normal`.
-fn project(v: &[DVec3], normal: DVec3) -> Vec<[f64; 2]> {
+fn project(v: &[DVec3], normal: DVec3) -> Vec<DVec2> {
     let (u, w) = normal.any_orthonormal_pair();
-    v.iter().map(|p| [p.dot(u), p.dot(w)]).collect()
+    v.iter().map(|p| DVec2::new(p.dot(u), p.dot(w))).collect()
 }
 
-fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+/// Twice the signed area of triangle (a, b, c): positive when counter-clockwise.
+fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    (b - a).perp_dot(c - a)
 }
 
-fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], eps: f64) -> bool {
+fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2, eps: f64) -> bool {
     let (d1, d2) = (orient(c, d, a), orient(c, d, b));
     let (d3, d4) = (orient(a, b, c), orient(a, b, d));
     if ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps))
@@ -262,12 +258,12 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], eps: f64) 
         return true;
     }
     // Touching: an endpoint on the other segment.
-    let on = |p: [f64; 2], q: [f64; 2], r: [f64; 2], o: f64| {
+    let on = |p: DVec2, q: DVec2, r: DVec2, o: f64| {
         o.abs() <= eps
-            && r[0] >= p[0].min(q[0]) - 1e-15
-            && r[0] <= p[0].max(q[0]) + 1e-15
-            && r[1] >= p[1].min(q[1]) - 1e-15
-            && r[1] <= p[1].max(q[1]) + 1e-15
+            && r.x >= p.x.min(q.x) - 1e-15
+            && r.x <= p.x.max(q.x) + 1e-15
+            && r.y >= p.y.min(q.y) - 1e-15
+            && r.y <= p.y.max(q.y) + 1e-15
     };
     on(c, d, a, d1) || on(c, d, b, d2) || on(a, b, c, d3) || on(a, b, d, d4)
 }
@@ -289,46 +285,6 @@ fn first_crossing(v: &[DVec3], normal: DVec3) -> Option<(usize, usize)> {
         }
     }
     None
-}
-
-/// Ear clipping in the polygon's plane; O(n²), robust for simple polygons.
-fn ear_clip(v: &[DVec3], normal: DVec3) -> Vec<[DVec3; 3]> {
-    let p = project(v, normal);
-    let mut idx: Vec<usize> = (0..v.len()).collect();
-    let mut tris = Vec::with_capacity(v.len() - 2);
-    let mut guard = 0;
-    while idx.len() > 3 && guard < 10 * v.len() * v.len() {
-        guard += 1;
-        let m = idx.len();
-        let mut clipped = false;
-        for k in 0..m {
-            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
-            if orient(p[ia], p[ib], p[ic]) <= 0.0 {
-                continue;
-            }
-            let inside = idx.iter().any(|&q| {
-                q != ia
-                    && q != ib
-                    && q != ic
-                    && orient(p[ia], p[ib], p[q]) >= 0.0
-                    && orient(p[ib], p[ic], p[q]) >= 0.0
-                    && orient(p[ic], p[ia], p[q]) >= 0.0
-            });
-            if !inside {
-                tris.push([v[ia], v[ib], v[ic]]);
-                idx.remove(k);
-                clipped = true;
-                break;
-            }
-        }
-        if !clipped {
-            break;
-        }
-    }
-    if idx.len() == 3 {
-        tris.push([v[idx[0]], v[idx[1]], v[idx[2]]]);
-    }
-    tris
 }
 
 /// The outer product d dᵀ (second moments of area: a point mass's, and the parallel-axis shift).

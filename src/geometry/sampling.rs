@@ -1,7 +1,7 @@
 //! Sampling warps from the unit square to patches and hemispheres, each with its pdf and its
-//! inverse (pbrt-v4 style: `sample_*`, `*_pdf`, `invert_*`), and an orthonormal frame.
+//! inverse (pbrt-v4 style: `sample_*`, `*_pdf`, `invert_*`); directions are local to a
+//! [`super::frame::Frame`].
 //!
-//! - [`Frame`]: branchless orthonormal basis around a unit normal (Duff et al. 2017);
 //! - hemisphere: [`sample_uniform_hemisphere`], [`sample_cosine_hemisphere`] (Malley's method
 //!   over the concentric disk of Shirley & Chiu);
 //! - area: [`sample_triangle`] (uniform barycentrics) and [`PolygonSampler`] (area-weighted
@@ -10,37 +10,6 @@
 use super::Polygon;
 use glam::{DVec2, DVec3};
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
-
-/// Orthonormal frame (t, b, n) with n the given unit normal.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
-    /// First tangent.
-    pub t: DVec3,
-    /// Second tangent, n × t.
-    pub b: DVec3,
-    /// Normal.
-    pub n: DVec3,
-}
-
-impl Frame {
-    /// Duff et al. (2017), "Building an orthonormal basis, revisited"; `n` must be unit length.
-    pub fn from_normal(n: DVec3) -> Self {
-        let sign = 1f64.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
-        let t = DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-        let bt = DVec3::new(b, sign + n.y * n.y * a, -n.y);
-        Self { t, b: bt, n }
-    }
-    /// Local (x, y, z) → world.
-    pub fn to_world(&self, v: DVec3) -> DVec3 {
-        self.t * v.x + self.b * v.y + self.n * v.z
-    }
-    /// World → local (x, y, z).
-    pub fn to_local(&self, v: DVec3) -> DVec3 {
-        DVec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
-    }
-}
 
 /// Uniform direction on the hemisphere z ≥ 0: z = u₀, φ = 2πu₁; pdf 1/(2π).
 pub fn sample_uniform_hemisphere(u: DVec2) -> DVec3 {
@@ -230,27 +199,6 @@ mod tests {
         (0..n).flat_map(move |i| {
             (0..n).map(move |j| DVec2::new((i as f64 + 0.37) / n as f64, (j as f64 + 0.61) / n as f64))
         })
-    }
-
-    #[test]
-    fn frame_is_orthonormal_and_right_handed() {
-        for n in [
-            DVec3::Z,
-            -DVec3::Z,
-            DVec3::X,
-            DVec3::new(0.3, -0.4, 0.5).normalize(),
-            DVec3::new(1e-9, 0.0, -1.0).normalize(),
-        ] {
-            let f = Frame::from_normal(n);
-            assert!((f.t.length() - 1.0).abs() < 1e-14 && (f.b.length() - 1.0).abs() < 1e-14, "{n}");
-            assert!(
-                f.t.dot(f.b).abs() < 1e-14 && f.t.dot(n).abs() < 1e-14 && f.b.dot(n).abs() < 1e-14,
-                "{n}"
-            );
-            assert!((f.t.cross(f.b) - n).length() < 1e-14, "{n}");
-            let v = DVec3::new(0.2, -0.7, 0.4);
-            assert!((f.to_local(f.to_world(v)) - v).length() < 1e-14);
-        }
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! - [`refine_triangle`]: uniform n² refinement of a triangle;
 //! - [`diameter`]: largest vertex-to-vertex distance, the "width" that `max_patch_size` bounds.
 //!
-//! Grid cells of general polygons are in [`super::grid_clip`].
+//! Grid cells of general polygons are in `super::grid_clip`.
 use super::{Polygon, PolygonError};
 use glam::DVec3;
 use std::f64::consts::TAU;

@@ -44,14 +44,6 @@ impl Union {
         self.clip_points.clear();
         self.clip_rings.clear();
     }
-    /// Number of rings to unite.
-    pub fn len(&self) -> usize {
-        self.rings.len()
-    }
-    /// True when there is no ring to unite.
-    pub fn is_empty(&self) -> bool {
-        self.rings.is_empty()
-    }
     /// Adds a ring to unite.
     pub fn push(&mut self, ring: &[DVec2]) {
         let start = self.points.len();

@@ -258,7 +258,7 @@ pub enum Reason {
     /// has a row kernel, so the packed triangle holds the pairs.
     PackedRows,
     /// View factors: an unenforced per-surface matrix of at most
-    /// [`viewfactors::LEAN_SURFACES`] surfaces is summed in the sparse store.
+    /// `viewfactors::LEAN_SURFACES` surfaces is summed in the sparse store.
     FewSurfaces,
 }
 
@@ -688,5 +688,5 @@ pub fn with_unstamped_note(e: Error, file: &std::path::Path) -> Error {
 
 #[cfg(test)]
 mod tests;
-pub mod viewfactors;
+pub(crate) mod viewfactors;
 pub use viewfactors::{flag_warnings, Matrix, VfOutcome};

@@ -12,7 +12,7 @@ use super::{factor_tolerance, Request, Route, Tolerance};
 use crate::exchange::{self, Enforce, EnforceParams, Exchange};
 use crate::scene::{self, Scene};
 use crate::solve;
-use crate::viewfactor::{self, triangle::Triangle, Entry, Flag, Level, Method, MethodSet, ViewFactors};
+use crate::viewfactor::{self, packed::PackedTriangular, Entry, Flag, Level, Method, MethodSet, ViewFactors};
 use crate::Result;
 use std::time::{Duration, Instant};
 
@@ -31,7 +31,7 @@ pub enum Matrix {
     /// `names` names its rows (patches, or surfaces where each surface is one patch).
     Packed {
         /// The exchange areas.
-        triangle: Triangle,
+        triangle: PackedTriangular,
         /// Row names.
         names: Vec<String>,
     },
@@ -219,7 +219,7 @@ impl VfOutcome {
 }
 
 /// The worst |row sum − 1| of a closed scene's packed store, with its patch's name.
-fn packed_worst_row(scene: &Scene, t: &Triangle, enforced: bool) -> Option<(f64, String, Level)> {
+fn packed_worst_row(scene: &Scene, t: &PackedTriangular, enforced: bool) -> Option<(f64, String, Level)> {
     if !scene.is_closed() || t.n == 0 {
         return None;
     }
@@ -247,7 +247,12 @@ fn worst(errs: impl Iterator<Item = f64>) -> (f64, usize) {
 
 /// The view factors F_ij = s̄_ij / A_i of a packed store as sparse rows (zeros without an error
 /// skipped).
-fn triangle_viewfactors(t: &Triangle, names: Vec<String>, level: Level, wall: Duration) -> ViewFactors {
+fn triangle_viewfactors(
+    t: &PackedTriangular,
+    names: Vec<String>,
+    level: Level,
+    wall: Duration,
+) -> ViewFactors {
     let rows: Vec<Vec<Entry>> = (0..t.n)
         .map(|i| {
             let a = t.areas[i];
@@ -292,7 +297,7 @@ fn at_level(scene: &Scene, ex: &Exchange, level: Level) -> Exchange {
 }
 
 /// The entries a method flagged (error not bounded, receiver cut), naming the pairs; at most
-/// [`FLAGS_SHOWN`], then the count of the rest.
+/// `FLAGS_SHOWN`, then the count of the rest.
 pub fn flag_warnings(scene: &Scene, flags: &[Flag]) -> Vec<String> {
     // A surface of one patch is named as itself.
     let name = |p: usize| {

@@ -7,7 +7,7 @@
 //! - lines join points in x order; a value a log axis cannot show (zero, negative) is drawn as
 //!   an arrow at the edge it lies beyond, and the legend says so;
 //! - colours: the Okabe–Ito palette (colour-blind safe), one fixed colour per method (its row
-//!   in the method registry, [`crate::viewfactor::registry`]);
+//!   in the method registry, `crate::viewfactor::registry`);
 //! - files: `<stem>.svg`, `<stem>.png` and `<stem>.csv` (columns `series,x,y`, the numbers drawn).
 use crate::{Error, Result};
 use plotters::coord::Shift;

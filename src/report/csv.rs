@@ -10,13 +10,11 @@
 //!
 //! `std_error` is empty where a projection method (hemicube, single-plane) took part: their
 //! error is a bias they do not estimate, and a 0 would read as exact ([`std_error_field`]).
+use crate::solve::AMBIENT;
 use crate::viewfactor::{Entry, MethodSet, ViewFactors};
 use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
-
-/// Name of the ambient node in outputs.
-pub const AMBIENT: &str = "ambient";
 
 fn csv_err(path: &Path, e: csv::Error) -> Error {
     Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) }

@@ -2,7 +2,7 @@
 //! packed triangle: rows are formatted in parallel, a block at a time, and written in order,
 //! so the output never exists as a second matrix. Byte for byte the records of [`super::csv`]
 //! (names are CSV-encoded once; numbers by [`super::push_f64`]).
-use crate::viewfactor::triangle::Triangle;
+use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::MethodSet;
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -26,7 +26,7 @@ fn encode(field: &str) -> Result<String> {
 /// `geometry`, as [`super::csv::write_viewfactors`].
 pub fn write_triangle<W: Write>(
     mut out: W,
-    t: &Triangle,
+    t: &PackedTriangular,
     names: &[String],
     open: bool,
     geometry: &str,
@@ -50,7 +50,7 @@ pub fn write_triangle<W: Write>(
         }
     };
     let names: Vec<String> = names.iter().map(|s| encode(s)).collect::<Result<_>>()?;
-    let ambient = encode(super::csv::AMBIENT)?;
+    let ambient = encode(crate::solve::AMBIENT)?;
     let n = t.n;
     let block = |lo: usize| -> Vec<String> {
         let hi = (lo + BLOCK_ROWS).min(n);
@@ -76,7 +76,14 @@ pub fn write_triangle<W: Write>(
 }
 
 /// The records of row i; `col[j]` = s̄_ji for the columns j before the block.
-fn row_text(t: &Triangle, names: &[String], ambient: &str, open: bool, i: usize, col: &[f64]) -> String {
+fn row_text(
+    t: &PackedTriangular,
+    names: &[String],
+    ambient: &str,
+    open: bool,
+    i: usize,
+    col: &[f64],
+) -> String {
     let mut out = String::with_capacity(64 * t.n);
     let a = t.areas[i];
     let (mut sum, mut var_sum, mut methods) = (0.0, 0.0, MethodSet::default());

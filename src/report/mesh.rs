@@ -11,7 +11,7 @@ use std::collections::HashMap;
 
 /// Weld tolerance relative to the scene's bounding-box diagonal: subdivision and glTF
 /// round-off put shared corners within ~1e-15 of each other, real features are far above 1e-9.
-pub const WELD_REL: f64 = 1e-9;
+pub const OUTPUT_WELD_REL: f64 = 1e-9;
 
 /// Indexed polygons, one cell per patch, in patch order.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,10 +44,10 @@ pub fn scene_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
 
 impl PatchMesh {
     /// Builds the mesh of `scene.patches`, welding vertices of one surface that lie within
-    /// [`WELD_REL`] × the bounding-box diagonal. Memory and time are O(vertices).
+    /// [`OUTPUT_WELD_REL`] × the bounding-box diagonal. Memory and time are O(vertices).
     pub fn build(scene: &Scene) -> PatchMesh {
         let diag = scene_bounds(scene).map_or(1.0, |(lo, hi)| (hi - lo).length());
-        let tol = (WELD_REL * diag).max(f64::MIN_POSITIVE);
+        let tol = (OUTPUT_WELD_REL * diag).max(f64::MIN_POSITIVE);
         let mut grid: HashMap<(u32, [i64; 3]), Vec<u32>> = HashMap::new();
         let mut mesh = PatchMesh {
             points: Vec::new(),

@@ -6,15 +6,15 @@
 //! - [`points_csv`]: points read for `viewfactors --points`, and their factors written;
 //! - [`read_vf`]: a saved `viewfactors` CSV, matched to a scene (`solve --viewfactors`);
 //! - [`charts`]: log–log charts of the validation studies (SVG, PNG);
-//! - [`mesh`]: patch polygons as a welded mesh, cell values averaged to vertices;
+//! - `mesh`: patch polygons as a welded mesh, cell values averaged to vertices;
 //! - [`vtk`]: VTK XML (.vtu/.vtp) for ParaView (`--vtk`);
 //! - [`outputs`]: the files of a run, checked before any work and put in place together;
 //! - [`render`]: false-colour pictures of a result on the geometry (`lambert render`).
 pub mod charts;
 pub mod csv;
 pub mod decks;
-pub mod dense_csv;
-pub mod mesh;
+pub(crate) mod dense_csv;
+pub(crate) mod mesh;
 pub mod outputs;
 pub mod points_csv;
 pub mod read_vf;

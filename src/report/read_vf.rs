@@ -81,7 +81,7 @@ pub fn read_stamped(path: &Path, scene: &Scene) -> Result<(ViewFactors, bool)> {
             continue;
         };
         seen_from[i] = true;
-        if to == crate::report::csv::AMBIENT {
+        if to == crate::solve::AMBIENT {
             continue;
         }
         let Some(&j) = map.get(to) else {

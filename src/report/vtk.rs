@@ -1,6 +1,6 @@
 //! VTK XML output for ParaView (`--vtk FILE.vtu` or `FILE.vtp`), written with `vtkio`: one
 //! cell per patch polygon (triangle or polygon), cell data for every result column, and the
-//! same columns averaged to the vertices as point data ([`PatchMesh::to_points`]).
+//! same columns averaged to the vertices as point data (`PatchMesh::to_points`).
 //!
 //! - [`VtkFields`]: named per-patch columns plus integer columns, and lookup lines
 //!   (surface names, method codes) written as an XML comment ahead of the data;

@@ -130,10 +130,11 @@ pub fn from_raw(
             warnings.push(format!(
                 "{}: line {}: surface '{name}': emissivity = {} is not used by the solve, which takes \
                  emissivity_bands = {values:?} in its bands; give only emissivity_bands (a gray \
-                 --conductances deck is refused while the two differ)",
+                 {} deck is refused while the two differ)",
                 path.display(),
                 line_of(text, gray.span().start),
                 gray.get_ref(),
+                crate::error::opt("conductances"),
             ));
         }
         // Obstructions have no surface entry: their band emissivities are not used.

@@ -63,11 +63,6 @@ pub struct Model {
     pub extra_files: Vec<PathBuf>,
 }
 
-/// Loads the mesh surfaces of a .gltf or .glb file with the default [`LoadOptions`].
-pub fn load_model(path: &Path) -> Result<Model, InputError> {
-    load_model_with(path, &LoadOptions::default())
-}
-
 /// Loads the mesh surfaces of a .gltf or .glb file.
 pub fn load_model_with(path: &Path, options: &LoadOptions) -> Result<Model, InputError> {
     let meta = std::fs::metadata(path)

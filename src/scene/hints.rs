@@ -14,7 +14,7 @@
 //! pieces to see each other: each has a point strictly in front of the other's plane).
 use super::Scene;
 use crate::geometry::convex::convex_hull;
-use crate::geometry::grid_clip::PlaneFrame;
+use crate::geometry::frame::Frame;
 use crate::geometry::Polygon;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -139,14 +139,14 @@ pub fn facing_away_warning(scene: &Scene, f: &FacingAway) -> String {
 /// The corners of a planar surface: the convex hull of its patches' vertices in its plane (a
 /// plane-side test over the surface needs no other point).
 fn outline(scene: &Scene, s: usize, plane: &Polygon) -> Vec<DVec3> {
-    let frame = PlaneFrame::of(plane);
+    let frame = Frame::of_polygon(plane);
     let mut pts: Vec<DVec2> = scene.patches[scene.surfaces[s].patches.clone()]
         .iter()
-        .flat_map(|p| p.polygon.vertices().iter().map(|v| DVec2::from(frame.to_2d(*v))))
+        .flat_map(|p| p.polygon.vertices().iter().map(|v| frame.in_plane(*v)))
         .collect();
     let mut hull = Vec::new();
     convex_hull(&mut pts, &mut hull);
-    hull.into_iter().map(|p| frame.to_3d(p.to_array())).collect()
+    hull.into_iter().map(|p| frame.from_plane(p)).collect()
 }
 
 #[cfg(test)]

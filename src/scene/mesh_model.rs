@@ -1,6 +1,6 @@
 //! Mesh models from triangle groups (STL solids, OBJ groups and objects) and the mesh checks of
 //! every model file (glTF too): length unit, vertex welding, one surface per file, group or
-//! connected component, hygiene ([`super::hygiene`]) and `repair`.
+//! connected component, hygiene (`super::hygiene`) and `repair`.
 //!
 //! Surface names: `<stem>` for one surface per file; `<stem>/<group>` per group (a file with a
 //! single unnamed group gives `<stem>`); `<stem>/<k>` per connected component, k from 0 in
@@ -86,7 +86,7 @@ impl Split {
 pub struct MeshOptions {
     /// Unit of the file's coordinates.
     pub unit: Unit,
-    /// Weld tolerance, m (`None`: [`WELD_REL`] × the bounding-box diagonal).
+    /// Weld tolerance, m (`None`: `WELD_REL` × the bounding-box diagonal).
     pub weld: Option<f64>,
     /// Surfaces per file, group or component (`None`: the format's default).
     pub split: Option<Split>,
@@ -296,8 +296,10 @@ fn group_name(stem: &str, g: &Group, k: usize) -> String {
 /// A generated surface name must be usable in every output.
 fn check_name(name: &str) -> Result<(), String> {
     if name.contains('#') {
-        Err("the name contains '#', which separates patch numbers in `--patches` output; rename the group"
-            .into())
+        Err(format!(
+            "the name contains '#', which separates patch numbers in `{}` output; rename the group",
+            crate::error::opt("patches")
+        ))
     } else if name.chars().any(char::is_control) {
         Err("the name contains control characters; rename the group".into())
     } else if name == "ambient" {

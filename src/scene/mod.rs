@@ -3,20 +3,20 @@
 //!
 //! - this file: the in-memory model, [`SceneBuilder`] for programmatic scenes, [`load`] and
 //!   [`Scene::check_boundary_conditions`];
-//! - [`schema`]: the TOML format as serde types; [`toml_scene`]: the TOML loader;
-//!   [`toml_errors`]: TOML errors with line and surface;
-//! - [`gltf_scene`]: glTF 2.0 models as mesh surfaces;
-//! - [`stl_scene`], [`obj_scene`]: STL and OBJ files as triangle groups; [`mesh_model`]: their
-//!   surfaces (unit, welding, split) and the checks of every model file; [`mesh`]: indexed
-//!   meshes and welding; [`hygiene`]: the mesh checks, their warnings and `repair`;
+//! - `schema`: the TOML format as serde types; [`toml_scene`]: the TOML loader;
+//!   `toml_errors`: TOML errors with line and surface;
+//! - `gltf_scene`: glTF 2.0 models as mesh surfaces;
+//! - `stl_scene`, `obj_scene`: STL and OBJ files as triangle groups; [`mesh_model`]: their
+//!   surfaces (unit, welding, split) and the checks of every model file; `mesh`: indexed
+//!   meshes and welding; `hygiene`: the mesh checks, their warnings and `repair`;
 //! - [`props`]: property layers (surface → node extras → model → defaults) and their resolution;
 //! - [`validate`]: value checks and limits; [`patching`]: `subdivide` / `max_patch_size`;
-//! - [`assemble`]: names, overrides, patches and obstructions into a [`Scene`];
-//! - [`orientation`]: closed mesh surfaces whose normals face outward (leak hints);
+//! - `assemble`: names, overrides, patches and obstructions into a [`Scene`];
+//! - `orientation`: closed mesh surfaces whose normals face outward (leak hints);
 //! - [`hints`]: facts behind other hints (obstructions in an enclosure, panels facing away);
 //! - [`fingerprint`]: the geometry hash that saved view factors carry;
 //! - [`vs3`]: View3D `.vs3` input files (F 3, F 3a) as a model or a whole scene;
-//! - [`bands`]: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
+//! - `bands`: the `[[band]]` table and `emissivity_bands` (semi-gray solves).
 use crate::error::InputError;
 use crate::geometry::tolerance::SURFACE_COPLANAR_TOL;
 use crate::geometry::Polygon;
@@ -24,23 +24,23 @@ use glam::DVec3;
 use std::ops::Range;
 use std::path::PathBuf;
 
-pub mod assemble;
-pub mod bands;
+pub(crate) mod assemble;
+pub(crate) mod bands;
 pub mod fingerprint;
-pub mod gltf_scene;
+pub(crate) mod gltf_scene;
 pub mod hints;
-pub mod hygiene;
-pub mod mesh;
+pub(crate) mod hygiene;
+pub(crate) mod mesh;
 pub mod mesh_model;
-pub mod obj_scene;
-pub mod orientation;
+pub(crate) mod obj_scene;
+pub(crate) mod orientation;
 pub mod patching;
 pub mod props;
-pub mod readers;
-pub mod schema;
-pub mod stl_scene;
-pub mod text;
-pub mod toml_errors;
+pub(crate) mod readers;
+pub(crate) mod schema;
+pub(crate) mod stl_scene;
+pub(crate) mod text;
+pub(crate) mod toml_errors;
 pub mod toml_scene;
 pub mod validate;
 pub mod vs3;
@@ -348,7 +348,7 @@ pub fn load_with(path: &std::path::Path, options: &LoadOptions) -> crate::Result
 }
 
 /// Every scene format, in the order the messages list them: the TOML scene, then the model
-/// formats ([`readers::MODELS`]), each of which is a scene by itself too.
+/// formats (`readers::MODELS`), each of which is a scene by itself too.
 pub static READERS: [&dyn readers::Reader; 5] =
     [&TomlScene, &readers::Gltf, &readers::STL, &readers::OBJ, &readers::Vs3];
 

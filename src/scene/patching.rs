@@ -14,7 +14,8 @@
 //! Patches keep the surface's orientation, and their areas sum to the surface's area.
 use super::validate::MAX_PATCHES_PER_SURFACE;
 use super::Disk;
-use crate::geometry::grid_clip::{polygon_grid, PlaneFrame};
+use crate::geometry::frame::Frame;
+use crate::geometry::grid_clip::polygon_grid;
 use crate::geometry::subdivide::{disk_patches, parallelogram_grid, refine_triangle, regular_polygon};
 use crate::geometry::{DVec3, Polygon};
 
@@ -94,9 +95,9 @@ pub fn polygon(p: &Polygon, split: Split) -> Result<Vec<Polygon>, String> {
         Split::Whole => return Ok(vec![p.clone()]),
         Split::Grid(nu, nv) => (nu, nv),
         Split::MaxSize(l) => {
-            let f = PlaneFrame::of(p);
+            let f = Frame::of_polygon(p);
             let (lo, hi) = f.bounds(p);
-            grid_for_size(f.e1 * (hi[0] - lo[0]), f.e2 * (hi[1] - lo[1]), l)?
+            grid_for_size(f.t * (hi[0] - lo[0]), f.b * (hi[1] - lo[1]), l)?
         }
     };
     check_count(nu, nv)?;

@@ -178,8 +178,9 @@ impl Reader for Vs3 {
         if c.emittances {
             scene.warnings.push(format!(
                 "{}: emit = 1 asks View3D for script-F exchange factors; lambert writes view factors \
-                 here, and `solve --conductances` writes RADK_ij = A_i ε_i B_ij = A_i 𝓕_ij",
-                path.display()
+                 here, and `solve` with {} writes RADK_ij = A_i ε_i B_ij = A_i 𝓕_ij",
+                path.display(),
+                crate::error::opt("conductances")
             ));
         }
         scene.run_defaults = RunDefaults { tolerance: c.eps, closure: c.enclosure };
@@ -197,8 +198,10 @@ impl Reader for Vs3 {
         if v.controls != vs3::Controls::default() {
             warnings.push(format!(
                 "{}: the View3D control values (encl, emit, eps) of a [[model]] are ignored: the scene file \
-                 decides [ambient], and --tolerance and --enforce set the run",
-                path.display()
+                 decides [ambient], and {} and {} set the run",
+                path.display(),
+                crate::error::opt("tolerance"),
+                crate::error::opt("enforce")
             ));
         }
         Ok((ModelEntry { model: v.model, layer, report: None, notes: Vec::new() }, warnings))

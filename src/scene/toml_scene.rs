@@ -173,7 +173,10 @@ fn check_name(name: &str) -> Result<(), String> {
     if name.trim().is_empty() {
         Err("the name is empty; every surface needs a unique, non-empty name".into())
     } else if name.contains('#') {
-        Err("names may not contain '#', which separates patch numbers in `--patches` output".into())
+        Err(format!(
+            "names may not contain '#', which separates patch numbers in `{}` output",
+            crate::error::opt("patches")
+        ))
     } else if name == "ambient" {
         Err("'ambient' is reserved for the environment row of open scenes".into())
     } else if name.chars().any(char::is_control) {

@@ -19,7 +19,7 @@ use std::time::Instant;
 /// below the 1e-9 energy-balance tolerance.
 pub const NEWTON_TOL: f64 = 1e-12;
 /// Newton steps allowed (quadratic convergence needs < 10 from the gray start).
-const MAX_NEWTON: usize = 60;
+const BAND_MAX_NEWTON: usize = 60;
 /// Largest number of flux-condition nodes for the dense Newton Jacobian.
 pub const MAX_FLUX_NODES: usize = 3000;
 
@@ -197,7 +197,7 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
                 heat_rate_shift: None,
             });
         }
-        if steps == MAX_NEWTON {
+        if steps == BAND_MAX_NEWTON {
             return Err(Error::Compute(format!(
                 "semi-gray Newton did not converge: flux residual {worst:.3e} W/m² after {steps} steps"
             )));

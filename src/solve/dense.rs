@@ -1,6 +1,6 @@
 //! The lean dense solve: the net-radiation system K J = b (K = D − S̄ on the unknowns, black
 //! surfaces eliminated, docs/literature.md §5) solved by Jacobi-preconditioned conjugate gradients
-//! with the symmetric packed mat-vec of [`crate::viewfactor::triangle::Triangle`]. K is never assembled: the only N²
+//! with the symmetric packed mat-vec of `crate::viewfactor::packed::PackedTriangular`. K is never assembled: the only N²
 //! object is the triangle of exchange areas, read once per iteration.
 //!
 //! - [`solve_gray`]: solve on an enforced [`DenseExchange`];
@@ -19,13 +19,13 @@ use crate::viewfactor::Level;
 use crate::{Error, Result, SIGMA};
 use std::time::Instant;
 
-/// Accepted residual when round-off stalls CG before [`CG_TOL`] (at which the heat rates agree
+/// Accepted residual when round-off stalls CG before `CG_TOL` (at which the heat rates agree
 /// with a direct factorisation to ~1e-12: K is diagonally dominant wherever a temperature
 /// anchors it): far below the 1e-9 energy balance.
 pub const CG_STALL_TOL: f64 = 1e-12;
 /// CG iterations allowed: a floor plus a share of the unknowns (convergence takes tens of
 /// iterations on anchored enclosures; this only stops a runaway).
-const CG_ITER_FLOOR: usize = 5000;
+const SOLVE_CG_ITER_FLOOR: usize = 5000;
 
 /// Everything the lean `solve` run produced.
 #[derive(Debug, Clone)]
@@ -132,7 +132,7 @@ pub fn solve_operator(
     for i in (0..n).filter(|&i| !unknown[i]) {
         b[i] = 0.0;
     }
-    let max_iter = CG_ITER_FLOOR + n;
+    let max_iter = SOLVE_CG_ITER_FLOOR + n;
     let (x, cg_info) = cg(&sys.linear(t), &sys.diag, &b, CG_TOL, max_iter);
     let (iterations, residual) = (cg_info.iterations, cg_info.residual);
     if !(residual <= CG_STALL_TOL) {
@@ -247,7 +247,7 @@ impl LeanSystem {
     /// K⁻¹ r on the unknowns (r masked), to the error estimates' accuracy.
     fn solve(&self, t: &dyn Operator, r: &[f64]) -> Vec<f64> {
         let rhs: Vec<f64> = r.iter().zip(&self.mask).map(|(r, m)| r * m).collect();
-        cg(&self.linear(t), &self.diag, &rhs, ERROR_CG_TOL, CG_ITER_FLOOR + r.len()).0
+        cg(&self.linear(t), &self.diag, &rhs, ERROR_CG_TOL, SOLVE_CG_ITER_FLOOR + r.len()).0
     }
 }
 

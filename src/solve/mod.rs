@@ -6,7 +6,7 @@
 //!   recovery of q, T, H from J;
 //! - [`direct`]: dense LLT (small N), sparse LLT with a reusable symbolic factorisation,
 //!   LU fallbacks (faer);
-//! - [`iterative`]: Jacobi and Gauss–Seidel with a typed [`NoConvergence`];
+//! - `iterative`: Jacobi and Gauss–Seidel with a typed [`NoConvergence`];
 //! - [`planck`]: blackbody band fractions F_{0→λT};
 //! - [`bands`]: semi-gray bands, temperatures coupled across bands by Newton;
 //! - [`clustered`]: the solve on the hierarchical exchange, with heat-rate error estimates;
@@ -23,7 +23,7 @@ pub mod clustered;
 pub mod conductance;
 pub mod dense;
 pub mod direct;
-pub mod iterative;
+pub(crate) mod iterative;
 pub mod planck;
 pub mod system;
 

@@ -27,7 +27,7 @@ pub struct HeatResults {
 
 impl HeatResults {
     fn value(&self, h: &HeatRef, temperature: bool) -> Option<f64> {
-        if h.surface == crate::report::csv::AMBIENT && !temperature {
+        if h.surface == crate::solve::AMBIENT && !temperature {
             return self.ambient;
         }
         self.surfaces.iter().find(|s| s.0 == h.surface).map(|s| if temperature { s.2 } else { s.1 })

@@ -1,14 +1,14 @@
 //! The textbook validation suite behind `lambert validate`.
 //!
-//! - [`case`]: a case folder (scene + `reference.toml`: citation, reference quantities with
+//! - `case`: a case folder (scene + `reference.toml`: citation, reference quantities with
 //!   provenance, per-method overrides) and discovery under `cases/`;
 //! - [`runner`]: every case × every method, view-factor and heat checks;
-//! - [`tolerance`]: each method's error model and the suite's run budget;
-//! - [`heat`]: enclosure heat-rate / temperature checks through the radiation solve;
-//! - [`check`]: one report row and its status (pass, FAIL, n/a, skip);
+//! - `tolerance`: each method's error model and the suite's run budget;
+//! - `heat`: enclosure heat-rate / temperature checks through the radiation solve;
+//! - `check`: one report row and its status (pass, FAIL, n/a, skip);
 //! - [`report`]: the markdown report and the console table;
-//! - [`oracle`]: independent reference values for the generated studies;
-//! - [`studies`]: speed–accuracy, stability and Monte Carlo convergence sweeps (charts).
+//! - `oracle`: independent reference values for the generated studies;
+//! - `studies`: speed–accuracy, stability and Monte Carlo convergence sweeps (charts).
 //!
 //! Sits beside the CLI at the top of the dependency chain: it uses scene, viewfactor, solve
 //! and report, and nothing below uses it.
@@ -16,14 +16,14 @@ use crate::error::InputError;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
-pub mod case;
-pub mod check;
-pub mod heat;
-pub mod oracle;
+pub(crate) mod case;
+pub(crate) mod check;
+pub(crate) mod heat;
+pub(crate) mod oracle;
 pub mod report;
 pub mod runner;
-pub mod studies;
-pub mod tolerance;
+pub(crate) mod studies;
+pub(crate) mod tolerance;
 
 pub use case::Case;
 pub use check::{Check, Status};

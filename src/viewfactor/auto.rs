@@ -14,10 +14,10 @@
 //!    [`super::shadow::calibrate`] measures on a few of the scene's own pairs (the model and
 //!    its constants live in [`super::shadow::policy`]):
 //!    - **analytic-shadowed**: u − ∫_E g dA with the adaptive shadow integration
-//!      ([`super::shadow::adaptive`], rules 2×2 vs 3×3 per cell, cut along at most 64 pieces'
+//!      (`super::shadow::adaptive`, rules 2×2 vs 3×3 per cell, cut along at most 64 pieces'
 //!      worth of kink planes, no cell above a quarter of the emitter accepted on its own rules,
 //!      refined until the rules agree to the goal);
-//!    - **Monte Carlo** ([`super::shadow::mc_pair`]): u·ΣKV/ΣK; its standard error is at most
+//!    - **Monte Carlo** (`super::shadow::mc_pair`): u·ΣKV/ΣK; its standard error is at most
 //!      u·√(¼/n) for independent equal-weight samples, so n = ¼(Z·u/goal)² samples are tried
 //!      first; where the kernel weights leave it short at the sample cap, the pair is
 //!      integrated instead.
@@ -27,7 +27,7 @@
 //!    for pairs unlike the calibration pairs (a wall pair behind a whole meshed part).
 //!
 //!    An entry whose error estimate still exceeds its goal (integration at its depth limit)
-//!    is counted, and the run names the worst ([`super::shadow::misses`]).
+//!    is counted, and the run names the worst (`super::shadow::misses`).
 //!
 //!    The entry records which one produced it (`analytic-shadowed` or `mc-area`).
 //!

@@ -22,7 +22,7 @@ pub fn row_costs(kernel: &dyn RowKernel, shown: bool, n: usize, pairs: impl Fn(u
 }
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
-const WAVE_ENTRY_BUDGET: usize = 2_000_000;
+pub(super) const WAVE_ENTRY_BUDGET: usize = 2_000_000;
 
 /// Runs `kernel` over every patch row and aggregates at `level`.
 pub fn run(scene: &Scene, kernel: &dyn RowKernel, params: &Params, level: Level) -> Result<ViewFactors> {

@@ -2,7 +2,7 @@
 //! (or knowingly short), reported on stderr by the CLI instead of passing silently.
 //!
 //! A kernel records them while it runs ([`FlagLog`]); the engine hands them, sorted, to the
-//! result ([`super::ViewFactors::flags`], [`super::triangle::Triangle::flags`]).
+//! result ([`super::ViewFactors::flags`], [`super::packed::PackedTriangular::flags`]).
 use super::MethodSet;
 use std::sync::Mutex;
 

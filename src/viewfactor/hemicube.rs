@@ -4,7 +4,7 @@
 //! form factors of the pixels it wins.
 //!
 //! - `delta`: the delta form factor tables, one per resolution;
-//! - the projection base it shares with the single-plane method ([`super::projection`]): the
+//! - the projection base it shares with the single-plane method (`super::projection`): the
 //!   flattened scene and the per-eye gather, homogeneous clipping to each face's pyramid
 //!   before the divide, the scanline item buffer, and the projection positions per patch.
 //!
@@ -35,11 +35,13 @@ use std::sync::Mutex;
 
 pub(crate) mod delta;
 
-use super::projection::prepare::{Eye, Gathered, Prepared, NO_RECEIVER};
+use super::projection::prepare::{Gathered, Prepared, NO_RECEIVER};
 use super::projection::raster::{DepthPlane, ItemBuffer};
 pub use super::projection::Positions;
 pub use super::projection::MAX_RESOLUTION;
-use super::projection::{checked_resolution, clip, credit, emit, positions, NEAR_REL, RECEIVER_DEPTH_BIAS};
+use super::projection::{checked_resolution, credit, emit, positions, EYE_NEAR_REL, RECEIVER_DEPTH_BIAS};
+use crate::geometry::clip::watertight as clip;
+use crate::geometry::frame::Frame;
 
 /// The `hemicube` row of the method registry: error the point bias plus the raster term.
 pub const INFO: MethodInfo = MethodInfo {
@@ -106,7 +108,7 @@ impl<'a> HemicubeKernel<'a> {
     pub fn new(scene: &'a Scene, resolution: usize, positions: Positions) -> Result<Self> {
         let r = checked_resolution("hemicube", resolution)?;
         let prep = Prepared::new(scene);
-        let near = NEAR_REL * prep.near_scale;
+        let near = EYE_NEAR_REL * prep.near_scale;
         let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
         let faces = [
             Face::new(x, y, z, true, r, near),
@@ -191,7 +193,7 @@ impl RowKernel for HemicubeKernel<'_> {
         let rule = positions::rule(poly, self.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
         for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
-            let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.positions.turn(k));
+            let eye = Frame::along(x, poly.normal(), v[1] - v[0]).turned(self.positions.turn(k));
             ws.gathered.gather(&self.prep, &eye, i);
             for face in &self.faces {
                 self.render_face(face, &mut ws, w);

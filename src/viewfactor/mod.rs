@@ -1,52 +1,52 @@
 //! View factors: one closed [`Method`] enum with its registry, one dispatch point
 //! ([`compute`]), one engine.
 //!
-//! - [`row`]: the [`row::RowKernel`] interface every method implements;
+//! - `row`: the [`row::RowKernel`] interface every method implements;
 //! - [`engine`]: runs a [`row::RowKernel`] over every patch row in parallel, in waves, and
 //!   hands the rows in patch order to a sink (deterministic on any thread count);
-//! - [`sink`]: aggregates rows to the surface level or keeps them per patch, with row-sum
+//! - `sink`: aggregates rows to the surface level or keeps them per patch, with row-sum
 //!   diagnostics; never an N×N dense temporary;
-//! - [`triangle`]: the lean dense store, one packed f64 triangle of exchange areas, filled
+//! - `packed`: the lean dense store, one packed f64 triangle of exchange areas, filled
 //!   by the same kernels;
 //! - [`points`]: factors from points (sensors) to every surface or patch, exact shadows;
 //! - [`progress`]: progress on pairs done (a bar on a terminal, log lines otherwise);
 //! - [`limits`]: the bounds on samples, resolution and tolerance, for every caller;
 //! - [`range`]: the final check that every written factor lies in [0, 1];
-//! - [`flags`]: entries a method could not bound, reported on stderr;
-//! - [`distributed`]: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
+//! - `flags`: entries a method could not bound, reported on stderr;
+//! - `distributed`: rows split between MPI ranks and gathered to rank 0 (feature `mpi`);
 //! - [`shard`]: rows split between independent runs (`--shard`) and merged (`lambert merge`);
-//! - [`registry`]: the [`Method`] enum and one [`MethodInfo`] row per method (kernel, error
+//! - `registry`: the [`Method`] enum and one [`MethodInfo`] row per method (kernel, error
 //!   model, leak thresholds, knob, chart colour), asked by the plan, enforcement, validation
 //!   and the charts instead of each matching on the method;
-//! - [`accuracy`]: the shape of a row and the error terms the methods share;
+//! - `accuracy`: the shape of a row and the error terms the methods share;
 //! - the method modules ([`analytic`], [`auto`], [`hemicube`], [`single_plane`],
 //!   [`monte_carlo`]: mc-area, mc-uniform, mc-cosine) each provide a kernel and their row.
 use crate::scene::Scene;
 use crate::Result;
 use std::fmt;
 
-pub mod accuracy;
+pub(crate) mod accuracy;
 pub mod analytic;
 pub mod auto;
 pub mod closed_form;
-pub mod distributed;
+pub(crate) mod distributed;
 pub mod engine;
 pub mod exact;
-pub mod flags;
+pub(crate) mod flags;
 pub mod hemicube;
 pub mod limits;
 pub mod monte_carlo;
+pub(crate) mod packed;
 pub mod points;
 pub mod progress;
-pub mod projection;
+pub(crate) mod projection;
 pub mod range;
-pub mod registry;
-pub mod row;
+pub(crate) mod registry;
+pub(crate) mod row;
 pub mod shadow;
 pub mod shard;
 pub mod single_plane;
-pub mod sink;
-pub mod triangle;
+pub(crate) mod sink;
 
 pub use accuracy::MethodInfo;
 pub use flags::Flag;
@@ -180,10 +180,10 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 }
 
 /// Computes the patch-level exchange areas of `scene` straight into the lean packed store
-/// ([`triangle::Triangle`]): symmetric kernels fill their rows in parallel, the others are
+/// (`packed::PackedTriangular`): symmetric kernels fill their rows in parallel, the others are
 /// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
 /// per-entry variances and hit counts need the sparse store.
-pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangle::Triangle>> {
+pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<packed::PackedTriangular>> {
     let Some(kernel) = row_kernel(scene, params)? else { return Ok(None) };
     progress::enter(progress::Phase::ViewFactors);
     let n = scene.patches.len() as u64;
@@ -204,7 +204,7 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<triangl
         Some(g) => g,
         None => kernel.as_ref(),
     };
-    let t = triangle::fill(scene, kernel, &progress, &costs)?;
+    let t = packed::fill(scene, kernel, &progress, &costs)?;
     progress.finish();
     Ok(Some(t))
 }

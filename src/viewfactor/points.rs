@@ -6,8 +6,8 @@
 //! clipping from one viewpoint ([`ShadowGeometry::shaded`]): F = F_clear − g(p). Both steps
 //! are exact (no quadrature, no sampling), so every entry has a zero standard error.
 //!
-//! - **Blockers** are the scene's [`Blockers`], seen from the points too
-//!   ([`Blockers::seen_from`]: a sensor outside the patches' hull keeps the blockers between
+//! - **Blockers** are the scene's `Blockers`, seen from the points too
+//!   (`Blockers::seen_from`: a sensor outside the patches' hull keeps the blockers between
 //!   it and them). Per receiver, the candidates are those whose box meets the box of the point
 //!   and the receiver, clipped to the point's front half-space and to the receiver's.
 //! - **A sensor on a surface** is not shadowed by it: a blocker whose plane passes within

@@ -3,7 +3,7 @@
 //!
 //! - `prepare`: the flattened scene and the per-eye gather (receiver / blocker rules: front
 //!   faces receive; back faces and obstructions only block);
-//! - `clip`: homogeneous clipping to a pyramid before the perspective divide;
+//! - clipping to a pyramid before the perspective divide: [`crate::geometry::clip::watertight`];
 //! - `raster`: the scanline item buffer, point sampled at pixel centres;
 //! - `positions`: one or several projection positions per patch;
 //! - the shared limits and the accumulation of a row (`credit`, `emit`).
@@ -12,7 +12,6 @@ use super::MethodSet;
 use crate::{Error, Result};
 use prepare::NO_RECEIVER;
 
-pub(crate) mod clip;
 pub(crate) mod positions;
 pub(crate) mod prepare;
 pub(crate) mod raster;
@@ -25,7 +24,7 @@ pub const MAX_RESOLUTION: usize = 4096;
 /// Near plane w ≥ ε as a fraction of the scene size (at most [`prepare::LOCAL_SPAN`] patch
 /// radii): only guards the perspective divide (the side planes of each face pyramid pass
 /// through the eye, so nothing else is cut).
-pub(crate) const NEAR_REL: f64 = 1e-9;
+pub(crate) const EYE_NEAR_REL: f64 = 1e-9;
 
 /// Receivers' inverse depth is scaled by 1 + this, so a front face beats a coincident
 /// blocker (a plate modelled as two back-to-back surfaces) despite round-off; it exceeds the

@@ -4,7 +4,7 @@
 //!
 //! Monte Carlo entries are estimates with a reported standard error σ (an unbiased estimate of
 //! an F near 1 lies above 1 half the time): their slack adds [`RANGE_SIGMAS`]·σ.
-use super::triangle::Triangle;
+use super::packed::PackedTriangular;
 use super::{MethodSet, ViewFactors};
 use crate::{Error, Result};
 
@@ -34,7 +34,7 @@ pub fn check(vf: &ViewFactors) -> Result<()> {
 
 /// Checks every factor F_ij = s̄_ij/A_i and F_ji = s̄_ij/A_j of the packed store, with
 /// `names` its node names.
-pub fn check_triangle(t: &Triangle, names: &[String]) -> Result<()> {
+pub fn check_triangle(t: &PackedTriangular, names: &[String]) -> Result<()> {
     for i in 0..t.n {
         let row = t.row(i);
         let ai = t.areas[i];
@@ -118,7 +118,7 @@ mod tests {
     #[test]
     fn the_packed_store_is_checked_in_both_directions() {
         // s = 0.9 m² between a 1 m² and a 0.5 m² node: F = 0.9 one way, 1.8 the other.
-        let mut t = Triangle::zeros(2, vec![1.0, 0.5]).unwrap();
+        let mut t = PackedTriangular::zeros(2, vec![1.0, 0.5]).unwrap();
         t.rows_mut()[0][1] = 0.9;
         let names = ["big".to_string(), "small".to_string()];
         let err = check_triangle(&t, &names).unwrap_err();

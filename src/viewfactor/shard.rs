@@ -9,7 +9,7 @@
 //!   `viewfactors` command with the rows of the parts in place of the kernel's, so enforcement,
 //!   aggregation and output are those of a single run.
 //!
-//! The hook is [`rows`], called where an MPI run splits its rows: in [`capture`] mode it
+//! The hook is `rows`, called where an MPI run splits its rows: in [`capture`] mode it
 //! computes this shard's block, keeps the [`Part`] for [`captured`] and stops the run with an
 //! error the caller recognises by the captured part; in [`supply`] mode it hands back every
 //! part's rows after checking that this run has the parts' hash. The mode is process-wide
@@ -61,7 +61,7 @@ impl Part {
 }
 
 /// The rows of a split run, for the engine and the packed store: a shard run's (`--shard`,
-/// `merge`: this module's hook), else the MPI ranks' ([`super::distributed::rows`]); `None`:
+/// `merge`: this module's hook), else the MPI ranks' (`super::distributed::rows`); `None`:
 /// compute every row as usual.
 pub fn split_rows<'k>(
     scene: &Scene,

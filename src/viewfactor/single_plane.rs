@@ -7,7 +7,7 @@
 //! - `warnock`: projection and the subdivision itself.
 //!
 //! Scene gathering, clipping and the receiver/blocker rules are the projection base it shares
-//! with the hemicube ([`super::projection`]): front faces receive, back faces and obstructions
+//! with the hemicube (`super::projection`): front faces receive, back faces and obstructions
 //! only block.
 //!
 //! **Grazing-angle bias.** The plane sees only directions within atan(s) of the normal in
@@ -27,9 +27,10 @@ use super::accuracy::{raster, Knob, MethodInfo};
 use super::closed_form::element_to_rectangle_corner;
 use super::engine::{Row, RowKernel};
 use super::flags::{Flag, FlagLog};
-use super::projection::prepare::{Eye, Gathered, Prepared};
-use super::projection::{checked_resolution, credit, emit, positions, Positions, NEAR_REL};
+use super::projection::prepare::{Gathered, Prepared};
+use super::projection::{checked_resolution, credit, emit, positions, Positions, EYE_NEAR_REL};
 use super::{MethodSet, Params};
+use crate::geometry::frame::Frame;
 use crate::scene::Scene;
 use crate::Result;
 use std::sync::Mutex;
@@ -155,10 +156,10 @@ impl RowKernel for SinglePlaneKernel<'_> {
         let poly = &self.scene.patches[i].polygon;
         let rule = positions::rule(poly, self.options.positions.order(&self.prep, poly, i));
         let v = poly.vertices();
-        let near = NEAR_REL * self.prep.near_scale;
+        let near = EYE_NEAR_REL * self.prep.near_scale;
         let mut cut: Vec<u32> = Vec::new();
         for (k, (&x, &w)) in rule.points.iter().zip(&rule.weights).enumerate() {
-            let eye = Eye::new(x, poly.normal(), v[1] - v[0]).turned(self.options.positions.turn(k));
+            let eye = Frame::along(x, poly.normal(), v[1] - v[0]).turned(self.options.positions.turn(k));
             ws.gathered.gather(&self.prep, &eye, i);
             ws.plane.project(&ws.gathered, self.options.half_width, near);
             cut.extend_from_slice(&ws.plane.cut);

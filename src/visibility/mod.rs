@@ -1,9 +1,9 @@
 //! Visibility: one BVH (obvhs CWBVH) over every triangle of every patch and obstruction.
 //!
 //! - this file: [`Visibility`] (build, coordinate frame, occluder table) and the result types;
-//! - [`boxes`]: a box hierarchy for region queries with a caller's predicate;
-//! - [`query`]: closest hit, occlusion between two points, blocker candidates of a patch pair;
-//! - [`triangle`]: the watertight ray–triangle test.
+//! - `boxes`: a box hierarchy for region queries with a caller's predicate;
+//! - `query`: closest hit, occlusion between two points, blocker candidates of a patch pair;
+//! - `triangle`: the watertight ray–triangle test.
 //!
 //! Design (measured choices in research/crates.md §1 and validation/rays.md):
 //! - Traversal geometry is f32, in a *normalised frame*: the scene is centred and scaled by a
@@ -25,10 +25,10 @@
 //! such triangles (coplanar neighbours, the far face of a two-sided thin plate, the other faces
 //! of a convex solid) are skipped, whatever f32 rounding of the origin says; occlusion queries
 //! do the same for both end planes. "In the plane" means within the f32 band of the scene and,
-//! checked in f64, within [`NEAR_REL`] of the patch's own radius plus [`COPLANAR_SLOPE`] of
+//! checked in f64, within [`ORIGIN_BAND_REL`] of the patch's own radius plus [`COPLANAR_SLOPE`] of
 //! the distance: a small patch 1 m over a ground 2e6 m wide still sees the ground.
 //! Sides are decided by the origin's distance to a triangle's plane, not by t: a point
-//! within [`NEAR_REL`] of the scene size behind a plane (the f32 rounding scale) counts as in
+//! within [`ORIGIN_BAND_REL`] of the scene size behind a plane (the f32 rounding scale) counts as in
 //! front of it, because the true origin lies in front of every surface that meets its patch
 //! at an edge. A ray then hits a front side only from a front origin (at t = 0 when rounding
 //! put the crossing just behind: a wall at a concave corner, a box standing on the floor) and a
@@ -42,23 +42,23 @@ use glam::Vec3A;
 use obvhs::{aabb::Aabb, cwbvh::CwBvh, Boundable, BvhBuildParams};
 use std::time::{Duration, Instant};
 
-pub mod boxes;
-pub mod query;
-pub mod triangle;
+pub(crate) mod boxes;
+pub(crate) mod query;
+pub(crate) mod triangle;
 
 /// Box padding, as a fraction of the scene diagonal: 1e-6–1e-5 cures obvhs's degenerate trees
 /// for axis-aligned triangles (research/crates.md §1.3) at no measurable cost.
 pub const PAD_REL: f64 = 1e-5;
 /// Half-width of the "near the origin" band, as a fraction of the scene half-diagonal: about 32
 /// f32 ulps of the largest normalised coordinate (vertex rounding plus the test's own error).
-pub const NEAR_REL: f64 = 4e-6;
+pub const ORIGIN_BAND_REL: f64 = 4e-6;
 /// Farthest a crossing may lie behind an origin (or beyond a target) and still count as a
 /// contact there, as a fraction of the half-diagonal: grazing rays from an origin that
 /// rounding put just behind a neighbour's plane cross it this far back.
 pub const FAR_REL: f64 = 1e-3;
 /// Planes meant to coincide (a coplanar neighbour, a face sharing an edge) deviate from the
 /// source patch's plane by at most this slope times their distance from its centre, on top of
-/// [`NEAR_REL`] of its own radius: f32 input coordinates and Newell normals agree to ~1e-7.
+/// [`ORIGIN_BAND_REL`] of its own radius: f32 input coordinates and Newell normals agree to ~1e-7.
 /// A surface clearly off the plane at a distance counts as in front even where the f32 band
 /// of the whole scene would swallow it (a unit square 1 m over a 2e6 m ground).
 pub const COPLANAR_SLOPE: f64 = 1e-7;
@@ -126,7 +126,7 @@ pub struct Visibility {
     pub(crate) patch_box: Vec<Aabb>,
     pub(crate) patch_plane: Vec<(Vec3A, f32)>,
     /// Per patch, f64 in the normalised frame: unit normal, offset, centroid and the band of
-    /// the in-plane test ([`NEAR_REL`] of its radius).
+    /// the in-plane test ([`ORIGIN_BAND_REL`] of its radius).
     pub(crate) patch_plane64: Vec<PlaneBand>,
     /// Triangles in BVH leaf order, normalised frame, f64 (the in-plane test of rays that
     /// leave a patch small against the scene).
@@ -209,7 +209,7 @@ impl Visibility {
         }
         let half = scene_half_extent(&tris);
         let pad = Vec3A::splat((PAD_REL * 2.0 * half) as f32);
-        let near = (NEAR_REL * half) as f32;
+        let near = (ORIGIN_BAND_REL * half) as f32;
         let far = (FAR_REL * half) as f32;
         debug_assert!(tris.is_empty() || pad.x > near + OBVHS_NODE_EPSILON);
         let boxes: Vec<PaddedBox> = tris
@@ -240,7 +240,7 @@ impl Visibility {
                     normal: n,
                     offset: n.dot(c),
                     centre: c,
-                    band: NEAR_REL * p.polygon.bounding_radius() * scale,
+                    band: ORIGIN_BAND_REL * p.polygon.bounding_radius() * scale,
                 }
             })
             .collect();

@@ -88,7 +88,7 @@ impl Visibility {
     /// True when triangle `id` lies behind or in the plane of patch `patch` (f32 unit normal,
     /// offset), to within the near band: a ray leaving the front of a plane never meets such a
     /// triangle, whatever rounding of its origin says. The band is the f32 rounding scale of
-    /// the whole scene, and also, in f64, [`super::NEAR_REL`] of the patch's radius plus
+    /// the whole scene, and also, in f64, [`super::ORIGIN_BAND_REL`] of the patch's radius plus
     /// [`super::COPLANAR_SLOPE`] of the distance, so that a patch small against the scene does
     /// not take a surface clearly in front of it for one in its plane.
     #[inline]

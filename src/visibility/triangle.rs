@@ -82,7 +82,7 @@ impl ShearedRay {
     }
 
     /// Intersects triangle (v0, v1, v2); `None` when the ray's line misses it.
-    #[inline]
+    #[cfg(test)]
     pub fn intersect(&self, v: &[Vec3A; 3]) -> Option<TriHit> {
         self.intersect_rows(&transpose(v))
     }

@@ -10,10 +10,10 @@ use lambert::viewfactor::single_plane::{SinglePlaneKernel, SinglePlaneOptions};
 use std::f64::consts::PI;
 
 // Closed forms: the shared catalogue (docs/literature.md §1.1) and Lambert's point factor (V12).
-pub use lambert::viewfactor::analytic::lambert::point_to_polygon;
 pub use lambert::viewfactor::closed_form::{
     parallel_opposed_rectangles as c11, perpendicular_common_edge as c14,
 };
+pub use lambert::viewfactor::exact::lambert::point_to_polygon;
 
 // ---------------------------------------------------------------------------------------
 // Scenes.

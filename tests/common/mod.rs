@@ -19,7 +19,10 @@ pub mod rect_exact;
 
 pub use exact_vf::{box_scene, multinomial, patch_vf, vf_from_s};
 use glam::DVec2;
-use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame, PolygonSampler};
+use lambert::geometry::{
+    frame::Frame,
+    sampling::{sample_cosine_hemisphere, PolygonSampler},
+};
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
 use rand::{Rng, SeedableRng};

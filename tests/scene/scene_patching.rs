@@ -1,6 +1,6 @@
 //! Patching properties on random shapes (seeded proptest): area conservation to 1e-12,
 //! orientation, counts, grid-cell containment and the `max_patch_size` bound.
-use lambert::geometry::grid_clip::PlaneFrame;
+use lambert::geometry::frame::Frame;
 use lambert::geometry::subdivide::diameter;
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::patching::{self, Split, SIZE_SLACK};
@@ -74,15 +74,15 @@ proptest! {
         prop_assert!(!patches.is_empty());
         prop_assert_eq!(&patches, &patching::polygon(&p, Split::Grid(nu, nv)).unwrap(), "deterministic");
         // Every patch lies inside one cell of the grid over the bounding box.
-        let f = PlaneFrame::of(&p);
+        let f = Frame::of_polygon(&p);
         let (lo, hi) = f.bounds(&p);
         let (w, h) = ((hi[0] - lo[0]) / nu as f64, (hi[1] - lo[1]) / nv as f64);
         let tol = CELL_TOL * (hi[0] - lo[0]).max(hi[1] - lo[1]);
         for q in &patches {
-            let c = f.to_2d(q.centroid());
+            let c = f.in_plane(q.centroid());
             let (i, j) = (((c[0] - lo[0]) / w).floor(), ((c[1] - lo[1]) / h).floor());
             for v in q.vertices() {
-                let s = f.to_2d(*v);
+                let s = f.in_plane(*v);
                 prop_assert!(s[0] >= lo[0] + i * w - tol && s[0] <= lo[0] + (i + 1.0) * w + tol);
                 prop_assert!(s[1] >= lo[1] + j * h - tol && s[1] <= lo[1] + (j + 1.0) * h + tol);
             }

@@ -5,9 +5,9 @@
 use glam::{DQuat, DVec3};
 use lambert::geometry::Polygon;
 use lambert::scene::Disk;
-use lambert::viewfactor::analytic::lambert::{point_to_disk, point_to_polygon};
-use lambert::viewfactor::analytic::pair::polygon_polygon;
 use lambert::viewfactor::closed_form as cf;
+use lambert::viewfactor::exact::lambert::{point_to_disk, point_to_polygon};
+use lambert::viewfactor::exact::pair::polygon_polygon;
 use std::f64::consts::PI;
 
 /// Accuracy demanded of the exact kernels against f64 closed forms. The requirement is 1e-9;
@@ -630,7 +630,7 @@ fn far_field_error_stays_within_the_round_off_bound() {
     // cover the actual error. The f64 C-11 formula itself cancels at small X = a/c (its
     // ln(1 + X²Y²/…) and atan terms lose about 1/X² digits), so the reference is C-11 in
     // 40-digit arithmetic (mpmath).
-    use lambert::viewfactor::analytic::pair::polygon_polygon_with_round_off;
+    use lambert::viewfactor::exact::pair::polygon_polygon_with_round_off;
     let exact = [
         (1.0, 0.199_824_895_698_387_38),
         (3.0, 0.032_971_397_219_497_295),

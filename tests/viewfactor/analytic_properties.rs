@@ -4,8 +4,8 @@
 //! triangulation. Failure messages print the polygons.
 use glam::{DAffine3, DQuat, DVec3};
 use lambert::geometry::Polygon;
-use lambert::viewfactor::analytic::contour::Exchange;
-use lambert::viewfactor::analytic::pair::polygon_polygon_with_round_off;
+use lambert::viewfactor::exact::contour::Exchange;
+use lambert::viewfactor::exact::pair::polygon_polygon_with_round_off;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use std::alloc::{GlobalAlloc, Layout, System};

@@ -6,7 +6,7 @@
 //! values in long_triangle.csv); for long strips, catalogue C-11 at 60 digits (strips.py).
 use glam::DVec3;
 use lambert::geometry::Polygon;
-use lambert::viewfactor::analytic::pair::polygon_polygon_with_round_off;
+use lambert::viewfactor::exact::pair::polygon_polygon_with_round_off;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

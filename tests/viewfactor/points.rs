@@ -6,7 +6,7 @@ use crate::common::analytic_scenes::{grid, l_room};
 use crate::common::concave_meshes::{extruded, L_PROFILE};
 use crate::common::{cube_interior, rect};
 use glam::{DQuat, DVec2};
-use lambert::geometry::sampling::{sample_cosine_hemisphere, Frame};
+use lambert::geometry::{frame::Frame, sampling::sample_cosine_hemisphere};
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
 use lambert::viewfactor::points::{compute, PointFactors, ViewPoint, ON_PLANE_REL, ROW_SUM_TOL};
@@ -160,9 +160,8 @@ fn a_sensor_on_a_table_is_not_shadowed_by_it() {
     for s in &empty.surfaces {
         let wall = &empty.patches[s.patches.start].polygon;
         let above = wall.clip(p.position, DVec3::Z);
-        let exact = above.map_or(0.0, |w| {
-            lambert::viewfactor::analytic::lambert::point_to_polygon(p.position, p.normal, &w)
-        });
+        let exact = above
+            .map_or(0.0, |w| lambert::viewfactor::exact::lambert::point_to_polygon(p.position, p.normal, &w));
         let f = factor(&with, 0, &s.name);
         assert!((f - exact).abs() < 1e-14, "{}: {f} vs {exact} above the table top", s.name);
     }
@@ -276,7 +275,7 @@ fn shadows_of_closed_meshes_agree_with_cosine_rays() {
             let f = factor(&pf, k, "receiver");
             let (mc, sigma) = cosine_rays(p, &receiver, &body, RAYS, 7 + k as u64);
             let clear =
-                lambert::viewfactor::analytic::lambert::point_to_polygon(p.position, p.normal, &receiver);
+                lambert::viewfactor::exact::lambert::point_to_polygon(p.position, p.normal, &receiver);
             assert!(
                 clear - f > 0.02,
                 "convex {convex}, point {k}: the body must cut the view ({f} of {clear})"

@@ -4,7 +4,10 @@ use crate::common;
 
 use common::*;
 use glam::DVec2;
-use lambert::geometry::sampling::{sample_uniform_hemisphere, Frame, PolygonSampler};
+use lambert::geometry::{
+    frame::Frame,
+    sampling::{sample_uniform_hemisphere, PolygonSampler},
+};
 use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
 use lambert::visibility::{Occluder, Visibility};

@@ -2,8 +2,8 @@
 //!
 //! - [`values`]: one column of a `solve` CSV spread onto the patches;
 //! - [`camera`]: the pinhole camera, its default framing and `--camera` syntax;
-//! - [`raster`]: the z-buffer rasteriser with Gouraud (vertex-smoothed) values;
-//! - [`colormap`]: viridis, value range, colour-bar ticks;
+//! - `raster`: the z-buffer rasteriser with Gouraud (vertex-smoothed) values;
+//! - `colormap`: viridis, value range, colour-bar ticks;
 //! - this file: triangles from the patch mesh, the picture with outlines, caption and colour
 //!   bar (plotters on an RGB buffer, vendored DejaVu Sans), and the PNG file.
 //!
@@ -11,13 +11,13 @@
 //! culled by default (`two_sided` shows them in grey), so from outside a closed enclosure the
 //! picture looks through the near walls onto the inside of the far ones.
 //!
-//! Every face is lit by a headlight (Lambert, [`AMBIENT`] floor) on top of its colour unless
+//! Every face is lit by a headlight (Lambert, [`AMBIENT_LIGHT`] floor) on top of its colour unless
 //! `flat`; the colour bar spans the surfaces that show (not hidden ones) unless a range is
 //! given, and labels both its ends; the scene is framed below the caption for any camera; an
 //! axis triad sits in the lower-left corner.
 pub mod camera;
-pub mod colormap;
-pub mod raster;
+pub(crate) mod colormap;
+pub(crate) mod raster;
 pub mod values;
 
 use super::mesh::PatchMesh;
@@ -123,7 +123,7 @@ pub fn triangles(scene: &Scene, patch_values: &[f64]) -> Vec<Tri> {
 
 /// Light that reaches a face seen edge-on, as a fraction of its colour: the headlight's
 /// ambient floor, so grazing faces stay readable (and dark colours stay dark, not black).
-pub const AMBIENT: f64 = 0.35;
+pub const AMBIENT_LIGHT: f64 = 0.35;
 /// Margin between the scene and the picture's edges when framing, pixels.
 const FRAME_PAD: f64 = 16.0;
 /// Caption font sizes to try, largest first: a long caption wraps, then shrinks.
@@ -179,20 +179,20 @@ pub fn render(scene: &Scene, patch_values: &[f64], opts: &Options) -> Result<Ima
 
 /// The image-plane frame of the picture: fitted to the scene below the caption unless the
 /// camera's own zoom is asked for (`fit` off).
-pub fn frame(cam: &Camera, tris: &[Tri], opts: &Options, caption_h: i32) -> raster::Frame {
+pub fn frame(cam: &Camera, tris: &[Tri], opts: &Options, caption_h: i32) -> raster::Intrinsics {
     let (pw, h) = ((opts.size.0 - BAR_PANEL) as usize, opts.size.1 as usize);
     if !opts.fit {
-        return raster::Frame::centred(cam, pw, h);
+        return raster::Intrinsics::centred(cam, pw, h);
     }
     let top = caption_h as f64 + FRAME_PAD / 2.0;
-    raster::Frame::fit(cam, tris, pw, h, (FRAME_PAD, pw as f64 - FRAME_PAD, top, h as f64 - FRAME_PAD))
+    raster::Intrinsics::fit(cam, tris, pw, h, (FRAME_PAD, pw as f64 - FRAME_PAD, top, h as f64 - FRAME_PAD))
 }
 
-/// Headlight (a light at the eye): `base` scaled by AMBIENT + (1 − AMBIENT)·|n·ray|, so a
+/// Headlight (a light at the eye): `base` scaled by AMBIENT_LIGHT + (1 − AMBIENT_LIGHT)·|n·ray|, so a
 /// face turned away from the viewer darkens; back faces are lit like front ones.
 fn shade(base: [u8; 3], n: [f32; 3], ray: glam::DVec3) -> [u8; 3] {
     let cos = (n[0] as f64 * ray.x + n[1] as f64 * ray.y + n[2] as f64 * ray.z).abs().min(1.0);
-    let s = AMBIENT + (1.0 - AMBIENT) * cos;
+    let s = AMBIENT_LIGHT + (1.0 - AMBIENT_LIGHT) * cos;
     base.map(|c| (c as f64 * s).round() as u8)
 }
 

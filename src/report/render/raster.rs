@@ -12,7 +12,7 @@ pub const CREASE_COS: f32 = 0.866;
 
 /// Near plane as a fraction of the eye–target distance: in front of the eye, yet far closer
 /// than any surface the camera is meant to see.
-const NEAR_REL: f64 = 1e-4;
+const CAMERA_NEAR_REL: f64 = 1e-4;
 
 /// What covers a pixel.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,7 +57,7 @@ pub struct Raster {
 
 /// Where the image plane lands in the picture: focal length and principal point, pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
+pub struct Intrinsics {
     /// Focal length, pixels.
     pub focal: f64,
     /// Principal point x, pixels.
@@ -66,10 +66,10 @@ pub struct Frame {
     pub cy: f64,
 }
 
-impl Frame {
+impl Intrinsics {
     /// The camera's own frame: its fov spans the height, its axis at the centre.
-    pub fn centred(cam: &Camera, w: usize, h: usize) -> Frame {
-        Frame {
+    pub fn centred(cam: &Camera, w: usize, h: usize) -> Intrinsics {
+        Intrinsics {
             focal: (h as f64 / 2.0) / (cam.fov.to_radians() / 2.0).tan(),
             cx: w as f64 / 2.0,
             cy: h as f64 / 2.0,
@@ -85,25 +85,25 @@ impl Frame {
         w: usize,
         h: usize,
         (x0, x1, y0, y1): (f64, f64, f64, f64),
-    ) -> Frame {
+    ) -> Intrinsics {
         let (right, up, fwd) = cam.basis();
-        let near = NEAR_REL * (cam.target - cam.eye).length();
+        let near = CAMERA_NEAR_REL * (cam.target - cam.eye).length();
         let mut b = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
         for p in tris.iter().flat_map(|t| t.p) {
             let d = p - cam.eye;
             let z = d.dot(fwd);
             if !(z > near) {
-                return Frame::centred(cam, w, h);
+                return Intrinsics::centred(cam, w, h);
             }
             let (u, v) = (d.dot(right) / z, d.dot(up) / z);
             b = [b[0].min(u), b[1].max(u), b[2].min(v), b[3].max(v)];
         }
         let (du, dv) = (b[1] - b[0], b[3] - b[2]);
         if !(du.is_finite() && dv.is_finite()) || du.max(dv) <= 0.0 || x1 <= x0 || y1 <= y0 {
-            return Frame::centred(cam, w, h);
+            return Intrinsics::centred(cam, w, h);
         }
         let focal = ((x1 - x0) / du.max(1e-300)).min((y1 - y0) / dv.max(1e-300));
-        Frame {
+        Intrinsics {
             focal,
             cx: (x0 + x1) / 2.0 - focal * (b[0] + b[1]) / 2.0,
             cy: (y0 + y1) / 2.0 + focal * (b[2] + b[3]) / 2.0,
@@ -153,12 +153,14 @@ impl Raster {
 
     /// Draws every triangle seen by `cam`; `two_sided` draws result back faces as neutral
     /// instead of culling them.
+    #[cfg(test)]
     pub fn draw(&mut self, cam: &Camera, tris: &[Tri], two_sided: bool) {
-        self.draw_framed(cam, Frame::centred(cam, self.w, self.h), tris, two_sided);
+        self.draw_framed(cam, Intrinsics::centred(cam, self.w, self.h), tris, two_sided);
     }
 
-    /// [`Raster::draw`] with the image plane placed by `frame`.
-    pub fn draw_framed(&mut self, cam: &Camera, frame: Frame, tris: &[Tri], two_sided: bool) {
+    /// Draws every triangle seen by `cam` (back faces as in `draw`) with the image plane placed
+    /// by `frame`.
+    pub fn draw_framed(&mut self, cam: &Camera, frame: Intrinsics, tris: &[Tri], two_sided: bool) {
         let (right, up, fwd) = cam.basis();
         let view = View {
             eye: cam.eye,
@@ -166,7 +168,7 @@ impl Raster {
             up,
             fwd,
             focal: frame.focal,
-            near: NEAR_REL * (cam.target - cam.eye).length(),
+            near: CAMERA_NEAR_REL * (cam.target - cam.eye).length(),
             cx: frame.cx,
             cy: frame.cy,
         };
@@ -355,7 +357,7 @@ mod tests {
         let tris = quad(0.0, [0.0; 4], 0);
         let c = Camera { eye: DVec3::new(0.3, -2.0, 3.0), target: DVec3::ZERO, up: DVec3::Z, fov: 20.0 };
         let bx = (20.0, 380.0, 90.0, 280.0);
-        let f = Frame::fit(&c, &tris, 400, 300, bx);
+        let f = Intrinsics::fit(&c, &tris, 400, 300, bx);
         let px: Vec<(f64, f64)> = tris.iter().flat_map(|t| t.p).map(|p| f.project(&c, p)).collect();
         let e = 1e-9;
         assert!(
@@ -370,7 +372,7 @@ mod tests {
         let inside = Camera { eye: DVec3::new(0.0, 0.0, -0.5), target: DVec3::new(0.0, 0.0, -1.0), ..c };
         let mut behind = tris.clone();
         behind[0].p[0].z = 2.0;
-        assert_eq!(Frame::fit(&inside, &behind, 400, 300, bx), Frame::centred(&inside, 400, 300));
+        assert_eq!(Intrinsics::fit(&inside, &behind, 400, 300, bx), Intrinsics::centred(&inside, 400, 300));
     }
 
     #[test]

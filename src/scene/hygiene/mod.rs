@@ -22,10 +22,10 @@ use glam::DVec3;
 use std::path::PathBuf;
 use tjunction::Link;
 
-pub mod intersect;
-pub mod repair;
-pub mod tjunction;
-pub mod warn;
+pub(crate) mod intersect;
+pub(crate) mod repair;
+pub(crate) mod tjunction;
+pub(crate) mod warn;
 
 pub use warn::warnings;
 

@@ -44,6 +44,7 @@ pub fn perpendicular_strips_exchange(a: f64, b: f64, c: f64, d: f64, l: f64) -> 
 }
 
 /// Section B (V10): element parallel to an a×b rectangle at height c, normal through a corner.
+#[cfg(test)]
 pub fn element_to_rectangle_corner(a: f64, b: f64, c: f64) -> f64 {
     let (x, y) = (a / c, b / c);
     let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());

@@ -31,15 +31,6 @@ pub fn ring_normal(ring: &[DVec3]) -> DVec3 {
     n.normalize()
 }
 
-/// Area of a planar ring.
-pub fn ring_area(ring: &[DVec3]) -> f64 {
-    let mut n = DVec3::ZERO;
-    for k in 0..ring.len() {
-        n += ring[k].cross(ring[(k + 1) % ring.len()]);
-    }
-    0.5 * n.length()
-}
-
 /// F(dA → polygon) by Lambert (1760), V12: the element at `p` with unit normal `n` sees the
 /// one-sided `ring` (counter-clockwise about its front normal) clipped to its front half-space.
 pub fn point_to_ring(p: DVec3, n: DVec3, ring: &[DVec3]) -> f64 {

@@ -6,6 +6,6 @@
 //! - [`closed`]: Howell-catalogue closed forms in f64 (C-11, C-14 and its strip algebra,
 //!   element-to-rectangle corner);
 //! - [`far`]: a tensor Gauss "2AI" reference for far pairs, where the closed forms cancel.
-pub mod closed;
-pub mod far;
-pub mod lambert;
+pub(crate) mod closed;
+pub(crate) mod far;
+pub(crate) mod lambert;

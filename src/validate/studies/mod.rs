@@ -9,11 +9,11 @@
 use crate::Result;
 use std::path::Path;
 
-pub mod convergence;
-pub mod scenes;
-pub mod speed;
-pub mod stability;
-pub mod sweep;
+pub(crate) mod convergence;
+pub(crate) mod scenes;
+pub(crate) mod speed;
+pub(crate) mod stability;
+pub(crate) mod sweep;
 
 /// Runs every study, writes its charts into `out` and returns markdown sections for the report.
 pub fn run_all(quick: bool, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<Vec<String>> {

@@ -6,7 +6,7 @@ use crate::validate::oracle::{closed, far, lambert};
 use crate::viewfactor::ViewFactors;
 
 /// Ambient temperature of the open study scenes (only its presence matters here).
-const AMBIENT: f64 = 300.0;
+const AMBIENT_K: f64 = 300.0;
 
 /// The n×m parallelogram patches of o + s·u + t·v.
 pub fn grid(o: DVec3, u: DVec3, v: DVec3, n: usize, m: usize) -> Vec<Polygon> {
@@ -68,7 +68,7 @@ pub const BLOCKED_SQUARES: f64 = 0.09950629459898472;
 
 /// The o1 geometry built in code: n×n patches per square, the blocker as an obstruction.
 pub fn blocked_squares(n: usize) -> Scene {
-    let mut b = Scene::builder().title("squares with a centred blocker").ambient(AMBIENT);
+    let mut b = Scene::builder().title("squares with a centred blocker").ambient(AMBIENT_K);
     rect(&mut b, "bottom", DVec3::ZERO, DVec3::X, DVec3::Y, n);
     rect(&mut b, "top", DVec3::Z, DVec3::Y, DVec3::X, n);
     let blocker = Polygon::new(vec![
@@ -83,7 +83,7 @@ pub fn blocked_squares(n: usize) -> Scene {
 
 /// Room 3 m cube around the block \[1,2\]³: row F(floor → ·) by exact shadow integration in
 /// cases/_generator (o3_obstructed_room, converged to 1e-12; the row closes to 4e-12).
-pub mod room_ref {
+pub(crate) mod room_ref {
     /// Floor to ceiling, past the block.
     pub const OPPOSITE: f64 = 0.12772265829922155;
     /// Floor to one wall, past the block.
@@ -161,7 +161,7 @@ pub fn room_error(vf: &ViewFactors) -> f64 {
 
 /// Two surfaces `a` → `b` with `n`×`n` patches each (stability scenes), open to an ambient.
 fn pair(a: (DVec3, DVec3, DVec3, usize), b: (DVec3, DVec3, DVec3, usize)) -> Scene {
-    let mut s = Scene::builder().ambient(AMBIENT);
+    let mut s = Scene::builder().ambient(AMBIENT_K);
     rect(&mut s, "a", a.0, a.1, a.2, a.3);
     rect(&mut s, "b", b.0, b.1, b.2, b.3);
     s.build()
@@ -194,7 +194,7 @@ pub fn parallel_far(c: f64, n: usize) -> (Scene, f64) {
 /// F(emitter → receiver) = A_r F(r → e)/A_e by Gauss over the small receiver.
 pub fn small_receiver(s: f64, n: usize) -> (Scene, f64) {
     let o = DVec3::new(0.5 - s / 2.0, 0.5 - s / 2.0, 1.0);
-    let mut b = Scene::builder().ambient(AMBIENT);
+    let mut b = Scene::builder().ambient(AMBIENT_K);
     rect(&mut b, "a", DVec3::ZERO, DVec3::X, DVec3::Y, n);
     rect(&mut b, "b", o, DVec3::Y * s, DVec3::X * s, 1);
     let emitter = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];

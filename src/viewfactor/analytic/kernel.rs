@@ -57,7 +57,7 @@ pub fn leaks(vf: &ViewFactors, tol: f64) -> Vec<(usize, f64)> {
 pub const GAUSS_REL_TOL: f64 = 5e-8;
 
 /// An exact entry is flagged when its round-off bound exceeds the method's promise
-/// ([`ANALYTIC_REL`] relative) and this absolute error on F (the range check's slack), so
+/// (`ANALYTIC_REL` relative) and this absolute error on F (the range check's slack), so
 /// that factors far below round-off of the row (grazing pairs at 1e-15) stay quiet.
 pub const FLAG_ABS: f64 = 1e-12;
 

@@ -12,7 +12,6 @@
 //! - [`ladder`]: Gauss area rules per patch and their a-priori error model (far pairs);
 //! - [`lattice`]: one evaluation per offset for translated pairs of gridded surfaces;
 //! - [`kernel`]: the [`crate::viewfactor::row::RowKernel`] tying them together.
-pub use super::exact::{angle, contour, cubature, disk, edge, gauss, lambert, pair, ring, split};
 pub mod kernel;
 pub mod ladder;
 pub mod lattice;

@@ -10,10 +10,10 @@
 //! 3. coordinates are shifted to the pair's centre and scaled by a power of two L (exact) near
 //!    the pair's separation, so ln r is ln(r/L) ≈ 0: the constant drops out because
 //!    Σ e_i·f_j = 0 over closed rings, and the terms that must cancel stay small;
-//! 4. every edge pair is evaluated exactly by [`super::edge::pair_term`].
+//! 4. every edge pair is evaluated exactly by `super::edge::pair_term`.
 //!
-//! A pair where one polygon is more than [`super::split::SPLIT_RATIO`] times larger than the
-//! other and than their distance is evaluated by [`super::split`] instead (its terms would
+//! A pair where one polygon is more than `super::split::SPLIT_RATIO` times larger than the
+//! other and than their distance is evaluated by `super::split` instead (its terms would
 //! cancel); [`super::pair`] makes that choice.
 //!
 //! No vertex is nudged; shared vertices and edges are exact limits of the formulas.

@@ -39,7 +39,7 @@ const SERIES_CUTOFF: f64 = 1e-18;
 /// The closed forms are used only while every corner parameter is within this many edge
 /// lengths (|e| + |f|) of the lines' crossing point, or of the other edge for parallel lines:
 /// their corner values grow like M² ln M and cancel, whereas quadrature stays local.
-const NEAR: f64 = 2.0;
+const CLOSED_FORM_REACH: f64 = 2.0;
 
 /// One edge-pair term with the magnitude its round-off scales with.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -86,7 +86,7 @@ pub fn pair_term(e: &Edge, f: &Edge) -> Term {
     if c.abs() <= PERPENDICULAR {
         return Term::default();
     }
-    let scale = NEAR * (e.len + f.len);
+    let scale = CLOSED_FORM_REACH * (e.len + f.len);
     let cr = e.dir.cross(f.dir);
     let sn = cr.length();
     let w = f.a - e.a;

@@ -6,7 +6,7 @@
 //! R_k = v_k − p, β_k = ∠(R_k, R_{k+1}). Valid when the whole ring lies in the element's
 //! front half-space, hence the clip in [`point_to_polygon`].
 //!
-//! The disk uses the same contour integral on the exact circle (see [`super::disk`]).
+//! The disk uses the same contour integral on the exact circle (see `super::disk`).
 use super::angle::atan2_pos;
 use super::ring::{classify, clip_into, Ring, Side};
 use crate::geometry::tolerance::POINT_IN_PLANE_REL;

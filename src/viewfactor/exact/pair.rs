@@ -1,6 +1,6 @@
 //! Polygon-to-polygon exchange area A_p F_pq, exact: the double contour integral
 //! ([`super::contour`]), or, for a polygon much larger than the other and than their distance,
-//! the near/far split ([`super::split`]) whose terms do not cancel.
+//! the near/far split (`super::split`) whose terms do not cancel.
 use super::contour::{contour, mean, radius, Exchange};
 use super::split;
 use crate::geometry::Polygon;

@@ -3,6 +3,7 @@
 //! The kernels clip every polygon pair against each other's plane; a [`Ring`] keeps up to
 //! [`INLINE`] vertices on the stack and spills to the heap only for larger polygons
 //! (tessellated disks), so the common triangle/quad path never allocates.
+use crate::geometry::clip::clip_ring_each;
 use glam::DVec3;
 
 /// Vertices kept on the stack; a quad clipped by a plane has at most 5.
@@ -121,33 +122,9 @@ pub fn classify(src: &[DVec3], point: DVec3, normal: DVec3, snap: f64) -> Side {
 /// Vertices within `snap` of the plane count as on it (kept, never split), so a polygon that
 /// touches the plane along an edge is not cut into slivers by round-off. A non-convex ring may
 /// come back with zero-width bridges along the plane; their edges cancel in every contour sum.
-// Not `geometry::clip::clip_ring`: writes a stack `Ring` and drops repeated vertices.
 pub fn clip_into(src: &[DVec3], point: DVec3, normal: DVec3, snap: f64, out: &mut Ring) {
     out.clear();
-    let n = src.len();
-    let dist = |v: DVec3| {
-        let d = (v - point).dot(normal);
-        if d.abs() <= snap {
-            0.0
-        } else {
-            d
-        }
-    };
-    let mut da = dist(src[n - 1]);
-    let mut a = src[n - 1];
-    for &b in src {
-        let db = dist(b);
-        // Step: emit the crossing of edge a→b when it changes side strictly.
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            let x = a + (b - a) * (da / (da - db));
-            push_distinct(out, x);
-        }
-        if db >= 0.0 {
-            push_distinct(out, b);
-        }
-        a = b;
-        da = db;
-    }
+    clip_ring_each(src, |v| (v - point).dot(normal), snap, |x| push_distinct(out, x));
     // Close the ring: drop a last vertex equal to the first.
     while out.len() > 1 && out.as_slice()[0] == out.as_slice()[out.len() - 1] {
         out.pop();

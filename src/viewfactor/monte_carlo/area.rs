@@ -18,8 +18,11 @@ use super::super::engine::{Row, RowKernel};
 use super::super::MethodSet;
 use super::tally::{IdHasher, TallyPool};
 use super::{replicate_len, stream_key, Common, Points};
-use crate::geometry::sampling::{sample_cosine_hemisphere, Frame, PolygonSampler};
 use crate::geometry::Polygon;
+use crate::geometry::{
+    frame::Frame,
+    sampling::{sample_cosine_hemisphere, PolygonSampler},
+};
 use crate::Result;
 use glam::DVec2;
 use std::collections::HashMap;

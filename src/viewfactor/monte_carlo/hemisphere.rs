@@ -12,7 +12,10 @@ use super::super::engine::{Row, RowKernel};
 use super::super::MethodSet;
 use super::tally::TallyPool;
 use super::{replicate_len, stream_key, Common, Points};
-use crate::geometry::sampling::{sample_cosine_hemisphere, sample_uniform_hemisphere, Frame, PolygonSampler};
+use crate::geometry::{
+    frame::Frame,
+    sampling::{sample_cosine_hemisphere, sample_uniform_hemisphere, PolygonSampler},
+};
 use crate::Result;
 use glam::DVec2;
 

@@ -1,10 +1,10 @@
 //! Monte Carlo view factors: `mc-area`, `mc-uniform`, `mc-cosine` .
 //!
 //! - this file: options, the dispatch used by `viewfactor::compute`, the sample streams;
-//! - [`hemisphere`]: `mc-uniform` (weight 2cosθ) and `mc-cosine` (Malley, equal weights),
+//! - `hemisphere`: `mc-uniform` (weight 2cosθ) and `mc-cosine` (Malley, equal weights),
 //!   closest-hit ray casting from patch i;
-//! - [`area`]: `mc-area`, random point pairs with an occlusion ray;
-//! - [`tally`]: per-row receiver sums and their standard errors.
+//! - `area`: `mc-area`, random point pairs with an occlusion ray;
+//! - `tally`: per-row receiver sums and their standard errors.
 //!
 //! **Budget.** `--samples N` is the number of rays (point pairs for `mc-area`) cast from each
 //! patch. `mc-area` spends them on receivers chosen by area among the patches facing i, so the
@@ -17,7 +17,7 @@
 //! - [`Sampler::Sobol`] (default): Owen-scrambled Sobol points (sobol_burley), split into
 //!   [`SOBOL_REPLICATES`] independently scrambled replicates. The standard error of an entry is
 //!   the spread of the replicate estimates (randomised QMC); the binomial formula would
-//!   overstate it. The spread is taken per output cell (see [`tally`]), so surface sums get
+//!   overstate it. The spread is taken per output cell (see `tally`), so surface sums get
 //!   their true replicate variance, covariances included (`shared_samples = 0`).
 //! - [`Sampler::Random`]: independent PCG draws; the error of an entry is the sample second
 //!   moment rule, which is the binomial √(F(1−F)/N) for `mc-cosine`, and
@@ -30,9 +30,9 @@ use crate::{Error, Result};
 use rand::Rng;
 use rand_pcg::Pcg64Mcg;
 
-pub mod area;
-pub mod hemisphere;
-pub mod tally;
+pub(crate) mod area;
+pub(crate) mod hemisphere;
+pub(crate) mod tally;
 
 /// Independently scrambled Sobol replicates per row; 16 gives a standard error good to about
 /// ±18 % (χ² with 15 degrees of freedom) for a (16/1)^0.3 ≈ 2.3× variance cost at RQMC rates.

@@ -9,6 +9,7 @@
 //!   way its vertices run);
 //! - polygons whose plane holds the eye (coplanar neighbours, edge-on faces) project to zero
 //!   area and are skipped, as is the eye's own patch.
+use crate::geometry::frame::Frame;
 use crate::geometry::tolerance::EYE_IN_PLANE_REL;
 use crate::scene::Scene;
 use glam::DVec3;
@@ -125,45 +126,6 @@ impl Prepared {
     }
 }
 
-/// The eye: a point on a patch with an orthonormal frame (t, b, n), n the patch normal.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Eye {
-    /// Position.
-    pub origin: DVec3,
-    /// First tangent (along the patch's first edge, so rectangles align with the pixels).
-    pub t: DVec3,
-    /// Second tangent, n × t.
-    pub b: DVec3,
-    /// Patch normal.
-    pub n: DVec3,
-}
-
-impl Eye {
-    /// An eye at `origin` on a patch with normal `n` whose first edge runs along `edge`.
-    pub fn new(origin: DVec3, n: DVec3, edge: DVec3) -> Self {
-        let mut t = edge - n * edge.dot(n);
-        if t.length_squared() <= f64::MIN_POSITIVE {
-            t = n.any_orthonormal_vector();
-        }
-        let t = t.normalize();
-        Self { origin, t, b: n.cross(t), n }
-    }
-    /// The same eye with its tangents turned by `angle` about the normal.
-    pub fn turned(self, angle: f64) -> Self {
-        let (s, c) = angle.sin_cos();
-        let t = c * self.t + s * self.b;
-        Self { t, b: self.n.cross(t), ..self }
-    }
-    /// World direction → local (t, b, n) components.
-    pub fn dir(&self, d: DVec3) -> DVec3 {
-        DVec3::new(d.dot(self.t), d.dot(self.b), d.dot(self.n))
-    }
-    /// World point → local coordinates.
-    pub fn point(&self, p: DVec3) -> DVec3 {
-        self.dir(p - self.origin)
-    }
-}
-
 /// One gathered polygon in the eye's local frame.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct LocalPoly {
@@ -200,7 +162,7 @@ impl Gathered {
 
     /// Collects the polygons of `prep` that reach the eye's front half-space, skipping patch
     /// `own` and classifying receivers and blockers (module rules).
-    pub fn gather(&mut self, prep: &Prepared, eye: &Eye, own: usize) {
+    pub fn gather(&mut self, prep: &Prepared, eye: &Frame, own: usize) {
         self.polys.clear();
         self.verts.clear();
         let tol = EYE_IN_PLANE_REL * prep.scale;
@@ -227,7 +189,7 @@ impl Gathered {
                 id,
                 centre: eye.point(p.centroid),
                 radius: p.radius,
-                m: eye.dir(p.normal),
+                m: eye.vector(p.normal),
                 c: -facing,
             });
         }

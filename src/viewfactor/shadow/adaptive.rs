@@ -26,8 +26,9 @@
 //!   tolerance (a sliver receiver) is not split for it.
 use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
-use super::volume::{plane_of, Build, Class, Plane, ShadowVolume};
+use super::volume::{Build, Class, ShadowVolume};
 use crate::geometry::convex::{ear_indices, is_convex_local};
+use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, EVENT_LEVEL_REL, PARALLELOGRAM_REL};
 use glam::DVec3;
@@ -303,13 +304,10 @@ impl Integrator {
     pub fn solid_min(&self) -> Option<usize> {
         self.solid_min
     }
-    /// The controls.
-    pub fn params(&self) -> &AdaptParams {
-        &self.params
-    }
 
     /// ∫_E g dA over the emitter of `geo` with every kept blocker active, to the absolute
     /// tolerance `tol` (m²).
+    #[cfg(test)]
     pub fn shaded(&self, geo: &ShadowGeometry, tol: f64, s: &mut AdaptScratch) -> AdaptInfo {
         self.shaded_within(geo, tol, u64::MAX, s)
     }
@@ -592,7 +590,7 @@ pub fn cut_along(ring: &[DVec3], planes: &[Plane], snap: f64, max: usize) -> Vec
         let mut next = Vec::with_capacity(pieces.len() + 1);
         for piece in pieces {
             let (lo, hi) = piece.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-                let d = p.eval(v);
+                let d = p.distance(v);
                 (l.min(d), h.max(d))
             });
             if lo < -snap && hi > snap {
@@ -1012,9 +1010,9 @@ mod tests {
             let mut ring = Vec::new();
             cells.iter().all(|c| {
                 c.ring(&mut ring);
-                let (lo, hi) = ring
-                    .iter()
-                    .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(plane.eval(v)), h.max(plane.eval(v))));
+                let (lo, hi) = ring.iter().fold((f64::MAX, f64::MIN), |(l, h), &v| {
+                    (l.min(plane.distance(v)), h.max(plane.distance(v)))
+                });
                 lo >= -1e-9 || hi <= 1e-9
             })
         };

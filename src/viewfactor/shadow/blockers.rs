@@ -1,5 +1,5 @@
 //! The scene's blockers for the shadowed `analytic` path: convex polygons in a box hierarchy
-//! ([`crate::visibility::boxes::BoxTree`]), plus a hierarchy over the patches, so candidate
+//! (`crate::visibility::boxes::BoxTree`), plus a hierarchy over the patches, so candidate
 //! blockers and affected receivers are found by region queries, never by a linear scan.
 //!
 //! - **Blockers** are the polygons that can cut a sight line, as convex rings:

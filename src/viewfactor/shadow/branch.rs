@@ -218,7 +218,7 @@ impl<'s> Shadows<'s> {
         }
     }
 
-    /// Entries whose error estimate ended above their goal (see [`super::misses`]).
+    /// Entries whose error estimate ended above their goal (see `super::misses`).
     pub fn misses(&self) -> &MissLog {
         &self.misses
     }

@@ -3,7 +3,7 @@
 //! For row i:
 //! 1. the blockers with a point strictly in front of patch i come from the blocker hierarchy;
 //! 2. each is clipped to i's front half-space (the rest meets no segment leaving i) and its
-//!    penumbra and umbra from i are built ([`super::volume`]);
+//!    penumbra and umbra from i are built (`super::volume`);
 //! 3. the patch hierarchy is walked once for all these volumes: a subtree is pruned when it is
 //!    clear of every penumbra, blocked whole when it is inside some umbra, and the remaining
 //!    receivers that face i are classified one by one against the volumes still in play:
@@ -24,7 +24,7 @@ pub enum Status<'a> {
     Clear,
     /// Some single blocker intercepts every segment between the two patches: F = 0.
     Blocked,
-    /// These blockers (indices into [`Blockers`]) may cut some segments.
+    /// These blockers (indices into `Blockers`) may cut some segments.
     Partial(&'a [u32]),
 }
 

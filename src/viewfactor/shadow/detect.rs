@@ -6,41 +6,21 @@
 //! sight lines of positive measure iff relint(K) meets int(H). K lies in a plane P, so this holds
 //! iff A ∪ B has points strictly on both sides of P and relint(K) overlaps relint(H ∩ P) in P:
 //! a 2-D separating-axis test between two convex polygons, with overlaps thinner than
-//! [`OCCLUSION_TOL`]·(scene size) counted as touching.
+//! `OCCLUSION_TOL`·(scene size) counted as touching.
 //!
 //! **Pre-filter.** Blockers are grouped by plane. A plane can only block when some patch has a
 //! vertex strictly on one side and another patch strictly on the other; in a convex enclosure
 //! (the cube) no plane qualifies, so the check costs O(N·planes) once and nothing per pair.
 //! Candidate search within an active plane is a linear scan with a bounding-box test; a BVH
 //! will replace it.
+use crate::geometry::convex::convex_overlap;
 use crate::geometry::planes::{Plane, PlaneGroups};
 use crate::geometry::tolerance::OCCLUSION_TOL;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
+use crate::visibility::Occluder;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
-
-/// What blocks a view: a patch (index into [`Scene::patches`]) or an obstruction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Occluder {
-    /// A patch of an exchanging surface.
-    Patch(usize),
-    /// Obstruction `.0`, polygon `.1`.
-    Obstruction(usize, usize),
-}
-
-impl Occluder {
-    /// Human-readable name: `surface 'wall' (patch wall#3)` or `obstruction 'shade'`.
-    pub fn describe(&self, scene: &Scene) -> String {
-        match *self {
-            Occluder::Patch(p) => {
-                let s = &scene.surfaces[scene.patches[p].surface];
-                format!("surface '{}' (patch {})", s.name, scene.patch_name(p))
-            }
-            Occluder::Obstruction(k, _) => format!("obstruction '{}'", scene.obstructions[k].name),
-        }
-    }
-}
 
 /// One convex blocker polygon projected into its group's plane frame.
 #[derive(Debug, Clone)]
@@ -101,7 +81,12 @@ impl Occlusion {
         let mut polys: Vec<(&Polygon, Occluder)> =
             scene.patches.iter().enumerate().map(|(p, patch)| (&patch.polygon, Occluder::Patch(p))).collect();
         for (k, o) in scene.obstructions.iter().enumerate() {
-            polys.extend(o.polygons.iter().enumerate().map(|(m, poly)| (poly, Occluder::Obstruction(k, m))));
+            polys.extend(
+                o.polygons
+                    .iter()
+                    .enumerate()
+                    .map(|(m, poly)| (poly, Occluder::Obstruction { obstruction: k, polygon: m })),
+            );
         }
         let grouping = PlaneGroups::new(polys.iter().map(|(p, _)| *p), scale, tol);
         // Side census per plane: a plane blocks only if two different patches lie strictly on
@@ -134,7 +119,7 @@ impl Occlusion {
             .zip(&active)
             .map(|(plane, &on)| {
                 on.then(|| {
-                    let (e1, e2) = plane.normal.any_orthonormal_pair();
+                    let (e1, e2) = plane.n.any_orthonormal_pair();
                     Group { plane: *plane, e1, e2, blockers: Vec::new() }
                 })
             })
@@ -205,7 +190,7 @@ impl Occlusion {
                         {
                             continue;
                         }
-                        if overlap_2d(&x, &k.pts, self.tol) {
+                        if convex_overlap(&x, &k.pts, self.tol) {
                             return Some(k.owner);
                         }
                     }
@@ -290,47 +275,14 @@ fn convex_hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     hull
 }
 
-/// True when two convex polygons overlap by more than `tol` along every separating-axis
-/// candidate (the edge normals of both).
-// Not `geometry::convex::convex_disjoint`: projected intervals with a thickness `tol`.
-fn overlap_2d(a: &[DVec2], b: &[DVec2], tol: f64) -> bool {
-    for poly in [a, b] {
-        for k in 0..poly.len() {
-            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-            let axis = DVec2::new(q.y - p.y, p.x - q.x);
-            let len = axis.length();
-            if len == 0.0 {
-                continue;
-            }
-            let proj = |s: &[DVec2]| {
-                s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    let d = v.dot(axis) / len;
-                    (lo.min(d), hi.max(d))
-                })
-            };
-            let ((alo, ahi), (blo, bhi)) = (proj(a), proj(b));
-            if ahi <= blo + tol || bhi <= alo + tol {
-                return false;
-            }
-        }
-    }
-    true
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn hull_and_overlap() {
+    fn hull_of_distinct_points() {
         let v = |p: &[[f64; 2]]| p.iter().map(|&[x, y]| DVec2::new(x, y)).collect::<Vec<_>>();
         let h = convex_hull(v(&[[0.0, 0.0], [1.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]]));
         assert_eq!(h.len(), 4, "{h:?}");
-        let sq = |x: f64| v(&[[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]]);
-        assert!(overlap_2d(&sq(0.0), &sq(0.5), 1e-9));
-        assert!(!overlap_2d(&sq(0.0), &sq(1.0), 1e-9), "touching along an edge is not overlap");
-        assert!(!overlap_2d(&sq(0.0), &sq(1.5), 1e-9));
-        let tri = v(&[[1.2, -1.0], [2.0, 0.5], [1.2, 2.0]]);
-        assert!(!overlap_2d(&sq(0.0), &tri, 1e-9));
     }
 }

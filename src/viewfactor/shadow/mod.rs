@@ -5,45 +5,45 @@
 //! depends on `auto`, which picks a [`Policy`] and hands it to the analytic kernel.
 //!
 //! Blockers and detection:
-//! - [`blockers`]: the scene's convex blockers (surface outlines) and their box hierarchies;
+//! - `blockers`: the scene's convex blockers (surface outlines) and their box hierarchies;
 //! - [`detect`]: which patch pairs have part of their view cut (the unshadowed analytic
 //!   method's check, a separating-axis test per blocker plane);
 //!
 //! Classification:
-//! - [`volume`]: exact clear / blocked / partial class of a receiver against one blocker
+//! - `volume`: exact clear / blocked / partial class of a receiver against one blocker
 //!   (penumbra and umbra volumes);
 //! - [`classify`]: per row, the obstructed receivers and their partial blockers;
 //!
 //! Integration:
 //! - [`viewpoint`]: shadow clipping from one viewpoint (the shaded integrand g);
-//! - [`adaptive`]: adaptive emitter integration of g with per-cell re-classification;
-//! - [`solid`]: pairs behind one convex solid: the blocked exchange summed over its faces
+//! - `adaptive`: adaptive emitter integration of g with per-cell re-classification;
+//! - `solid`: pairs behind one convex solid: the blocked exchange summed over its faces
 //!   (exact contour integrals, or small integrals over the faces);
-//! - [`pair`]: one obstructed pair: emitter choice, shadow integration, A·F;
-//! - [`mc_pair`]: the Monte Carlo ratio estimator for one pair (`auto` only);
-//! - [`segtree`]: a per-pair box tree over its partial blockers for the sampled segments;
+//! - `pair`: one obstructed pair: emitter choice, shadow integration, A·F;
+//! - `mc_pair`: the Monte Carlo ratio estimator for one pair (`auto` only);
+//! - `segtree`: a per-pair box tree over its partial blockers for the sampled segments;
 //!
 //! Policy:
 //! - [`policy`]: [`Policy`] (exact or `auto`), and [`policy::CostModel`], the per-pair
 //!   shadow-integration-vs-Monte-Carlo decision with its prices;
 //! - [`calibrate`]: the prices fitted on a few of the scene's own pairs (counted work);
-//! - [`branch`]: [`Shadows`], the branch a kernel row calls: classify, then integrate under
+//! - `branch`: [`Shadows`], the branch a kernel row calls: classify, then integrate under
 //!   the policy;
-//! - [`misses`]: entries whose error estimate ended above their goal (named by the run).
-pub mod adaptive;
+//! - `misses`: entries whose error estimate ended above their goal (named by the run).
+pub(crate) mod adaptive;
 pub mod blockers;
-pub mod branch;
+pub(crate) mod branch;
 pub mod calibrate;
 pub mod classify;
 pub mod detect;
-pub mod mc_pair;
-pub mod misses;
-pub mod pair;
+pub(crate) mod mc_pair;
+pub(crate) mod misses;
+pub(crate) mod pair;
 pub mod policy;
-pub mod segtree;
-pub mod solid;
+pub(crate) mod segtree;
+pub(crate) mod solid;
 pub mod viewpoint;
-pub mod volume;
+pub(crate) mod volume;
 
 pub use branch::{Obstructed, PairWork, ShadowScratch, Shadows};
 pub use policy::Policy;

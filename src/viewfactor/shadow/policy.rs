@@ -5,10 +5,10 @@
 //! **Prices.** Both estimators are priced in counted work, converted to nanoseconds by fixed
 //! ratios ([`SHADOW_UNIT_NS`], [`MC_SAMPLE_NS`], [`MC_TEST_NS`]):
 //! - shadow integration: W(b)·√max(1, u/goal) work units
-//!   ([`super::adaptive::AdaptInfo::work`]), the √ for the cells the 2×2-vs-3×3 refinement
+//!   (`super::adaptive::AdaptInfo::work`), the √ for the cells the 2×2-vs-3×3 refinement
 //!   adds as the goal tightens;
 //! - Monte Carlo: n = ¼(Z·u/goal)² samples (Z = [`MC_SIGMAS`]), each [`MC_SAMPLE_NS`] plus
-//!   T(b) box and blocker tests ([`super::segtree`]);
+//!   T(b) box and blocker tests (`super::segtree`);
 //!
 //! b being the pair's number of partial blockers. W(b) = c·(1 + b)^γ and T(b) likewise are
 //! power laws **fitted on the scene itself** ([`super::calibrate`]): a pair behind a 1,280-facet
@@ -31,7 +31,7 @@ pub const EXACT_MIN_DEPTH: u32 = 0;
 /// (box_500_block: 229 against 471 viewpoints per pair, same accuracy).
 pub const EXACT_RULES: (usize, usize) = (4, 5);
 /// Fewest faces of a convex solid behind which the shadow branch (`analytic`, and `auto` where
-/// it integrates) sums the blocked exchange over the solid's faces ([`super::solid`]) instead of
+/// it integrates) sums the blocked exchange over the solid's faces (`super::solid`) instead of
 /// integrating the shadow. A facetted curved body makes the shadow kink at every face plane
 /// crossing the emitter, and the shadow integration came out wrong behind it: sphere_room 1e-5
 /// of u off at 1e5 viewpoints per pair, the concentric spheres' F(outer → outer) 1.5e-8 off;
@@ -44,7 +44,7 @@ pub const SOLID_MIN_FACES: usize = 16;
 /// are not split again (behind a 200-facet part their forced split quadrupled the viewpoints).
 pub const AUTO_MIN_DEPTH: u32 = 1;
 /// `auto` cuts the emitter along at most 64 pieces' worth of kink planes, the blockers' own
-/// planes last ([`Cuts::faces_last`]); the adaptivity takes the rest. A curved meshed part
+/// planes last (`Cuts::faces_last`); the adaptivity takes the rest. A curved meshed part
 /// puts a face plane across the emitter per facet, and cutting along all of them (the 256
 /// pieces of `analytic`) made a wall pair behind a 200-facet finger cost 20,000 viewpoints
 /// for an error 30× below its goal. Measured against `analytic` on the real parts
@@ -93,7 +93,7 @@ pub const MC_MAX_SAMPLES: u32 = 1 << 16;
 pub const MC_SAMPLE_NS: f64 = 80.0;
 /// Cost of one box or blocker test of a Monte Carlo sample, ns (same measurement: 19 and 12).
 pub const MC_TEST_NS: f64 = 15.0;
-/// Cost of one unit of shadow-integration work ([`super::adaptive::AdaptInfo::work`]: a
+/// Cost of one unit of shadow-integration work (`super::adaptive::AdaptInfo::work`: a
 /// viewpoint counts [`VIEWPOINT_WORK`], a blocker projected, a shadow piece subtracted or a
 /// blocker re-classified one), ns (same measurement: 55 and 63).
 pub const SHADOW_UNIT_NS: f64 = 60.0;

@@ -24,10 +24,11 @@
 //! changes): hundreds of kinks over one emitter for a 1,280-facet sphere, each needing its own
 //! cells. Here each face carries only its own few events.
 use super::adaptive::{cut_along, emitter_cells, segment_meets_ring, Integrator};
-use super::viewpoint::{lambert, Frame};
-use super::volume::{plane_of, Plane};
+use super::viewpoint::lambert;
 use crate::geometry::clip::clip_homogeneous;
 use crate::geometry::convex::{clip_convex, convex_contains, convex_hull, is_convex, twice_area, HalfPlane};
+use crate::geometry::frame::Frame;
+use crate::geometry::planes::{plane_of, Plane};
 use crate::viewfactor::exact::pair::ring_ring;
 use glam::{DVec2, DVec3};
 
@@ -109,7 +110,7 @@ pub fn blocked(
         if twice_area(&s.ring) <= snap * snap {
             continue;
         }
-        let e_f: Vec<DVec3> = s.ring.iter().map(|q| fe.to_world(q.extend(0.0))).collect();
+        let e_f: Vec<DVec3> = s.ring.iter().map(|q| fe.point_to_world(q.extend(0.0))).collect();
         if lands_inside(&e_f, f, &fr, &r2, snap, &mut s.rays) {
             let x = ring_ring(&e_f, n_e, f, pf.n);
             info.blocked += x.value;
@@ -200,12 +201,12 @@ fn support(f: &[DVec3], pf: Plane, e: &[DVec3], r: &[DVec3], snap: f64) -> Optio
     let pts: Vec<DVec3> = e.iter().chain(r).copied().collect();
     let mut cut: Vec<DVec2> = Vec::new();
     for (k, &a) in pts.iter().enumerate() {
-        let da = pf.eval(a);
+        let da = pf.distance(a);
         if da.abs() <= snap {
             cut.push(flat(a));
         }
         for &b in &pts[k + 1..] {
-            let db = pf.eval(b);
+            let db = pf.distance(b);
             if (da > snap && db < -snap) || (da < -snap && db > snap) {
                 cut.push(flat(a + (b - a) * (da / (da - db))));
             }
@@ -257,7 +258,7 @@ fn events(face: &[DVec3], e: &[DVec3], r: &[DVec3], snap: f64) -> Vec<Plane> {
         let mut count = 0;
         for k in 0..m {
             let (x, y) = (face[k], face[(k + 1) % m]);
-            let (dx, dy) = (p.eval(x), p.eval(y));
+            let (dx, dy) = (p.distance(x), p.distance(y));
             if (dx > 0.0) != (dy > 0.0) && count < 2 {
                 chord[count] = flat(x + (y - x) * (dx / (dx - dy)));
                 count += 1;

@@ -36,45 +36,13 @@ use crate::geometry::convex::{
     clip_convex, ear_indices, is_convex, subtract_convex, twice_area, HalfPlane, PieceSet,
     Scratch as OpsScratch,
 };
+use crate::geometry::frame::Frame;
 use crate::geometry::loops::Loops;
 use crate::geometry::tolerance::SHADOW_SNAP_REL;
 use crate::geometry::union::Union;
 use crate::viewfactor::exact::lambert::edge_term;
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;
-
-/// An orthonormal frame: the receiver's plane is z = 0, its front is +z.
-#[derive(Debug, Clone, Copy)]
-pub struct Frame {
-    origin: DVec3,
-    e1: DVec3,
-    e2: DVec3,
-    e3: DVec3,
-}
-
-impl Frame {
-    /// Frame with origin `o` and third axis `normal`.
-    pub fn new(o: DVec3, normal: DVec3) -> Self {
-        let (e1, _) = normal.any_orthonormal_pair();
-        Self { origin: o, e1, e2: normal.cross(e1), e3: normal }
-    }
-    /// World point → local coordinates.
-    #[inline]
-    pub fn point(&self, x: DVec3) -> DVec3 {
-        let d = x - self.origin;
-        DVec3::new(d.dot(self.e1), d.dot(self.e2), d.dot(self.e3))
-    }
-    /// Local coordinates → world point.
-    #[inline]
-    pub fn to_world(&self, l: DVec3) -> DVec3 {
-        self.origin + l.x * self.e1 + l.y * self.e2 + l.z * self.e3
-    }
-    /// World direction → local coordinates.
-    #[inline]
-    pub fn vector(&self, v: DVec3) -> DVec3 {
-        DVec3::new(v.dot(self.e1), v.dot(self.e2), v.dot(self.e3))
-    }
-}
 
 /// How much of the receiver one viewpoint found shaded.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

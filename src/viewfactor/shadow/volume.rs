@@ -16,53 +16,11 @@
 //! A convex receiver outside one penumbra plane is clear; one inside every umbra plane is
 //! blocked. Anything else is partial and goes to the shadow integrator.
 use crate::geometry::clip::clip_ring_keep;
-use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area, HalfPlane};
+use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area};
+pub(super) use crate::geometry::planes::plane_of;
+use crate::geometry::planes::Plane;
 pub use crate::visibility::boxes::Region;
 use glam::{DVec2, DVec3};
-
-/// An oriented plane n·x + d = 0 with a unit normal; the region of interest is n·x + d ≥ 0.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plane {
-    /// Unit normal, pointing into the region.
-    pub n: DVec3,
-    /// Offset.
-    pub d: f64,
-}
-
-impl Plane {
-    /// The plane through a, b, c oriented by (b − a) × (c − a); `None` when they are collinear
-    /// within `min_len` (the normal's length before normalising).
-    pub fn through(a: DVec3, b: DVec3, c: DVec3, min_len: f64) -> Option<Self> {
-        let n = (b - a).cross(c - a);
-        let len = n.length();
-        if !(len > min_len) {
-            return None;
-        }
-        let n = n / len;
-        Some(Self { n, d: -n.dot(a) })
-    }
-    /// Signed distance of `x`, positive inside the region.
-    #[inline]
-    pub fn eval(&self, x: DVec3) -> f64 {
-        self.n.dot(x) + self.d
-    }
-    /// The opposite orientation.
-    pub fn flipped(&self) -> Self {
-        Self { n: -self.n, d: -self.d }
-    }
-    /// Largest signed distance over an axis-aligned box.
-    pub fn box_max(&self, lo: DVec3, hi: DVec3) -> f64 {
-        let c = 0.5 * (lo + hi);
-        let h = 0.5 * (hi - lo);
-        self.eval(c) + self.n.abs().dot(h)
-    }
-    /// Smallest signed distance over an axis-aligned box.
-    pub fn box_min(&self, lo: DVec3, hi: DVec3) -> f64 {
-        let c = 0.5 * (lo + hi);
-        let h = 0.5 * (hi - lo);
-        self.eval(c) - self.n.abs().dot(h)
-    }
-}
 
 /// How a receiver relates to one blocker's shadow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -132,7 +90,7 @@ pub enum Build {
 
 fn extremes(pts: &[DVec3], p: &Plane) -> (f64, f64) {
     pts.iter()
-        .map(|&x| p.eval(x))
+        .map(|&x| p.distance(x))
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
 }
 
@@ -233,7 +191,7 @@ impl Part {
         }
         self.e.clear();
         self.e.extend_from_slice(e);
-        self.umbra_valid = e.iter().all(|&x| pb.eval(x) < -snap);
+        self.umbra_valid = e.iter().all(|&x| pb.distance(x) < -snap);
         // Separating planes: edge of one polygon, vertex of the other.
         for (edges, verts) in [(b, e), (e, b)] {
             let m = edges.len();
@@ -272,8 +230,8 @@ impl Part {
                 let (a, c) = (b[k], b[(k + 1) % m]);
                 let tightest = e.iter().find_map(|&v| {
                     let p = Plane::through(a, c, v, min_len)?;
-                    let p = if p.eval(cb) >= 0.0 { p } else { p.flipped() };
-                    e.iter().all(|&w| p.eval(w) >= -snap).then_some(p)
+                    let p = if p.distance(cb) >= 0.0 { p } else { p.flipped() };
+                    e.iter().all(|&w| p.distance(w) >= -snap).then_some(p)
                 });
                 match tightest {
                     Some(p) => self.umbra.push(p),
@@ -290,10 +248,10 @@ impl Part {
             return Class::Partial;
         }
         let snap = self.snap;
-        if self.penumbra.iter().any(|p| r.iter().all(|&x| p.eval(x) <= snap)) {
+        if self.penumbra.iter().any(|p| r.iter().all(|&x| p.distance(x) <= snap)) {
             return Class::Clear;
         }
-        if self.umbra_valid && self.umbra.iter().all(|p| r.iter().all(|&x| p.eval(x) >= snap)) {
+        if self.umbra_valid && self.umbra.iter().all(|p| r.iter().all(|&x| p.distance(x) >= snap)) {
             return Class::Full;
         }
         if exact && self.crossings_miss(r) {
@@ -316,16 +274,16 @@ impl Part {
         let m = r.len();
         let mut push_beyond = |w: DVec3, dw: f64| {
             for &v in &self.e {
-                let dv = pb.eval(v);
+                let dv = pb.distance(v);
                 let z = if dw - dv > 0.0 { v + (w - v) * (-dv / (dw - dv)).clamp(0.0, 1.0) } else { v };
                 pts.push(DVec2::new(z.dot(a1), z.dot(a2)));
             }
         };
         // R clipped to B's far side, vertex by vertex.
         let mut a = r[m - 1];
-        let mut da = pb.eval(a);
+        let mut da = pb.distance(a);
         for &w in r {
-            let dw = pb.eval(w);
+            let dw = pb.distance(w);
             if (da > 0.0 && dw < 0.0) || (da < 0.0 && dw > 0.0) {
                 let x = a + (w - a) * (da / (da - dw));
                 push_beyond(x, 0.0);
@@ -341,7 +299,7 @@ impl Part {
         }
         let mut hull = Vec::with_capacity(pts.len());
         convex_hull(&mut pts, &mut hull);
-        convex_disjoint(&hull, &self.b2, snap) || (hull.len() < 3 && points_outside(&hull, &self.b2, snap))
+        convex_disjoint(&hull, &self.b2, snap)
     }
 
     fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
@@ -365,38 +323,7 @@ impl Part {
 /// The part of a convex ring with p(x) ≥ 0, vertices within `snap` of the plane kept on it
 /// (a remainder under three vertices is kept: the caller tests it).
 fn clip_side(ring: &[DVec3], p: Plane, snap: f64, out: &mut Vec<DVec3>) {
-    clip_ring_keep(ring, |x| p.eval(x), snap, out);
-}
-
-/// True when every point lies outside the convex ring (beyond one of its edges).
-// Not `geometry::convex::convex_disjoint`: no three-vertex guard on `ring`.
-fn points_outside(pts: &[DVec2], ring: &[DVec2], snap: f64) -> bool {
-    let m = ring.len();
-    (0..m).any(|k| match HalfPlane::left_of(ring[k], ring[(k + 1) % m]) {
-        Some(h) => pts.iter().all(|&q| h.eval(q) <= snap),
-        None => false,
-    })
-}
-
-/// Plane of a planar ring by Newell's vector, oriented by the ring.
-pub fn plane_of(ring: &[DVec3]) -> Option<Plane> {
-    let m = ring.len();
-    if m < 3 {
-        return None;
-    }
-    let mut n = DVec3::ZERO;
-    let mut c = DVec3::ZERO;
-    for k in 0..m {
-        let (a, b) = (ring[k], ring[(k + 1) % m]);
-        n += a.cross(b);
-        c += a;
-    }
-    let len = n.length();
-    if !(len > 0.0) {
-        return None;
-    }
-    let n = n / len;
-    Some(Plane { n, d: -n.dot(c / m as f64) })
+    clip_ring_keep(ring, |x| p.distance(x), snap, out);
 }
 
 #[cfg(test)]
@@ -450,7 +377,7 @@ mod tests {
     /// Does the segment x → y cross the convex ring b (interior)?
     fn hits(x: DVec3, y: DVec3, b: &[DVec3]) -> bool {
         let p = plane_of(b).unwrap();
-        let (dx, dy) = (p.eval(x), p.eval(y));
+        let (dx, dy) = (p.distance(x), p.distance(y));
         if dx * dy >= 0.0 {
             return false;
         }

@@ -5,7 +5,7 @@
 //! half-open rule as the hemicube's item buffer (row spans, as the rasteriser does: the same
 //! answer as recursing to single pixels, at a fraction of the classification cost).
 use super::grid::PlaneGrid;
-use crate::viewfactor::projection::clip::{self, HalfSpace};
+use crate::geometry::clip::watertight::{self as clip, HalfSpace};
 use crate::viewfactor::projection::prepare::{Gathered, NO_RECEIVER};
 use crate::viewfactor::projection::raster::crossing;
 use crate::viewfactor::projection::RECEIVER_DEPTH_BIAS;

@@ -1,10 +1,10 @@
 //! The far-field rung of the analytic ladder: tensor Gauss area rules on both patches ("2AI"),
 //! used only where an a-priori error bound guarantees the per-pair relative error target.
 //!
-//! - [`rules`]: per-patch Gauss points ([`PatchRules`]): parallelograms directly, other
+//! - `rules`: per-patch Gauss points ([`PatchRules`]): parallelograms directly, other
 //!   polygons through their triangles (Duffy rule);
-//! - [`sum`]: [`gauss_exchange`], s_ij = (1/π) Σ_a Σ_b w_a w_b cosθ_a cosθ_b / r_ab²;
-//! - [`model`]: [`ErrorModel`], the smallest order per patch that meets the target.
+//! - `sum`: [`gauss_exchange`], s_ij = (1/π) Σ_a Σ_b w_a w_b cosθ_a cosθ_b / r_ab²;
+//! - `model`: [`ErrorModel`], the smallest order per patch that meets the target.
 //!
 //! **Error bound.** Fix all integration variables but one. Along that parameter s ∈ [0, 1] the
 //! point moves on a line x(s) = x₀ + s·u (|u| ≤ L, the patch's *parameter length*) and the
@@ -27,9 +27,9 @@
 //! triangles; `examples/ladder_calibration`), times [`SAFETY`] = 4 for geometry the sweep missed.
 //! `tests/viewfactor/analytic_method.rs` checks 1 000+ further random pairs against the exact contour
 //! integral; the worst is 13× inside the target.
-pub mod model;
-pub mod rules;
-pub mod sum;
+pub(crate) mod model;
+pub(crate) mod rules;
+pub(crate) mod sum;
 
 pub use model::{rho, ErrorModel, SAFETY};
 pub use rules::{gauss_nodes, PatchRules, Points, PointsRef, CACHED_ORDERS, MAX_ORDER};

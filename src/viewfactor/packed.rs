@@ -4,12 +4,12 @@
 //! variance). About N²/2 × 8 bytes; no per-entry column index, method tag or variance where a
 //! row is uniform (deterministic methods have no variance).
 //!
-//! - [`Triangle`]: the store, packed row access and the symmetric mat-vec y = S x used by
+//! - [`PackedTriangular`]: the store, packed row access and the symmetric mat-vec y = S x used by
 //!   closure and the solve (fixed chunking: identical on any thread count);
 //! - [`fill`]: runs a [`RowKernel`] straight into the triangle. Symmetric kernels (j > i only)
 //!   write their row into its own packed slice in parallel; the others are computed in
 //!   bounded waves and folded serially, each cell receiving s_ij then s_ji.
-use super::engine::{RawEntry, Row, RowKernel};
+use super::engine::{RawEntry, Row, RowKernel, WAVE_ENTRY_BUDGET};
 use super::progress::Progress;
 use super::MethodSet;
 use crate::scene::Scene;
@@ -29,7 +29,7 @@ pub struct Exception {
 
 /// Packed symmetric exchange areas at patch (or surface) level.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Triangle {
+pub struct PackedTriangular {
     /// Order.
     pub n: usize,
     /// Row i holds s̄_ij for j = i..n, rows concatenated; length n(n+1)/2.
@@ -59,7 +59,7 @@ pub struct Triangle {
 /// Rows per task of the symmetric mat-vec: a fixed count, so sums never depend on threads.
 const MATVEC_BLOCKS: usize = 64;
 
-impl Triangle {
+impl PackedTriangular {
     /// An all-zero triangle of order `n`, refusing sizes whose length overflows.
     pub fn zeros(n: usize, areas: Vec<f64>) -> Result<Self> {
         let len =
@@ -251,9 +251,14 @@ fn row_meta(entries: &[RawEntry], i: usize) -> (MethodSet, Vec<Exception>) {
 /// Fills the patch-level triangle of `scene` with `kernel`; `wave` bounds the rows buffered
 /// per wave for non-symmetric kernels; `progress` counts the pairs of every finished row and
 /// its estimated cost (`costs`, one per row).
-pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress, costs: &[u64]) -> Result<Triangle> {
+pub fn fill(
+    scene: &Scene,
+    kernel: &dyn RowKernel,
+    progress: &Progress,
+    costs: &[u64],
+) -> Result<PackedTriangular> {
     let n = scene.patches.len();
-    let mut t = Triangle::zeros(n, scene.patches.iter().map(|p| p.polygon.area()).collect())?;
+    let mut t = PackedTriangular::zeros(n, scene.patches.iter().map(|p| p.polygon.area()).collect())?;
     if kernel.symmetric() {
         fill_symmetric(&mut t, kernel, progress, costs)?;
     } else {
@@ -269,7 +274,7 @@ pub fn fill(scene: &Scene, kernel: &dyn RowKernel, progress: &Progress, costs: &
 type RowOut = (MethodSet, Vec<Exception>, f64, f64, MethodSet, u64);
 
 fn fill_symmetric(
-    t: &mut Triangle,
+    t: &mut PackedTriangular,
     kernel: &dyn RowKernel,
     progress: &Progress,
     costs: &[u64],
@@ -334,10 +339,12 @@ fn fill_symmetric(
 /// Cells per task when the store's pages are mapped up front (2 MB).
 const PREFAULT_CHUNK: usize = 1 << 18;
 
-/// Entries buffered per wave of a non-symmetric kernel (as the row engine).
-const WAVE_ENTRY_BUDGET: usize = 2_000_000;
-
-fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress, costs: &[u64]) -> Result<()> {
+fn fill_folded(
+    t: &mut PackedTriangular,
+    kernel: &dyn RowKernel,
+    progress: &Progress,
+    costs: &[u64],
+) -> Result<()> {
     let n = t.n;
     let threads = rayon::current_num_threads().max(1);
     // Not `clamp`: beyond 1,024 threads (RAYON_NUM_THREADS) its lower bound would pass the upper.
@@ -393,7 +400,7 @@ fn fill_folded(t: &mut Triangle, kernel: &dyn RowKernel, progress: &Progress, co
 /// Folds raw row i: cell (i, j > i) takes s_ij; cell (j, i) for j < i, which holds s_ji,
 /// becomes ½(s_ji + s_ij) as in the sparse symmetrisation; untouched cells of column i halve.
 fn fold_row(
-    t: &mut Triangle,
+    t: &mut PackedTriangular,
     i: usize,
     row: &Row,
     pending: &mut [Vec<Exception>],
@@ -472,7 +479,7 @@ mod tests {
     #[test]
     fn matvec_equals_the_full_symmetric_product() {
         let n = 37;
-        let mut t = Triangle::zeros(n, vec![1.0; n]).unwrap();
+        let mut t = PackedTriangular::zeros(n, vec![1.0; n]).unwrap();
         let full =
             |i: usize, j: usize| ((i * 7 + j * 7 + i * j) % 11) as f64 * 0.1 + if i == j { 3.0 } else { 0.0 };
         for i in 0..n {

@@ -1,5 +1,6 @@
-//! Homogeneous view-volume clipping: Sutherland–Hodgman against half-spaces k·(p, 1) ≥ 0 in
-//! the eye's local frame, before the perspective divide.
+//! Watertight clipping by several half-spaces k·(p, 1) ≥ 0 (Sutherland–Hodgman, crossings
+//! interpolated from the inside vertex): projection windows in the eye's local frame, before
+//! the perspective divide.
 //!
 //! A projection window (a hemicube face, the single plane) is a pyramid whose four side planes
 //! pass through the eye, so clipping by them is exact for polygons that straddle the patch
@@ -22,7 +23,6 @@ pub(crate) fn sphere_outside(planes: &[HalfSpace], centre: DVec3, radius: f64) -
 
 /// Clips the ring `input` by every half-space; the result is left in `out` (fewer than three
 /// vertices means nothing is left). `tmp` is scratch.
-// Not `geometry::clip::clip_ring`: interpolates from the inside vertex (watertight edges).
 pub(crate) fn clip_polygon(
     input: &[DVec3],
     planes: &[HalfSpace],

@@ -6,16 +6,21 @@
 //! Distances within `snap` of zero count as on the boundary, so no sliver thinner than `snap`
 //! and no near-duplicate vertex is created.
 //!
-//! Variants kept elsewhere, on purpose (their results differ bit for bit):
-//! - [`Polygon::clip`](super::Polygon::clip) starts its ring at the first vertex, removes
-//!   duplicates and rejects degenerate remainders (patch vertex order feeds every result);
-//! - `viewfactor::exact::ring::clip_into` writes a stack ring and drops repeated vertices;
-//! - `viewfactor::projection::clip` interpolates from the inside vertex, so two polygons sharing
-//!   an edge get the same crossing bit for bit (watertight rasterisation);
+//! [`clip_ring_each`] is that loop; the others collect its vertices:
+//! - [`clip_ring`], [`clip_ring_keep`], [`clip_homogeneous`]: into a `Vec`;
+//! - [`Polygon::clip`](super::Polygon::clip): rotated to start at the first kept vertex (patch
+//!   vertex order feeds every result), de-duplicated, degenerate remainders rejected;
+//! - `viewfactor::exact::ring::clip_into`: into a stack ring, repeated vertices dropped.
+//!
+//! Variants whose arithmetic differs, on purpose:
+//! - [`watertight`]: clips by several half-spaces, interpolating from the inside vertex, so
+//!   two polygons sharing an edge get the same crossing bit for bit (projection rasters);
 //! - [`super::grid_clip`] snaps vertices onto axis-aligned lines and interpolates in a
 //!   canonical direction (glued cells must match exactly);
 //! - `validate::oracle::lambert::clip_ring` is the validation oracle's own, independent code.
 use glam::DVec3;
+
+pub(crate) mod watertight;
 
 /// Sutherland–Hodgman on a convex ring of 2-D or 3-D points: keeps `dist(x) ≥ 0`, a signed
 /// distance, writing the kept ring to `out` (cleared first; left empty when fewer than three
@@ -37,6 +42,16 @@ where
     P: Copy + std::ops::Add<Output = P> + std::ops::Sub<Output = P> + std::ops::Mul<f64, Output = P>,
 {
     out.clear();
+    clip_ring_each(src, dist, snap, |p| out.push(p));
+}
+
+/// The Sutherland–Hodgman loop itself: passes each vertex of the kept ring, in order, to
+/// `emit` (nothing for an empty `src`).
+#[inline]
+pub fn clip_ring_each<P>(src: &[P], dist: impl Fn(P) -> f64, snap: f64, mut emit: impl FnMut(P))
+where
+    P: Copy + std::ops::Add<Output = P> + std::ops::Sub<Output = P> + std::ops::Mul<f64, Output = P>,
+{
     let Some(&last) = src.last() else { return };
     let side = |x: P| {
         let d = dist(x);
@@ -51,10 +66,10 @@ where
     for &b in src {
         let db = side(b);
         if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
+            emit(a + (b - a) * (da / (da - db)));
         }
         if db >= 0.0 {
-            out.push(b);
+            emit(b);
         }
         a = b;
         da = db;
