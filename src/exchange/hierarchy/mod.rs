@@ -209,6 +209,9 @@ impl Hierarchy {
         let (mut link_bounds, mut leaf_bounds) = (vec![0], vec![0]);
         for c in chunks.clone() {
             let mut r = refine::refine_tasks(&ctx, split.tasks_of(c));
+            // Exact growth: large blocks grow in place (no doubling of the rank's lists).
+            links.reserve_exact(r.links.len());
+            pairs.reserve_exact(r.leaves.len());
             links.append(&mut r.links);
             pairs.append(&mut r.leaves);
             rays += r.rays;
@@ -291,8 +294,8 @@ impl Hierarchy {
         links.shrink_to_fit();
         let t_pairs = start.elapsed();
         let n_nodes = tree.nodes.len();
-        let spans = split.spans[chunks.clone()].to_vec();
-        let held = Held { distributed: size > 1, chunks, links: link_bounds, pairs: pair_bounds, spans };
+        let touched = split.touched[chunks.clone()].to_vec();
+        let held = Held { distributed: size > 1, chunks, links: link_bounds, pairs: pair_bounds, touched };
         // The sampled pairs' variances are replicated: every rank's, sorted.
         if held.distributed {
             sampled = held.all_gather(&part::encode(&sampled)).iter().flat_map(|b| part::decode(b)).collect();
@@ -306,9 +309,9 @@ impl Hierarchy {
         let (total_links, rays) = (held.total(links.len()), held.total(rays as usize) as u64);
         let leaf_pairs = held.total(leaf_bounds[leaf_bounds.len() - 1]);
         if crate::distributed::writes_outputs() && std::env::var_os(crate::distributed::STATS_VAR).is_some() {
-            let spans: u64 = split.spans.iter().map(|s| u64::from(s.end - s.start)).sum();
+            let spans: u64 = split.touched.iter().flatten().map(|s| u64::from(s.end - s.start)).sum();
             eprintln!(
-                "lambert: mpi: hierarchy: {} tasks in {} chunks, chunk spans {:.2} × the {n_nodes} nodes",
+                "lambert: mpi: hierarchy: {} tasks in {} chunks touching {:.2} × the {n_nodes} nodes",
                 split.tasks.len(),
                 split.chunks.len(),
                 spans as f64 / n_nodes as f64
@@ -399,17 +402,24 @@ impl Hierarchy {
     }
 
     /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o. Each chunk's entries are
-    /// spread (both directions) into its own buffer over the nodes it touches (its span), and
-    /// the buffers are added in chunk order (across ranks under MPI): the same sums on any
-    /// thread or rank count, and no index of the entries by their second end.
+    /// spread (both directions) into its own buffer, and the buffers are added in chunk order
+    /// (across ranks under MPI): the same sums on any thread or rank count, and no index of the
+    /// entries by their second end. A chunk's buffer spans its first to its last touched node,
+    /// zeroed lazily by the allocator, and only its touched runs are added (adding the zeros
+    /// elsewhere would change no sum: a sum that starts from +0 never becomes −0).
     fn gather(&self, m: &[f64]) -> Vec<f64> {
         let nodes = self.tree.nodes.len();
-        let (lb, pb, spans) = (&self.held.links, &self.held.pairs, &self.held.spans);
+        let (lb, pb, touched) = (&self.held.links, &self.held.pairs, &self.held.touched);
+        let bounds = |c: usize| {
+            let t = &touched[c];
+            t.first().map_or(0..0, |f| f.start as usize..t[t.len() - 1].end as usize)
+        };
         let bufs: Vec<Vec<f64>> = (0..lb.len() - 1)
             .into_par_iter()
             .map(|c| {
-                let lo = spans[c].start as usize;
-                let mut y = vec![0.0; (spans[c].end - spans[c].start) as usize];
+                let span = bounds(c);
+                let lo = span.start;
+                let mut y = vec![0.0; span.len()];
                 for l in &self.links[lb[c]..lb[c + 1]] {
                     let (a, b, s) = (l.a as usize, l.b as usize, l.s());
                     y[a - lo] += s * m[b];
@@ -424,8 +434,17 @@ impl Hierarchy {
             })
             .collect();
         self.held.sum(nodes, |y| {
-            for (b, span) in bufs.iter().zip(spans) {
-                y[span.start as usize..span.end as usize].par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
+            for (c, b) in bufs.iter().enumerate() {
+                let lo = bounds(c).start;
+                for run in &touched[c] {
+                    let run = run.start as usize..run.end as usize;
+                    let (y, b) = (&mut y[run.clone()], &b[run.start - lo..run.end - lo]);
+                    if run.len() >= PAR_ADD {
+                        y.par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
+                    } else {
+                        y.iter_mut().zip(b).for_each(|(y, b)| *y += b);
+                    }
+                }
             }
         })
     }
@@ -814,6 +833,10 @@ fn agree(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64, tree: &Tree, k
     crate::distributed::agree(hash, "scene geometry, cluster tree, method and options");
 }
 
+/// Runs of a chunk's buffer at least this long are added on rayon's threads (shorter ones
+/// cost less than a parallel split).
+const PAR_ADD: usize = 1 << 14;
+
 /// Rows of exact patch pairs evaluated per wave (bounds the memory of their raw entries).
 const PAIR_WAVE: usize = 1 << 14;
 
@@ -950,10 +973,16 @@ mod tests {
         assert!(one.tasks.len() >= 4 * one.chunks.len(), "{} tasks", one.tasks.len());
         assert_eq!((one.chunks[0].start, one.chunks.last().unwrap().end), (0, one.tasks.len()));
         assert!(one.chunks.windows(2).all(|w| w[0].end == w[1].start));
-        for (c, span) in one.spans.iter().enumerate() {
+        for (c, runs) in one.touched.iter().enumerate() {
+            assert!(runs.windows(2).all(|w| w[0].end < w[1].start), "{runs:?}");
             for t in one.tasks_of(c) {
-                let (lo, hi) = t.span(&tree);
-                assert!(span.start <= lo && hi <= span.end && hi as usize <= tree.nodes.len());
+                for r in t.nodes(&tree).into_iter().filter(|r| !r.is_empty()) {
+                    assert!(r.end as usize <= tree.nodes.len());
+                    assert!(
+                        runs.iter().any(|u| u.start <= r.start && r.end <= u.end),
+                        "{r:?} not in {runs:?}"
+                    );
+                }
             }
         }
         let total: f64 = one.costs.iter().sum();

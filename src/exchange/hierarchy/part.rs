@@ -51,8 +51,8 @@ pub struct Split {
     pub chunks: Vec<Range<usize>>,
     /// Estimated cost of each chunk.
     pub costs: Vec<f64>,
-    /// Tree nodes each chunk's links and pairs touch, [lo, hi).
-    pub spans: Vec<Range<u32>>,
+    /// Tree nodes each chunk's links and pairs touch: sorted, disjoint runs of node ids.
+    pub touched: Vec<Vec<Range<u32>>>,
     /// Chunks held by each rank: contiguous, in rank order.
     pub ranks: Vec<Range<usize>>,
 }
@@ -80,18 +80,24 @@ impl Split {
     ) -> Split {
         let chunks = partition::balanced(estimates, count);
         let costs: Vec<f64> = chunks.iter().map(|c| estimates[c.clone()].iter().sum()).collect();
-        let spans = chunks
+        let touched = chunks
             .iter()
             .map(|c| {
-                tasks[c.clone()]
-                    .iter()
-                    .map(|t| t.span(tree))
-                    .fold(u32::MAX..0, |r, (lo, hi)| r.start.min(lo)..r.end.max(hi))
+                let mut runs: Vec<Range<u32>> =
+                    tasks[c.clone()].iter().flat_map(|t| t.nodes(tree)).filter(|r| !r.is_empty()).collect();
+                runs.sort_by_key(|r| r.start);
+                let mut merged: Vec<Range<u32>> = Vec::with_capacity(runs.len());
+                for r in runs {
+                    match merged.last_mut() {
+                        Some(m) if r.start <= m.end => m.end = m.end.max(r.end),
+                        _ => merged.push(r),
+                    }
+                }
+                merged
             })
-            .map(|r| if r.start > r.end { 0..0 } else { r })
             .collect();
         let ranks = partition::balanced(&costs, size);
-        Split { tasks, chunks, costs, spans, ranks }
+        Split { tasks, chunks, costs, touched, ranks }
     }
 
     /// The tasks of chunk `c`.
@@ -111,8 +117,8 @@ pub struct Held {
     pub links: Vec<usize>,
     /// Start of each held chunk in this rank's pairs, and their end.
     pub pairs: Vec<usize>,
-    /// Tree nodes each held chunk touches.
-    pub spans: Vec<Range<u32>>,
+    /// Tree nodes each held chunk touches (sorted, disjoint runs).
+    pub touched: Vec<Vec<Range<u32>>>,
 }
 
 impl Held {
@@ -221,7 +227,7 @@ mod tests {
     #[test]
     fn one_process_sums_are_its_own() {
         let h =
-            Held { distributed: false, chunks: 0..MIN_CHUNKS, links: vec![], pairs: vec![], spans: vec![] };
+            Held { distributed: false, chunks: 0..MIN_CHUNKS, links: vec![], pairs: vec![], touched: vec![] };
         assert_eq!(h.sum(3, |y| y[1] += 2.0), vec![0.0, 2.0, 0.0]);
         assert_eq!(h.total(7), 7);
     }

@@ -29,6 +29,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::ops::Range;
 use std::sync::Mutex;
 
 /// Clusters whose radii sum to more than this fraction of their distance are split (their
@@ -177,16 +178,13 @@ impl Task {
         }
     }
 
-    /// The tree nodes whose sums the task's links and pairs touch: [lo, hi) of node ids (a
-    /// subtree is a contiguous run of ids, 2 len − 1 nodes from its root, in preorder).
-    pub fn span(&self, tree: &Tree) -> (u32, u32) {
-        let sub = |k: u32| (k, k + 2 * tree.nodes[k as usize].len() as u32 - 1);
+    /// The tree nodes whose sums the task's links and pairs touch: one or two runs of node
+    /// ids (a subtree is a contiguous run, 2 len − 1 nodes from its root, in preorder).
+    pub fn nodes(&self, tree: &Tree) -> [Range<u32>; 2] {
+        let sub = |k: u32| k..k + 2 * tree.nodes[k as usize].len() as u32 - 1;
         match *self {
-            Task::Within(k) => sub(k),
-            Task::Between(a, b) => {
-                let ((a0, a1), (b0, b1)) = (sub(a), sub(b));
-                (a0.min(b0), a1.max(b1))
-            }
+            Task::Within(k) => [sub(k), 0..0],
+            Task::Between(a, b) => [sub(a), sub(b)],
         }
     }
 }
