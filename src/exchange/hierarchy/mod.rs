@@ -15,11 +15,11 @@
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
 //!
-//! Under MPI ([`part`]) the refinement runs on every rank, then each rank keeps and evaluates
-//! only its chunks of links and patch pairs; every sum over them (the operator's product, row
-//! sums, error estimates) is a local sum plus a combination in a fixed order, bit-identical to
-//! one process. The tree, the vectors over patches and nodes, and the sampled pairs' variances
-//! are replicated.
+//! Under MPI ([`part`]) the refinement is cut into fixed tasks and chunks (from the tree alone);
+//! each rank refines, evaluates and keeps only its chunks' links and patch pairs, and every sum
+//! over them (the operator's product, row sums, error estimates) is a local sum plus a
+//! combination in a fixed order, bit-identical to one process. The tree, the vectors over
+//! patches and nodes, and the sampled pairs' variances are replicated.
 use super::dense::{capped_scales, closure_scales};
 use super::enforce::{EnforceReport, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
 use super::operator::Operator;

@@ -253,7 +253,10 @@ pub fn estimate(ctx: &Context, t: Task) -> f64 {
                     count(ctx, Task::Between(c, o)) + count(ctx, Task::Between(d, o))
                 }
                 Ok(Decision::Zero) => 0,
-                _ => 1,
+                Ok(_) => 1,
+                // Far clusters: their budget splits them into links and pairs about as many as
+                // their patches (hierarchical radiosity's linear link count).
+                Err(_) => (ctx.tree.nodes[a as usize].len() + ctx.tree.nodes[b as usize].len()) as u64,
             },
         }
     }
