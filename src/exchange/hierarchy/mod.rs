@@ -955,9 +955,10 @@ mod tests {
                 leaves.sort_by_key(|p| (p.0, p.1));
                 assert_eq!(links, whole.links, "max size {max_size}, tol {tol}");
                 assert_eq!(leaves, whole.leaves, "max size {max_size}, tol {tol}");
-                // The geometric estimate counts near pairs and undecided far ones: at most the
-                // links and pairs, which budget splits only add to.
-                assert!(estimate > 0.0 && estimate <= (links.len() + leaves.len()) as f64, "{estimate}");
+                // The estimate (near pairs, far clusters by their patches) is within a small
+                // factor of the links and pairs, whatever the tolerance.
+                let made = (links.len() + leaves.len()) as f64;
+                assert!(estimate > 0.25 * made && estimate < 4.0 * made, "{estimate} against {made}, tol {tol}");
             }
         }
         assert!(counts.windows(2).all(|w| w[0] > w[1]), "{counts:?}");
