@@ -958,7 +958,10 @@ mod tests {
                 // The estimate (near pairs, far clusters by their patches) is within a small
                 // factor of the links and pairs, whatever the tolerance.
                 let made = (links.len() + leaves.len()) as f64;
-                assert!(estimate > 0.25 * made && estimate < 4.0 * made, "{estimate} against {made}, tol {tol}");
+                assert!(
+                    estimate > 0.25 * made && estimate < 4.0 * made,
+                    "{estimate} against {made}, tol {tol}"
+                );
             }
         }
         assert!(counts.windows(2).all(|w| w[0] > w[1]), "{counts:?}");
