@@ -40,9 +40,9 @@ fn furnace(dir: &Path) -> String {
 }
 
 /// Runs lambert with `args`, under `mpiexec -np np` when `np` is given, with 1 thread per rank
-/// on 3 ranks and 2 otherwise (the thread count must not matter either).
+/// on 3 and 4 ranks and 2 otherwise (the thread count must not matter either).
 fn run(np: Option<usize>, args: &[String]) -> Output {
-    let threads = if np == Some(3) { "1" } else { "2" };
+    let threads = if np >= Some(3) { "1" } else { "2" };
     let mut cmd = match np {
         Some(np) => {
             let mut c = Command::new("mpiexec");
@@ -58,8 +58,13 @@ fn run(np: Option<usize>, args: &[String]) -> Output {
 /// Runs `cmd scene args -o out` without MPI and under 1, 2 and 3 ranks, and asserts every
 /// output file is byte-identical to the run without MPI.
 fn assert_same_on_any_rank_count(dir: &Path, what: &str, cmd: &str, scene: &str, args: &[&str]) {
+    assert_same_on(&[None, Some(1), Some(2), Some(3)], dir, what, cmd, scene, args);
+}
+
+/// As [`assert_same_on_any_rank_count`] on the rank counts `nps` (`None`: without MPI, first).
+fn assert_same_on(nps: &[Option<usize>], dir: &Path, what: &str, cmd: &str, scene: &str, args: &[&str]) {
     let mut reference: Option<Vec<u8>> = None;
-    for np in [None, Some(1), Some(2), Some(3)] {
+    for &np in nps {
         let out = dir.join(format!("{}_{}.csv", what.replace(' ', "_"), np.unwrap_or(0)));
         let mut all: Vec<String> = vec![cmd.into(), scene.into(), "-o".into(), out.to_str().unwrap().into()];
         all.extend(args.iter().map(|s| s.to_string()));
@@ -191,12 +196,14 @@ fn hierarchical_solves_are_the_same_on_any_rank_count() {
         ("open two passes", &open, "1e-3"),
     ] {
         let args = ["--patches", "--exchange", "hierarchical", "--tolerance", tol];
-        assert_same_on_any_rank_count(d, what, "solve", scene, &args);
+        // 4 ranks too: each refines a quarter of the tasks (oversubscribed on 2 cores).
+        assert_same_on(&[None, Some(1), Some(2), Some(3), Some(4)], d, what, "solve", scene, &args);
     }
 }
 
-/// (links, patch pairs) of each rank of the last hierarchy a run built, from its statistics.
-fn shares(np: Option<usize>, scene: &str, out: &Path) -> Vec<(usize, usize)> {
+/// (links, patch pairs, links and pairs refined) of each rank of the last hierarchy a run
+/// built, from its statistics.
+fn shares(np: Option<usize>, scene: &str, out: &Path) -> Vec<(usize, usize, usize)> {
     let mut cmd = match np {
         Some(np) => {
             let mut c = Command::new("mpiexec");
@@ -213,7 +220,7 @@ fn shares(np: Option<usize>, scene: &str, out: &Path) -> Vec<(usize, usize)> {
         .expect("run lambert");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
-    let lines: Vec<(usize, usize)> = err
+    let lines: Vec<(usize, usize, usize)> = err
         .lines()
         .filter(|l| l.contains("mpi: hierarchy rank") && l.contains("links"))
         .map(|l| {
@@ -221,7 +228,7 @@ fn shares(np: Option<usize>, scene: &str, out: &Path) -> Vec<(usize, usize)> {
                 let before = l.split(word).next().unwrap();
                 before.trim_end().rsplit([' ', ',']).next().unwrap().parse::<usize>().unwrap()
             };
-            (num(" links"), num(" patch pairs"))
+            (num(" links"), num(" patch pairs"), num(" refined"))
         })
         .collect();
     let k = np.unwrap_or(1);
@@ -236,20 +243,24 @@ fn each_rank_holds_a_share_of_the_links_and_pairs() {
     let furnace = furnace(d);
     let whole = shares(None, &furnace, &d.join("one.csv"));
     assert_eq!(whole.len(), 1);
-    let (links, pairs) = whole[0];
-    assert!(links > 10 && pairs > 1000, "{whole:?}");
+    let (links, pairs, refined) = whole[0];
+    assert!(links > 10 && pairs > 1000 && refined >= links + pairs, "{whole:?}");
     for np in [2, 3] {
         let parts = shares(Some(np), &furnace, &d.join(format!("np{np}.csv")));
-        // Every link and pair is held by exactly one rank ...
+        // Every link and pair is held by exactly one rank, and refined by exactly one ...
         assert_eq!(parts.iter().map(|p| p.0).sum::<usize>(), links, "np {np}: {parts:?}");
         assert_eq!(parts.iter().map(|p| p.1).sum::<usize>(), pairs, "np {np}: {parts:?}");
-        // ... and each holds about 1/np of them (16 chunks: 6/16 at most of 3 ranks).
-        for (r, &(l, p)) in parts.iter().enumerate() {
+        assert_eq!(parts.iter().map(|p| p.2).sum::<usize>(), refined, "np {np}: {parts:?}");
+        // ... and each holds about 1/np of them, and never refined the whole list.
+        for (r, &(l, p, f)) in parts.iter().enumerate() {
             let share = (l + p) as f64 / (links + pairs) as f64;
-            assert!(
-                share > 0.5 / np as f64 && share < 1.5 / np as f64,
-                "np {np}, rank {r}: {share} of the entries"
-            );
+            let made = f as f64 / refined as f64;
+            for (what, x) in [("held", share), ("refined", made)] {
+                assert!(
+                    x > 0.5 / np as f64 && x < 1.5 / np as f64,
+                    "np {np}, rank {r}: {what} {x} of the entries ({parts:?})"
+                );
+            }
         }
     }
 }
@@ -300,4 +311,48 @@ fn bad_input_fails_on_every_rank_with_exit_code_2() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     // Rank 0 alone speaks: the message appears once.
     assert_eq!(err.matches("bad.toml").count(), 1, "{err}");
+}
+
+#[test]
+fn ranks_refining_different_hierarchies_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    let text = std::fs::read_to_string(&furnace).unwrap();
+    let out = d.join("q.csv");
+    let solve = |a: &str, b: &str| {
+        let args = |scene: &str| -> Vec<String> {
+            ["solve", scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "hierarchical"]
+                .iter()
+                .map(|s| s.to_string())
+                .collect()
+        };
+        Command::new("mpiexec")
+            .args(["-np", "1", BIN])
+            .args(args(a))
+            .arg(":")
+            .args(["-np", "1", BIN])
+            .args(args(b))
+            .output()
+            .expect("run mpiexec")
+    };
+    // Rank 1 subdivides one face 5×5: another tree, refused before any link is refined.
+    let finer = d.join("finer.toml");
+    std::fs::write(&finer, text.replacen("subdivide = [6, 6]", "subdivide = [5, 5]", 1)).unwrap();
+    let o = solve(&furnace, finer.to_str().unwrap());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("do not hold the same scene geometry, cluster tree") && err.contains("rank 1 has hash"),
+        "{err}"
+    );
+    assert!(!out.exists(), "a refused run wrote its output");
+    // Rank 1's scene does not load: it finishes while rank 0 is about to refine.
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, "[[surface]]\nname = \"a\"\n").unwrap();
+    let o = solve(&furnace, bad.to_str().unwrap());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("rank 1 is finishing while rank 0 is about to refine the link hierarchy"), "{err}");
+    assert!(!out.exists(), "a refused run wrote its output");
 }

@@ -4,9 +4,11 @@
 //! Every collective step starts at a *sync point*: a barrier that waits without spinning,
 //! then an all-gather of (tag, value) from every rank. The tags say where each rank stands
 //! (about to exchange rows, or finishing), the value carries the geometry hash or the exit
-//! code. Ranks that disagree (another scene, another route) abort the whole run with exit code
-//! 2 after rank 0 names the ranks that differ: mixing their rows would give wrong numbers
-//! silently.
+//! code. Ranks that disagree (another scene, another route, a rank whose input failed to load
+//! and is finishing) end the whole run together with exit code 2 after rank 0 names the ranks
+//! that differ: mixing their rows would give wrong numbers silently. Every rank learns the
+//! disagreement at the same sync point, so each finalises MPI and exits in order; an abort
+//! would let the process manager kill rank 0 before its message reached the terminal.
 use mpi::collective::{CommunicatorCollectives, Root};
 use mpi::datatype::PartitionMut;
 use mpi::environment::Universe;
@@ -27,6 +29,8 @@ const MISMATCH_EXIT: i32 = 2;
 pub const TAG_ROWS: u64 = 1;
 /// Tag of the sync point that ends the run.
 pub const TAG_FINISH: u64 = 2;
+/// Tag of the sync point before the link hierarchy is refined.
+pub const TAG_HIERARCHY: u64 = 3;
 
 static UNIVERSE: Mutex<Option<Universe>> = Mutex::new(None);
 static RANK_SIZE: OnceLock<(usize, usize)> = OnceLock::new();
@@ -119,27 +123,34 @@ fn tag_name(tag: u64) -> &'static str {
     match tag {
         TAG_ROWS => "about to compute view-factor rows",
         TAG_FINISH => "finishing",
+        TAG_HIERARCHY => "about to refine the link hierarchy",
         _ => "somewhere unknown",
     }
 }
 
-/// Aborts every rank after rank 0 prints `message`; other ranks wait for the abort.
+/// Ends every rank with exit code 2 after rank 0 prints `message`. Every rank calls it at the
+/// same sync point (all of them saw the same all-gather), so MPI is finalised on every rank and
+/// rank 0's message is written before any process ends.
 fn refuse(message: &str) -> ! {
-    let world = world();
     if rank_size().0 == 0 {
         eprintln!("lambert: error: {message}");
-        world.abort(MISMATCH_EXIT);
     }
-    loop {
-        std::thread::sleep(Duration::from_secs(1));
-    }
+    drop(UNIVERSE.lock().unwrap_or_else(|e| e.into_inner()).take());
+    std::process::exit(MISMATCH_EXIT)
 }
 
 /// The sync point before the rows are split: every rank must be there with the same `hash`
-/// (geometry, method and options). A mismatch aborts the run (exit code 2) with a message
+/// (geometry, method and options). A mismatch ends the run (exit code 2) with a message
 /// naming the ranks that differ from rank 0.
 pub fn check_rows(hash: u64, what: &str) {
-    let all = sync(TAG_ROWS, hash);
+    check(TAG_ROWS, hash, what);
+}
+
+/// A sync point at step `tag`: every rank must be there with the same `hash` (of `what`). A
+/// mismatch (another hash, or a rank at another step) ends the run on every rank with exit
+/// code 2 and a message naming the ranks that differ from rank 0.
+pub fn check(tag: u64, hash: u64, what: &str) {
+    let all = sync(tag, hash);
     let odd: Vec<String> = all
         .iter()
         .enumerate()
@@ -161,7 +172,7 @@ pub fn check_rows(hash: u64, what: &str) {
     }
 }
 
-/// Aborts the run: rank `rank` holds `bytes` bytes for one all-gather, more than one MPI
+/// Ends the run on every rank (all call it): rank `rank` holds `bytes` bytes for one all-gather, more than one MPI
 /// message carries (2 GiB, MPI's int counts).
 pub fn refuse_big(rank: usize, bytes: u64) -> ! {
     refuse(&format!(
@@ -229,9 +240,11 @@ pub fn leave() -> ! {
 /// The last sync point: every rank learns rank 0's exit code and MPI is finalised. Returns
 /// rank 0's code (`code` itself outside `mpirun`).
 pub fn finish(code: u8) -> u8 {
-    let Some(universe) = UNIVERSE.lock().unwrap_or_else(|e| e.into_inner()).take() else { return code };
+    if UNIVERSE.lock().unwrap_or_else(|e| e.into_inner()).is_none() {
+        return code;
+    }
     if rank_size().1 == 1 {
-        drop(universe);
+        drop(UNIVERSE.lock().unwrap_or_else(|e| e.into_inner()).take());
         return code;
     }
     let all = sync(TAG_FINISH, u64::from(code));
@@ -243,6 +256,6 @@ pub fn finish(code: u8) -> u8 {
             all[0][1]
         ));
     }
-    drop(universe);
+    drop(UNIVERSE.lock().unwrap_or_else(|e| e.into_inner()).take());
     all[0][1] as u8
 }

@@ -48,6 +48,18 @@ pub fn start() {
     comm::start();
 }
 
+/// Under MPI with several ranks: every rank must arrive here, at the same step, with the same
+/// `hash` (of what `what` names); ranks that differ end the run together with exit code 2
+/// after rank 0 names them. Nothing without MPI.
+pub fn agree(hash: u64, what: &str) {
+    #[cfg(feature = "mpi")]
+    if comm::active() {
+        comm::check(comm::TAG_HIERARCHY, hash, what);
+    }
+    #[cfg(not(feature = "mpi"))]
+    let _ = (hash, what);
+}
+
 /// Ends the run on every rank with rank 0's exit code (`code` on rank 0); returns `code`
 /// unchanged without MPI.
 pub fn finish(code: u8) -> u8 {

@@ -15,11 +15,11 @@
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
 //!
-//! Under MPI ([`part`]) the refinement runs on every rank, then each rank keeps and evaluates
-//! only its chunks of links and patch pairs; every sum over them (the operator's product, row
-//! sums, error estimates) is a local sum plus a combination in a fixed order, bit-identical to
-//! one process. The tree, the vectors over patches and nodes, and the sampled pairs' variances
-//! are replicated.
+//! Under MPI ([`part`]) the refinement is cut into fixed tasks and chunks (from the tree alone);
+//! each rank refines, evaluates and keeps only its chunks' links and patch pairs, and every sum
+//! over them (the operator's product, row sums, error estimates) is a local sum plus a
+//! combination in a fixed order, bit-identical to one process. The tree, the vectors over
+//! patches and nodes, and the sampled pairs' variances are replicated.
 use super::dense::{capped_scales, closure_scales};
 use super::enforce::{EnforceReport, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
 use super::operator::Operator;
@@ -27,7 +27,7 @@ use super::{Diagnostics, Enforce};
 use crate::error::InputError;
 use crate::scene::Scene;
 use crate::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
-use crate::viewfactor::engine::RawEntry;
+use crate::viewfactor::engine::{RawEntry, RowKernel};
 use crate::viewfactor::{auto, Method, MethodSet};
 use crate::visibility::Visibility;
 use crate::{Error, Result};
@@ -192,36 +192,49 @@ impl Hierarchy {
             prefix,
             seed: vf.seed,
         };
-        let refine::Refined { links, leaves, rays } = refine::refine(&ctx);
-        let t_refine = start.elapsed();
-        let start = Instant::now();
         // This process's chunks (all of them without MPI); a second pass keeps the first's.
         let (rank, size) =
             if crate::distributed::reduce::active() { crate::distributed::rank_size() } else { (0, 1) };
+        if size > 1 {
+            agree(scene, vf, tol, &tree, kernel.tree_hash());
+        }
         let split = match known.as_ref() {
             Some(k) if k.split.ranks.len() == size => k.split.clone(),
-            _ => Split::new(&leaves, scene.patches.len(), size),
+            _ => Split::new(&ctx, size),
         };
         let chunks = split.ranks[rank].clone();
-        let leaf_pairs = leaves.len();
-        let rows = split.rows_of(&chunks);
-        let mut pairs = if size > 1 {
-            let (lo, hi) =
-                (leaves.partition_point(|p| p.0 < rows.start), leaves.partition_point(|p| p.0 < rows.end));
-            leaves[lo..hi].to_vec()
-        } else {
-            leaves
-        };
-        // Patch pairs by row, each row through the kernel's own row code, their values
-        // written into the refinement's list in place (no second list of pairs).
+        // Refine this rank's chunks only, chunk by chunk: each chunk's links sorted by node
+        // pair, its patch pairs by patch pair.
+        let (mut links, mut pairs, mut rays) = (Vec::new(), Vec::new(), 0u64);
+        let (mut link_bounds, mut leaf_bounds) = (vec![0], vec![0]);
+        for c in chunks.clone() {
+            let mut r = refine::refine_tasks(&ctx, split.tasks_of(c));
+            // Exact growth: large blocks grow in place (no doubling of the rank's lists).
+            links.reserve_exact(r.links.len());
+            pairs.reserve_exact(r.leaves.len());
+            links.append(&mut r.links);
+            pairs.append(&mut r.leaves);
+            rays += r.rays;
+            link_bounds.push(links.len());
+            leaf_bounds.push(pairs.len());
+        }
+        let refined = links.len() + pairs.len();
+        let t_refine = start.elapsed();
+        let start = Instant::now();
+        // Patch pairs by row within each chunk, each row through the kernel's own row code,
+        // their values written into the refinement's list in place (no second list of pairs).
         let mut rows: Vec<&mut [(u32, u32, f64)]> = Vec::new();
         let mut rest = &mut pairs[..];
-        while !rest.is_empty() {
-            let i = rest[0].0;
-            let len = rest.iter().position(|p| p.0 != i).unwrap_or(rest.len());
-            let (row, tail) = rest.split_at_mut(len);
-            rows.push(row);
+        for w in leaf_bounds.windows(2) {
+            let (mut chunk, tail) = rest.split_at_mut(w[1] - w[0]);
             rest = tail;
+            while !chunk.is_empty() {
+                let i = chunk[0].0;
+                let len = chunk.iter().position(|p| p.0 != i).unwrap_or(chunk.len());
+                let (row, more) = chunk.split_at_mut(len);
+                rows.push(row);
+                chunk = more;
+            }
         }
         let mut sampled: Vec<(u32, u32, f64)> = Vec::new();
         for wave in rows.chunks_mut(PAIR_WAVE) {
@@ -260,11 +273,9 @@ impl Hierarchy {
         drop((rows, known));
         // Chunk by chunk: pairs that exchange nothing are dropped, patch order goes to leaf
         // nodes, and each chunk is sorted.
-        let starts: Vec<usize> =
-            (chunks.start..=chunks.end).map(|c| pairs.partition_point(|p| p.0 < split.rows[c])).collect();
         let mut kept = 0;
         let mut pair_bounds = vec![0];
-        for w in starts.windows(2) {
+        for w in leaf_bounds.windows(2) {
             for r in w[0]..w[1] {
                 if pairs[r].2 != 0.0 {
                     pairs[kept] = pairs[r];
@@ -280,17 +291,11 @@ impl Hierarchy {
             pairs[w[0]..w[1]].par_sort_unstable_by_key(|p| (p.0, p.1));
         }
         pairs.shrink_to_fit();
+        links.shrink_to_fit();
         let t_pairs = start.elapsed();
         let n_nodes = tree.nodes.len();
-        // This process's chunks of the links.
-        let total_links = links.len();
-        let first = part::link_range(total_links, chunks.start).start;
-        let link_bounds: Vec<usize> = (chunks.start..=chunks.end)
-            .map(|c| if c == chunks.end { part::link_range(total_links, c - 1).end } else { part::link_range(total_links, c).start } - first)
-            .collect();
-        let links =
-            if size > 1 { links[first..first + link_bounds[link_bounds.len() - 1]].to_vec() } else { links };
-        let held = Held { distributed: size > 1, chunks, links: link_bounds, pairs: pair_bounds };
+        let touched = split.touched[chunks.clone()].to_vec();
+        let held = Held { distributed: size > 1, chunks, links: link_bounds, pairs: pair_bounds, touched };
         // The sampled pairs' variances are replicated: every rank's, sorted.
         if held.distributed {
             sampled = held.all_gather(&part::encode(&sampled)).iter().flat_map(|b| part::decode(b)).collect();
@@ -300,14 +305,26 @@ impl Hierarchy {
             + std::mem::size_of_val(&pairs[..])
             + std::mem::size_of_val(&sampled[..])
             + n_nodes * std::mem::size_of::<tree::Node>();
-        let shares = held.shares(Share { links: links.len(), pairs: pairs.len(), bytes });
+        let shares = held.shares(Share { links: links.len(), pairs: pairs.len(), bytes, refined });
+        let (total_links, rays) = (held.total(links.len()), held.total(rays as usize) as u64);
+        let leaf_pairs = held.total(leaf_bounds[leaf_bounds.len() - 1]);
         if crate::distributed::writes_outputs() && std::env::var_os(crate::distributed::STATS_VAR).is_some() {
+            let spans: u64 = split.touched.iter().flatten().map(|s| u64::from(s.end - s.start)).sum();
+            eprintln!(
+                "lambert: mpi: hierarchy: {} tasks in {} chunks touching {:.2} × the {n_nodes} nodes",
+                split.tasks.len(),
+                split.chunks.len(),
+                spans as f64 / n_nodes as f64
+            );
             for (r, s) in shares.iter().enumerate() {
+                let cost: f64 = split.costs[split.ranks[r].clone()].iter().sum();
                 eprintln!(
-                    "lambert: mpi: hierarchy rank {r}: chunks {:?}, {} links, {} patch pairs, {:.1} MB",
+                    "lambert: mpi: hierarchy rank {r}: chunks {:?}, estimated cost {:.3} of the whole, {} links, {} patch pairs, {} refined, {:.1} MB",
                     split.ranks[r],
+                    cost / split.costs.iter().sum::<f64>().max(1.0),
                     s.links,
                     s.pairs,
+                    s.refined,
                     s.bytes as f64 / 1e6
                 );
             }
@@ -384,33 +401,50 @@ impl Hierarchy {
         y
     }
 
-    /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o. The entries are cut into
-    /// [`part::CHUNKS`] fixed chunks, each spread (both directions) into its own buffer, and
-    /// the buffers are added in chunk order (across ranks under MPI): the same sums on any
-    /// thread or rank count, and no index of the entries by their second end.
+    /// Per node k: Σ over its links and pairs (k, o, s) of s · m_o. Each chunk's entries are
+    /// spread (both directions) into its own buffer, and the buffers are added in chunk order
+    /// (across ranks under MPI): the same sums on any thread or rank count, and no index of the
+    /// entries by their second end. A chunk's buffer spans its first to its last touched node,
+    /// zeroed lazily by the allocator, and only its touched runs are added (adding the zeros
+    /// elsewhere would change no sum: a sum that starts from +0 never becomes −0).
     fn gather(&self, m: &[f64]) -> Vec<f64> {
         let nodes = self.tree.nodes.len();
-        let (lb, pb) = (&self.held.links, &self.held.pairs);
+        let (lb, pb, touched) = (&self.held.links, &self.held.pairs, &self.held.touched);
+        let bounds = |c: usize| {
+            let t = &touched[c];
+            t.first().map_or(0..0, |f| f.start as usize..t[t.len() - 1].end as usize)
+        };
         let bufs: Vec<Vec<f64>> = (0..lb.len() - 1)
             .into_par_iter()
             .map(|c| {
-                let mut y = vec![0.0; nodes];
+                let span = bounds(c);
+                let lo = span.start;
+                let mut y = vec![0.0; span.len()];
                 for l in &self.links[lb[c]..lb[c + 1]] {
                     let (a, b, s) = (l.a as usize, l.b as usize, l.s());
-                    y[a] += s * m[b];
-                    y[b] += s * m[a];
+                    y[a - lo] += s * m[b];
+                    y[b - lo] += s * m[a];
                 }
                 for &(a, b, s) in &self.pairs[pb[c]..pb[c + 1]] {
                     let (a, b) = (a as usize, b as usize);
-                    y[a] += s * m[b];
-                    y[b] += s * m[a];
+                    y[a - lo] += s * m[b];
+                    y[b - lo] += s * m[a];
                 }
                 y
             })
             .collect();
         self.held.sum(nodes, |y| {
-            for b in &bufs {
-                y.par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
+            for (c, b) in bufs.iter().enumerate() {
+                let lo = bounds(c).start;
+                for run in &touched[c] {
+                    let run = run.start as usize..run.end as usize;
+                    let (y, b) = (&mut y[run.clone()], &b[run.start - lo..run.end - lo]);
+                    if run.len() >= PAR_ADD {
+                        y.par_iter_mut().zip(b).for_each(|(y, b)| *y += b);
+                    } else {
+                        y.iter_mut().zip(b).for_each(|(y, b)| *y += b);
+                    }
+                }
             }
         })
     }
@@ -779,6 +813,30 @@ impl Hierarchy {
     }
 }
 
+/// Under MPI: every rank must refine the same tree of the same scene with the same settings
+/// (`kernel_trees`: the hash of the kernel's blocker trees), else the run ends with exit code 2.
+fn agree(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64, tree: &Tree, kernel_trees: u64) {
+    use std::hash::Hasher;
+    let mut h = fnv::FnvHasher::default();
+    h.write_u64(kernel_trees);
+    for n in &tree.nodes {
+        for v in [n.lo, n.hi, n.kids[0], n.kids[1]] {
+            h.write_u32(v);
+        }
+        h.write_u64(n.area.to_bits());
+    }
+    for &p in &tree.order {
+        h.write_u32(p);
+    }
+    let options = format!("hierarchy, heat-rate tolerance {:016x}, {}", tol.to_bits(), vf.agreement());
+    let hash = crate::viewfactor::distributed::agreement_hash(scene, &options, true, h.finish());
+    crate::distributed::agree(hash, "scene geometry, cluster tree, method and options");
+}
+
+/// Runs of a chunk's buffer at least this long are added on rayon's threads (shorter ones
+/// cost less than a parallel split).
+const PAR_ADD: usize = 1 << 14;
+
 /// Rows of exact patch pairs evaluated per wave (bounds the memory of their raw entries).
 const PAIR_WAVE: usize = 1 << 14;
 
@@ -847,6 +905,101 @@ mod tests {
         for (want, got) in [(&closed, h.sharing_shift(&j, None)), (&open, h.sharing_shift(&j, Some(e_amb)))] {
             for (p, (w, g)) in want.iter().zip(&got).enumerate() {
                 assert!((w - g).abs() <= SHIFT_TOL * scale, "patch {p}: {g} against {w} pair by pair");
+            }
+        }
+    }
+
+    /// The refinement context of `scene` at tolerance `tol` (no blockers).
+    fn context<'a>(scene: &'a Scene, tree: &'a Tree, tol: f64) -> refine::Context<'a> {
+        let budget = crate::solve::clustered::budget(scene);
+        refine::Context {
+            scene,
+            tree,
+            blockers: None,
+            vis: None,
+            radiosity: tree.ranges(|p| budget.radiosity[p]),
+            tol,
+            q_ref: budget.heat_rate_scale,
+            area: tree.nodes[0].area,
+            prefix: Vec::new(),
+            seed: 0,
+        }
+    }
+
+    #[test]
+    fn the_tasks_together_refine_the_whole_scene_at_any_tolerance() {
+        let (scene, _) = long_box();
+        let tree = Tree::new(&scene);
+        let mut counts = Vec::new();
+        for max_size in [1.0, 8.0, 40.0, 300.0] {
+            // The tasks depend on the tree alone: the same at every tolerance.
+            let tasks = refine::tasks(&context(&scene, &tree, 1e-1), max_size);
+            assert_eq!(tasks, refine::tasks(&context(&scene, &tree, 1e-3), max_size));
+            assert!(tasks
+                .iter()
+                .all(|t| t.size(&tree) <= max_size || matches!(t, refine::Task::Between(..))));
+            counts.push(tasks.len());
+            for tol in [1e-1, 1e-3] {
+                let ctx = context(&scene, &tree, tol);
+                let whole = refine::refine(&ctx);
+                assert!(whole.links.len() > 20 && whole.leaves.len() > 100, "tol {tol}");
+                let (mut links, mut leaves) = (Vec::new(), Vec::new());
+                let mut estimate = 0.0;
+                for t in &tasks {
+                    let r = refine::refine_tasks(&ctx, std::slice::from_ref(t));
+                    links.extend(r.links);
+                    leaves.extend(r.leaves);
+                    estimate += refine::estimate(&ctx, *t);
+                }
+                links.sort_by_key(|l| (l.a, l.b));
+                leaves.sort_by_key(|p| (p.0, p.1));
+                assert_eq!(links, whole.links, "max size {max_size}, tol {tol}");
+                assert_eq!(leaves, whole.leaves, "max size {max_size}, tol {tol}");
+                // The estimate (near pairs, far clusters by their patches) is within a small
+                // factor of the links and pairs, whatever the tolerance.
+                let made = (links.len() + leaves.len()) as f64;
+                assert!(
+                    estimate > 0.25 * made && estimate < 4.0 * made,
+                    "{estimate} against {made}, tol {tol}"
+                );
+            }
+        }
+        assert!(counts.windows(2).all(|w| w[0] > w[1]), "{counts:?}");
+    }
+
+    #[test]
+    fn ranks_hold_contiguous_runs_of_chunks_that_cover_every_task() {
+        let (scene, _) = long_box();
+        let tree = Tree::new(&scene);
+        let ctx = context(&scene, &tree, 1e-2);
+        let one = Split::new(&ctx, 1);
+        assert_eq!(one.chunks.len(), part::chunk_count(scene.patches.len()));
+        assert!(one.tasks.len() >= 4 * one.chunks.len(), "{} tasks", one.tasks.len());
+        assert_eq!((one.chunks[0].start, one.chunks.last().unwrap().end), (0, one.tasks.len()));
+        assert!(one.chunks.windows(2).all(|w| w[0].end == w[1].start));
+        for (c, runs) in one.touched.iter().enumerate() {
+            assert!(runs.windows(2).all(|w| w[0].end < w[1].start), "{runs:?}");
+            for t in one.tasks_of(c) {
+                for r in t.nodes(&tree).into_iter().filter(|r| !r.is_empty()) {
+                    assert!(r.end as usize <= tree.nodes.len());
+                    assert!(
+                        runs.iter().any(|u| u.start <= r.start && r.end <= u.end),
+                        "{r:?} not in {runs:?}"
+                    );
+                }
+            }
+        }
+        let total: f64 = one.costs.iter().sum();
+        for size in 2..5 {
+            let s = Split::new(&ctx, size);
+            // The same tasks and chunks on any rank count; only their owners differ.
+            assert_eq!((&s.tasks, &s.chunks, &s.costs), (&one.tasks, &one.chunks, &one.costs));
+            assert_eq!(s.ranks.len(), size);
+            assert_eq!((s.ranks[0].start, s.ranks[size - 1].end), (0, one.chunks.len()));
+            assert!(s.ranks.windows(2).all(|w| w[0].end == w[1].start));
+            for r in &s.ranks {
+                let share = s.costs[r.clone()].iter().sum::<f64>() / total;
+                assert!((share * size as f64 - 1.0).abs() < 0.35, "{size} ranks: {r:?} holds {share}");
             }
         }
     }

@@ -1,64 +1,109 @@
-//! How a [`super::Hierarchy`]'s links and patch pairs are cut into [`CHUNKS`] fixed chunks and
-//! shared between MPI ranks, and the sums over them in a fixed order.
+//! How the refinement of a [`super::Hierarchy`] is cut into fixed tasks and chunks and shared
+//! between MPI ranks, and the sums over its links and pairs in a fixed order.
 //!
-//! - The links (sorted by node pair) are cut at equal counts; the patch pairs by patch row, at
-//!   the row starts nearest equal pair counts ([`Split`]), so that a row is evaluated whole, by
-//!   one rank, as in a single process. A two-pass solve keeps the first pass's rows per chunk
-//!   and ranks, so its cached pairs are found where the single process finds them.
-//! - Each rank holds a contiguous run of chunks ([`Held`]), balanced by the pairs per chunk
-//!   (the estimated cost: the pairs' exact view factors are the build's dearest part); it keeps
-//!   only those chunks' links and pairs, so their memory falls as 1/ranks.
+//! - The top of the refinement's recursion is cut into tasks ([`refine::tasks`]: pairs of
+//!   nodes, taken on geometric decisions alone), so the tasks depend on the tree only — not on
+//!   the tolerance, the radiosity bounds or the rank count — and together they give the whole
+//!   refinement. Each task's cost is estimated ([`refine::estimate`]).
+//! - The tasks, in order, are grouped into [`chunk_count`] chunks of near equal estimated cost
+//!   (a function of the patch count, never of the rank count). Each rank holds a contiguous run
+//!   of chunks balanced by their estimated cost ([`Split`]); it refines only its chunks' tasks
+//!   and keeps the links and patch pairs it refined, so no rank ever holds the whole lists and
+//!   their memory falls as 1/ranks. Within a chunk the links are sorted by node pair and the
+//!   patch pairs by patch pair, rows evaluated per chunk, so every chunk holds the same entries
+//!   in the same order on any rank count. A two-pass solve keeps the first pass's split, so its
+//!   cached pairs are on the rank that refines them again.
 //! - Every sum over links or pairs adds in chunk order, on any rank count: each rank adds its
 //!   own chunks' terms to the running sum of the ranks before it
 //!   ([`crate::distributed::reduce::ordered_sum`]), so outputs are byte-identical to a run
 //!   without MPI.
 //!
 //! Without MPI (or on one rank) one process holds every chunk and nothing is sent.
+use super::refine::{self, Task};
 use crate::distributed::{partition, reduce};
+use rayon::prelude::*;
 use std::ops::Range;
 
-/// Fixed chunks of the links and of the patch pairs (fixed, so that sums do not depend on the
-/// thread or rank count; at most this many ranks hold a share, further ranks idle).
-pub const CHUNKS: usize = 16;
+/// Fewest chunks of a split: the single-process product adds one buffer per chunk (spread
+/// over rayon's threads), and 16 keeps that as fast as before on scenes of 10⁴ patches.
+pub const MIN_CHUNKS: usize = 16;
+/// Patches per chunk above [`MIN_CHUNKS`] chunks: 64 ranks hold a share from 131,072
+/// patches on (smaller scenes gain nothing from more ranks).
+pub const PATCHES_PER_CHUNK: usize = 2048;
+/// Most chunks of a split (1M patches: 488 chunks).
+pub const MAX_CHUNKS: usize = 1024;
+/// Tasks per chunk aimed at when the recursion is cut: enough that chunks balance to a few
+/// per cent by their tasks' estimates.
+pub const TASKS_PER_CHUNK: usize = 16;
 
-/// The chunks of one build: where the pair rows are cut and which chunks each rank holds.
+/// Chunks of the refinement of `n` patches (depends on `n` alone: sums add in the same order
+/// on any rank count).
+pub fn chunk_count(n: usize) -> usize {
+    (n / PATCHES_PER_CHUNK).clamp(MIN_CHUNKS, MAX_CHUNKS)
+}
+
+/// The tasks and chunks of one build and which chunks each rank holds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Split {
-    /// First patch row of each chunk's pairs; [`CHUNKS`] + 1 entries, the last the patch count.
-    pub rows: Vec<u32>,
+    /// The refinement's tasks, in order.
+    pub tasks: Vec<Task>,
+    /// Tasks of each chunk: contiguous, in order.
+    pub chunks: Vec<Range<usize>>,
+    /// Estimated cost of each chunk.
+    pub costs: Vec<f64>,
+    /// Tree nodes each chunk's links and pairs touch: sorted, disjoint runs of node ids.
+    pub touched: Vec<Vec<Range<u32>>>,
     /// Chunks held by each rank: contiguous, in rank order.
     pub ranks: Vec<Range<usize>>,
 }
 
 impl Split {
-    /// Chunks of `leaves` (patch pairs sorted by row, of `n` patches) cut at row starts near
-    /// equal pair counts, shared among `size` ranks by their pair counts.
-    pub fn new(leaves: &[(u32, u32, f64)], n: usize, size: usize) -> Split {
-        let len = leaves.len();
-        let rows: Vec<u32> = (0..=CHUNKS)
+    /// Cuts the refinement of `ctx` into tasks and chunks and shares them among `size` ranks
+    /// by estimated cost.
+    pub fn new(ctx: &refine::Context, size: usize) -> Split {
+        let n = ctx.tree.nodes[0].len();
+        let count = chunk_count(n);
+        let pairs = n as f64 * (n as f64 - 1.0) / 2.0;
+        let tasks = refine::tasks(ctx, pairs / (count * TASKS_PER_CHUNK) as f64);
+        let estimates: Vec<f64> = tasks.par_iter().map(|t| refine::estimate(ctx, *t)).collect();
+        Split::from_tasks(ctx.tree, tasks, &estimates, count, size)
+    }
+
+    /// Groups `tasks` (with their estimated costs) into `count` chunks, shared among `size`
+    /// ranks.
+    pub fn from_tasks(
+        tree: &super::tree::Tree,
+        tasks: Vec<Task>,
+        estimates: &[f64],
+        count: usize,
+        size: usize,
+    ) -> Split {
+        let chunks = partition::balanced(estimates, count);
+        let costs: Vec<f64> = chunks.iter().map(|c| estimates[c.clone()].iter().sum()).collect();
+        let touched = chunks
+            .iter()
             .map(|c| {
-                let pos = len * c / CHUNKS;
-                match c {
-                    0 => 0,
-                    _ if pos >= len => n as u32,
-                    _ => leaves[pos].0,
+                let mut runs: Vec<Range<u32>> =
+                    tasks[c.clone()].iter().flat_map(|t| t.nodes(tree)).filter(|r| !r.is_empty()).collect();
+                runs.sort_by_key(|r| r.start);
+                let mut merged: Vec<Range<u32>> = Vec::with_capacity(runs.len());
+                for r in runs {
+                    match merged.last_mut() {
+                        Some(m) if r.start <= m.end => m.end = m.end.max(r.end),
+                        _ => merged.push(r),
+                    }
                 }
+                merged
             })
             .collect();
-        let at = |row: u32| leaves.partition_point(|p| p.0 < row);
-        let costs: Vec<f64> = (0..CHUNKS).map(|c| (at(rows[c + 1]) - at(rows[c])) as f64).collect();
-        Split { rows, ranks: partition::balanced(&costs, size) }
+        let ranks = partition::balanced(&costs, size);
+        Split { tasks, chunks, costs, touched, ranks }
     }
 
-    /// The rows of chunks `chunks`.
-    pub fn rows_of(&self, chunks: &Range<usize>) -> Range<u32> {
-        self.rows[chunks.start]..self.rows[chunks.end]
+    /// The tasks of chunk `c`.
+    pub fn tasks_of(&self, c: usize) -> &[Task] {
+        &self.tasks[self.chunks[c].clone()]
     }
-}
-
-/// The range of chunk `c` in a list of `len` links.
-pub fn link_range(len: usize, c: usize) -> Range<usize> {
-    len * c / CHUNKS..len * (c + 1) / CHUNKS
 }
 
 /// This process's share: its chunks and where each starts in its own link and pair lists.
@@ -72,6 +117,8 @@ pub struct Held {
     pub links: Vec<usize>,
     /// Start of each held chunk in this rank's pairs, and their end.
     pub pairs: Vec<usize>,
+    /// Tree nodes each held chunk touches (sorted, disjoint runs).
+    pub touched: Vec<Vec<Range<u32>>>,
 }
 
 impl Held {
@@ -107,14 +154,16 @@ impl Held {
 
     /// Every rank's (links, patch pairs, bytes) in rank order.
     pub fn shares(&self, mine: Share) -> Vec<Share> {
-        let bytes: Vec<u8> =
-            [mine.links, mine.pairs, mine.bytes].iter().flat_map(|v| (*v as u64).to_le_bytes()).collect();
+        let bytes: Vec<u8> = [mine.links, mine.pairs, mine.bytes, mine.refined]
+            .iter()
+            .flat_map(|v| (*v as u64).to_le_bytes())
+            .collect();
         self.all_gather(&bytes)
             .iter()
             .map(|b| {
                 let v =
-                    |k: usize| u64::from_le_bytes(b[8 * k..8 * k + 8].try_into().expect("24 bytes")) as usize;
-                Share { links: v(0), pairs: v(1), bytes: v(2) }
+                    |k: usize| u64::from_le_bytes(b[8 * k..8 * k + 8].try_into().expect("32 bytes")) as usize;
+                Share { links: v(0), pairs: v(1), bytes: v(2), refined: v(3) }
             })
             .collect()
     }
@@ -129,6 +178,9 @@ pub struct Share {
     pub pairs: usize,
     /// Bytes of its links, pairs, sampled pairs' variances and the tree.
     pub bytes: usize,
+    /// Links and patch pairs (zero ones included) its refinement produced: the most it held
+    /// at once (no rank receives another's).
+    pub refined: usize,
 }
 
 /// Patch pairs as 16 bytes each (for the all-gather of the sampled pairs).
@@ -158,34 +210,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn chunks_start_at_row_starts_and_cover_every_pair() {
-        // Row i holds 10 - i pairs (i < j): a triangle, cut only where a row starts.
-        let n = 10;
-        let leaves: Vec<(u32, u32, f64)> =
-            (0..n).flat_map(|i| (i + 1..n).map(move |j| (i as u32, j as u32, 0.0))).collect();
-        for size in 1..5 {
-            let s = Split::new(&leaves, n, size);
-            assert_eq!(s.rows.len(), CHUNKS + 1);
-            assert_eq!((s.rows[0], s.rows[CHUNKS]), (0, n as u32));
-            assert!(s.rows.windows(2).all(|w| w[0] <= w[1]), "{:?}", s.rows);
-            assert_eq!(s.ranks.len(), size);
-            assert_eq!((s.ranks[0].start, s.ranks[size - 1].end), (0, CHUNKS));
-            assert!(s.ranks.windows(2).all(|w| w[0].end == w[1].start));
-        }
-    }
-
-    #[test]
-    fn ranks_get_near_equal_pair_counts() {
-        let n = 2000;
-        let leaves: Vec<(u32, u32, f64)> =
-            (0..n).flat_map(|i| (i + 1..n).step_by(7).map(move |j| (i as u32, j as u32, 0.0))).collect();
-        let s = Split::new(&leaves, n, 4);
-        for r in &s.ranks {
-            let rows = s.rows_of(r);
-            let count = leaves.iter().filter(|p| rows.contains(&p.0)).count();
-            let share = count as f64 / leaves.len() as f64;
-            assert!((share - 0.25).abs() < 0.02, "{r:?} holds {share} of the pairs");
-        }
+    fn the_chunk_count_grows_with_the_patches_alone() {
+        assert_eq!(chunk_count(10), MIN_CHUNKS);
+        assert_eq!(chunk_count(15_000), MIN_CHUNKS);
+        assert_eq!(chunk_count(100_000), 48);
+        assert!(chunk_count(131_072) >= 64);
+        assert_eq!(chunk_count(1 << 30), MAX_CHUNKS);
     }
 
     #[test]
@@ -196,7 +226,8 @@ mod tests {
 
     #[test]
     fn one_process_sums_are_its_own() {
-        let h = Held { distributed: false, chunks: 0..CHUNKS, links: vec![], pairs: vec![] };
+        let h =
+            Held { distributed: false, chunks: 0..MIN_CHUNKS, links: vec![], pairs: vec![], touched: vec![] };
         assert_eq!(h.sum(3, |y| y[1] += 2.0), vec![0.0, 2.0, 0.0]);
         assert_eq!(h.total(7), 7);
     }

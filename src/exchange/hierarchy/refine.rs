@@ -29,6 +29,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::ops::Range;
 use std::sync::Mutex;
 
 /// Clusters whose radii sum to more than this fraction of their distance are split (their
@@ -153,8 +154,123 @@ pub struct Context<'a> {
 /// Refines the whole scene: links sorted by (a, b), patch pairs by (i, j), so the result
 /// does not depend on the order the parallel tasks finished in.
 pub fn refine(ctx: &Context) -> Refined {
+    refine_tasks(ctx, &[Task::Within(0)])
+}
+
+/// One subtree of the refinement's recursion: the pairs within a node, or the pairs between
+/// two nodes. The tasks of [`tasks`] partition every patch pair of the scene, so refining each
+/// gives, together, the links and pairs of [`refine`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Task {
+    /// Every pair within node k.
+    Within(u32),
+    /// Every pair between nodes a and b.
+    Between(u32, u32),
+}
+
+impl Task {
+    /// Patch pairs the task covers (patch-count product).
+    pub fn size(&self, tree: &Tree) -> f64 {
+        let len = |k: u32| tree.nodes[k as usize].len() as f64;
+        match *self {
+            Task::Within(k) => len(k) * (len(k) - 1.0) / 2.0,
+            Task::Between(a, b) => len(a) * len(b),
+        }
+    }
+
+    /// The tree nodes whose sums the task's links and pairs touch: one or two runs of node
+    /// ids (a subtree is a contiguous run, 2 len − 1 nodes from its root, in preorder).
+    pub fn nodes(&self, tree: &Tree) -> [Range<u32>; 2] {
+        let sub = |k: u32| k..k + 2 * tree.nodes[k as usize].len() as u32 - 1;
+        match *self {
+            Task::Within(k) => [sub(k), 0..0],
+            Task::Between(a, b) => [sub(a), sub(b)],
+        }
+    }
+}
+
+/// The top of the recursion cut into tasks of at most `max_size` patch pairs each (or single
+/// pairs of nodes whose fate the budget decides), in the recursion's order. Only geometric
+/// decisions are taken on the way down ([`geometric`]), so the list depends on the tree alone:
+/// not on the tolerance, the radiosity bounds or the rank count.
+pub fn tasks(ctx: &Context, max_size: f64) -> Vec<Task> {
+    let mut out = Vec::new();
+    expand(ctx, Task::Within(0), max_size.max(1.0), &mut out);
+    out
+}
+
+fn expand(ctx: &Context, t: Task, max_size: f64, out: &mut Vec<Task>) {
+    match t {
+        Task::Within(k) => {
+            let node = &ctx.tree.nodes[k as usize];
+            if node.is_leaf() {
+                return;
+            }
+            if t.size(ctx.tree) <= max_size {
+                out.push(t);
+                return;
+            }
+            let [l, r] = node.kids;
+            expand(ctx, Task::Within(l), max_size, out);
+            expand(ctx, Task::Within(r), max_size, out);
+            expand(ctx, Task::Between(l, r), max_size, out);
+        }
+        Task::Between(a, b) => {
+            if t.size(ctx.tree) <= max_size {
+                out.push(t);
+                return;
+            }
+            match geometric(ctx, a, b) {
+                Ok(Decision::Split(x, o)) => {
+                    let [c, d] = ctx.tree.nodes[x as usize].kids;
+                    expand(ctx, Task::Between(c, o), max_size, out);
+                    expand(ctx, Task::Between(d, o), max_size, out);
+                }
+                Ok(Decision::Zero) => {}
+                _ => out.push(t),
+            }
+        }
+    }
+}
+
+/// Estimated cost of a task: the outcomes of its recursion taken on geometric decisions alone
+/// (patch pairs of near clusters, plus one for each pair of far clusters whose budget would
+/// decide), a lower bound of its links and pairs that needs neither rays nor the budget.
+pub fn estimate(ctx: &Context, t: Task) -> f64 {
+    fn count(ctx: &Context, t: Task) -> u64 {
+        match t {
+            Task::Within(k) => {
+                let node = &ctx.tree.nodes[k as usize];
+                if node.is_leaf() {
+                    return 0;
+                }
+                let [l, r] = node.kids;
+                count(ctx, Task::Within(l)) + count(ctx, Task::Within(r)) + count(ctx, Task::Between(l, r))
+            }
+            Task::Between(a, b) => match geometric(ctx, a, b) {
+                Ok(Decision::Split(x, o)) => {
+                    let [c, d] = ctx.tree.nodes[x as usize].kids;
+                    count(ctx, Task::Between(c, o)) + count(ctx, Task::Between(d, o))
+                }
+                Ok(Decision::Zero) => 0,
+                Ok(_) => 1,
+                // Far clusters: their budget splits them into links and pairs about as many as
+                // their patches (hierarchical radiosity's linear link count).
+                Err(_) => (ctx.tree.nodes[a as usize].len() + ctx.tree.nodes[b as usize].len()) as u64,
+            },
+        }
+    }
+    count(ctx, t) as f64
+}
+
+/// Refines `tasks` (in parallel): their links sorted by (a, b), patch pairs by (i, j), so the
+/// result does not depend on the order the parallel tasks finished in.
+pub fn refine_tasks(ctx: &Context, tasks: &[Task]) -> Refined {
     let sink = Sink::default();
-    self_pair(ctx, 0, &sink);
+    tasks.par_iter().for_each(|t| match *t {
+        Task::Within(k) => self_pair(ctx, k, &sink),
+        Task::Between(a, b) => pair(ctx, a, b, &sink),
+    });
     let mut out = sink.0.into_inner().unwrap_or_else(|e| e.into_inner());
     out.links.par_sort_unstable_by_key(|l| (l.a, l.b));
     out.leaves.par_sort_unstable_by_key(|p| (p.0, p.1));
@@ -283,25 +399,43 @@ fn behind(a: &Node, b: &Node, snap: f64) -> bool {
 }
 
 fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
+    match geometric(ctx, a, b) {
+        Ok(decision) => decision,
+        Err(far) => budgeted(ctx, a, b, far),
+    }
+}
+
+/// What the budget part of [`assess`] reads of a pair that geometry alone did not decide.
+#[derive(Debug, Clone, Copy)]
+struct Far {
+    dist: f64,
+    rho: f64,
+    planar: bool,
+}
+
+/// The part of [`assess`] that reads only the tree (no radiosity bounds, tolerance or rays):
+/// `Ok` when geometry decides the pair, `Err` when its budget must. The top of the recursion is
+/// cut into tasks with it ([`tasks`]), so the tasks do not depend on the budget.
+fn geometric(ctx: &Context, a: u32, b: u32) -> Result<Decision, Far> {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
     let snap =
         1e-9 * (na.radius + nb.radius + na.centroid.abs().max_element() + nb.centroid.abs().max_element());
     if behind(na, nb, snap) || behind(nb, na, snap) {
-        return Decision::Zero;
+        return Ok(Decision::Zero);
     }
     if na.is_leaf() && nb.is_leaf() {
-        return Decision::Leaves;
+        return Ok(Decision::Leaves);
     }
     // A link shares its exchange by area within each cluster: across surfaces that share
     // would be wrong to first order, so only single-surface clusters are linked.
     if na.surface == NONE || nb.surface == NONE {
-        return split_mixed(a, b, na, nb);
+        return Ok(split_mixed(a, b, na, nb));
     }
     let d = nb.centroid - na.centroid;
     let dist = d.length();
     let rho = na.radius + nb.radius;
     if !(rho < NEAR * dist) {
-        return split(ctx, a, b);
+        return Ok(split(ctx, a, b));
     }
     let dir = d / dist;
     let delta = (rho / dist).asin();
@@ -314,7 +448,7 @@ fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
     let (a_lo, a_hi) = cone(na, dir);
     let (b_lo, b_hi) = cone(nb, -dir);
     if a_lo >= FRAC_PI_2 || b_lo >= FRAC_PI_2 {
-        return Decision::Zero;
+        return Ok(Decision::Zero);
     }
     let planar = na.planes.is_some() && nb.planes.is_some();
     if planar {
@@ -323,12 +457,19 @@ fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
         // to grazing sight lines (the normal cones alone would split those to single patches
         // along every edge where two surfaces meet).
         if !(in_front(na, nb, snap) && in_front(nb, na, snap)) {
-            return split(ctx, a, b);
+            return Ok(split(ctx, a, b));
         }
     } else if a_hi >= FRAC_PI_2 || b_hi >= FRAC_PI_2 {
         // Some patch may face away from some point of the other: the vector area misleads.
-        return split(ctx, a, b);
+        return Ok(split(ctx, a, b));
     }
+    Err(Far { dist, rho, planar })
+}
+
+/// The part of [`assess`] that weighs a pair's estimate against its budget.
+fn budgeted(ctx: &Context, a: u32, b: u32, far: Far) -> Decision {
+    let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
+    let Far { dist, rho, planar } = far;
     // Planar clusters take the second-order estimate, whose remainder is fourth order in ρ/r
     // (bounded with the kernel's largest value over the pair, which grazing sight lines make
     // larger than its value at the centroids); others the vector-area one, second order.
