@@ -35,7 +35,8 @@ pub const PARTIAL_SUFFIX: &str = ".partial";
 pub struct Output {
     /// Short key (the long flag without dashes; [`ABORT_ENV`] names it).
     pub key: String,
-    /// The flag as the user writes it, for messages (`-o`, `--vtk`).
+    /// The option as the caller names it, for messages: a flag (`-o`, `--vtk`) from the
+    /// command line, an option mark ([`crate::error::opt`]) from the library.
     pub flag: String,
     /// What is written there, for messages ("view-factor CSV").
     pub what: String,

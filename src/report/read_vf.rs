@@ -113,7 +113,7 @@ pub fn read_stamped(path: &Path, scene: &Scene) -> Result<(ViewFactors, bool)> {
             return Err(bad(format!(
                 "the view factors were computed for another geometry (fingerprint {theirs}; this scene's \
                  is {ours}): a different scene, or these surfaces moved, reshaped or subdivided differently. \
-                 Run `lambert viewfactors` on this scene, or, if the geometry is the same in every way the \
+                 Compute the view factors again for this scene, or, if the geometry is the same in every way the \
                  factors depend on, empty the geometry field to use the file anyway"
             ))
             .at_line(*at)

@@ -203,7 +203,7 @@ pub fn model(mesh: &PatchMesh, fields: &VtkFields, kind: VtkKind, title: &str) -
 /// beside it that replaces `path` only on success.
 pub fn write(path: &Path, scene: &Scene, fields: &VtkFields) -> Result<()> {
     let kind = kind_of(path)?;
-    super::outputs::write_file("vtk", "--vtk", "VTK results", path, |w, p| {
+    super::outputs::write_file("vtk", &crate::error::opt("vtk"), "VTK results", path, |w, p| {
         write_to(w, p, kind, scene, fields)
     })
 }
@@ -243,4 +243,21 @@ fn vtk_io_error(e: vtkio::Error) -> std::io::Error {
 /// `--` may not appear inside an XML comment.
 fn comment_safe(s: &str) -> String {
     s.replace("--", "- -")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A library call names the file by its keyword (`vtk`); the command line spells it `--vtk`.
+    #[test]
+    fn a_missing_folder_names_the_vtk_option() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("nodir/x.vtu");
+        let e = write(&path, &Scene::builder().build(), &VtkFields::default()).unwrap_err();
+        let head = format!("vtk {}: the folder ", path.display());
+        assert!(e.to_string().starts_with(&head) && e.to_string().contains("does not exist"), "{e}");
+        let flag = |k: &str| format!("--{k}");
+        assert!(e.spelled(&flag).starts_with(&format!("--{head}")), "{e}");
+    }
 }

@@ -227,7 +227,8 @@ pub fn read(path: &Path) -> Result<Part> {
 
 /// Parses the bytes of a part file; the error says what is wrong.
 pub fn from_bytes(bytes: &[u8]) -> std::result::Result<Part, String> {
-    let not_part = || "not a lambert view-factor part (written by `lambert viewfactors --shard`)".to_string();
+    let not_part =
+        || format!("not a lambert view-factor part (the file a {} run writes)", crate::error::opt("shard"));
     if !bytes.starts_with(MAGIC.as_bytes()) {
         return Err(not_part());
     }
@@ -276,7 +277,10 @@ pub fn from_bytes(bytes: &[u8]) -> std::result::Result<Part, String> {
 pub fn check_parts(mut parts: Vec<(PathBuf, Part)>) -> Result<Vec<(PathBuf, Part)>> {
     let bad = |path: &Path, problem: String| Error::Input(InputError::file(path, problem));
     let Some((p0, first)) = parts.first() else {
-        return Err(Error::Usage("lambert merge needs the part files of a `viewfactors --shard` run".into()));
+        return Err(Error::Usage(format!(
+            "no part files given: a merge needs every part of one {} run",
+            crate::error::opt("shard")
+        )));
     };
     let (p0, count, hash, n) = (p0.clone(), first.count, first.hash, first.n);
     let replay = first.replay.clone();
@@ -410,7 +414,14 @@ mod tests {
         let last = flipped.len() - 1;
         flipped[last] ^= 1;
         assert!(from_bytes(&flipped).unwrap_err().contains("damaged"));
-        assert!(from_bytes(b"from,to,factor\na,b,0.5\n").unwrap_err().contains("not a lambert"));
+        let foreign =
+            Error::Input(InputError::file("t.csv", from_bytes(b"from,to,factor\na,b,0.5\n").unwrap_err()));
+        assert_eq!(
+            foreign.to_string(),
+            "t.csv: not a lambert view-factor part (the file a shard run writes)"
+        );
+        let flag = |k: &str| format!("--{k}");
+        assert!(foreign.spelled(&flag).ends_with("(the file a --shard run writes)"), "{foreign}");
     }
 
     #[test]
@@ -419,6 +430,7 @@ mod tests {
         assert_eq!(ok.iter().map(|(_, p)| p.index).collect::<Vec<_>>(), vec![0, 1, 2]);
         let err = |parts: Vec<Part>| check_parts(named(parts)).unwrap_err().to_string();
         assert!(err(vec![part(0, 3, 30), part(2, 3, 30)]).contains("1/3 are missing"));
+        assert_eq!(err(vec![]), "no part files given: a merge needs every part of one shard run");
         assert!(
             err(vec![part(0, 2, 30), part(0, 2, 30), part(1, 2, 30)]).contains("each shard is given once")
         );

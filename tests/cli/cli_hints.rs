@@ -57,6 +57,7 @@ fn view_factors_carry_the_geometry_and_another_scenes_file_is_refused_as_such() 
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("theirs.csv:2:") && err.contains("computed for another geometry"), "{err}");
+    assert!(err.contains("Compute the view factors again for this scene"), "{err}");
     assert!(!err.contains("leaks") && !err.contains("gap"), "{err}");
 
     // The same file without its fingerprint (an older lambert) loads on its names; its rows

@@ -176,7 +176,12 @@ fn truncated_damaged_and_foreign_parts_are_refused() {
     refused_merge(d, &[&f[0], bad.to_str().unwrap(), &f[2]], "flipped", "damaged");
     let csv = d.join("table.csv");
     std::fs::write(&csv, "from,to,factor\na,b,0.5\n").unwrap();
-    refused_merge(d, &[&f[0], csv.to_str().unwrap(), &f[2]], "table.csv", "not a lambert view-factor part");
+    refused_merge(
+        d,
+        &[&f[0], csv.to_str().unwrap(), &f[2]],
+        "table.csv",
+        "not a lambert view-factor part (the file a --shard run writes)",
+    );
 }
 
 #[test]

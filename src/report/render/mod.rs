@@ -341,7 +341,9 @@ fn triad<DB: DrawingBackend>(
 
 /// Writes `img` as PNG to `path` through a temporary beside it, renamed on success.
 pub fn write_png(img: &Image, path: &Path) -> Result<()> {
-    super::outputs::write_file("output", "-o", "PNG picture", path, |w, p| encode_png(img, w, p))
+    super::outputs::write_file("output", &crate::error::opt("output"), "PNG picture", path, |w, p| {
+        encode_png(img, w, p)
+    })
 }
 
 /// Encodes `img` as PNG into `out` (the encoder and settings plotters' bitmap files use);
@@ -586,8 +588,13 @@ mod tests {
         let ours = dir.path().join("ours.png");
         write_png(&img, &ours).unwrap();
         assert_eq!(std::fs::read(&ours).unwrap(), std::fs::read(&by_plotters).unwrap());
-        // A missing folder is refused before anything is encoded, naming the flag and folder.
-        let e = write_png(&img, &dir.path().join("nodir/x.png")).unwrap_err();
-        assert!(e.to_string().contains("-o") && e.to_string().contains("nodir"), "{e}");
+        // A missing folder is refused before anything is encoded, naming the option (the
+        // keyword `output` for a library call, `--output` on the command line) and the folder.
+        let missing = dir.path().join("nodir/x.png");
+        let e = write_png(&img, &missing).unwrap_err();
+        let head = format!("output {}: the folder ", missing.display());
+        assert!(e.to_string().starts_with(&head) && e.to_string().contains("nodir"), "{e}");
+        let flag = |k: &str| format!("--{k}");
+        assert!(e.spelled(&flag).starts_with(&format!("--{head}")), "{e}");
     }
 }
