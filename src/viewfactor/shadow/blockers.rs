@@ -148,6 +148,20 @@ impl Blockers {
         self.pad
     }
 
+    /// True when blocker `k` is a face of a non-convex solid part (closed, normals out) with
+    /// every point of `pts` on or behind its plane: a sight line leaving those points crosses
+    /// the part only by entering it through a face turned towards its start, so this face is
+    /// never the first one crossed and can be left out of their shadows (convex solids keep
+    /// every face: their facet sum counts faces turned towards either patch).
+    pub fn turned_from(&self, k: usize, pts: &[DVec3]) -> bool {
+        let b = &self.blockers[k];
+        if b.closed != 1 || b.body.is_some() {
+            return false;
+        }
+        let off = b.normal.dot(b.ring[0]);
+        pts.iter().all(|&x| b.normal.dot(x) - off <= self.snap)
+    }
+
     /// Blockers whose padded box passes `keep(lo, hi)` at every level, appended to `out`.
     pub fn blockers_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.blocker_tree.collect(keep, out);
@@ -486,6 +500,28 @@ mod tests {
         let blockers = Blockers::new(&room_with(open));
         assert!((0..blockers.len()).all(|b| blockers.get(b).closed == 0 && blockers.get(b).body.is_none()));
         assert!((0..blockers.len()).any(|b| blockers.get(b).across.iter().any(Option::is_none)));
+    }
+
+    #[test]
+    fn only_faces_of_a_non_convex_solid_turned_away_from_every_point_are_left_out() {
+        let above = [DVec3::new(1.2, 1.3, 2.9), DVec3::new(1.8, 1.3, 2.9), DVec3::new(1.5, 1.8, 2.9)];
+        let bottom = |b: &Blockers| (0..b.len()).find(|&k| b.get(k).normal.z < -0.9).expect("a bottom face");
+        // Dented (non-convex, closed): the bottom faces away from points above the block, the
+        // dent's faces turn towards them, and a point below turns the bottom towards itself.
+        let dented = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.2)));
+        assert!(dented.turned_from(bottom(&dented), &above));
+        let dent: Vec<usize> = (0..dented.len()).filter(|&k| dented.get(k).normal.z > 0.1).collect();
+        assert_eq!(dent.len(), 4);
+        assert!(dent.iter().all(|&k| !dented.turned_from(k, &above)));
+        let mixed = [above[0], DVec3::new(1.5, 1.5, 0.5)];
+        assert!(!dented.turned_from(bottom(&dented), &mixed));
+        // A convex solid keeps every face (its facet sum needs them), an open box too.
+        let convex = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
+        assert!(!convex.turned_from(bottom(&convex), &above));
+        let mut open = dented_block(DVec3::ONE, 0.0);
+        open.truncate(10);
+        let open = Blockers::new(&room_with(open));
+        assert!(!open.turned_from(bottom(&open), &above));
     }
 
     fn newell(v: &[DVec3]) -> DVec3 {

@@ -119,6 +119,8 @@ pub fn classify_row_in(
         },
         &mut out.row_blockers,
     );
+    // Faces of a solid part turned away from all of patch i are never crossed first.
+    out.row_blockers.retain(|&b| !blockers.turned_from(b as usize, pi.vertices()));
     out.row_blockers.sort_unstable();
     // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
     let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, .. } = out;

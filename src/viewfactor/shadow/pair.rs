@@ -86,7 +86,14 @@ pub fn shadowed(
     }
     s.kept.sort_unstable_by_key(|k| k.0);
     let rings: Vec<&[DVec3]> = s.rings[..n].iter().map(|r| r.as_slice()).collect();
-    let swapped = !emits_first(pi, pj, &rings);
+    let solid_faces = s.kept.iter().any(|k| {
+        let b = blockers.get(k.0 as usize);
+        b.closed == 1 && b.body.is_none()
+    });
+    // The row's classification kept only the faces of a non-convex solid that patch i can
+    // cross first (`Blockers::turned_from`), and the shadows are taken from the emitter's
+    // viewpoints with the faces turned towards them: patch i then emits, whatever the sizes.
+    let swapped = !solid_faces && !emits_first(pi, pj, &rings);
     let (e, r) = if swapped { (pj, pi) } else { (pi, pj) };
     let closed: Vec<(i8, Option<u32>)> = s.kept.iter().fold(vec![(0, None); n], |mut c, &(b, k, _)| {
         let bl = blockers.get(b as usize);
