@@ -64,7 +64,8 @@ pub fn solve_scene_with(
     params: &Params,
     step: &mut dyn FnMut(Phase, &DenseExchange),
 ) -> Result<Option<DenseRun>> {
-    let Some(mut ex) = dense::build(scene, vf)? else { return Ok(None) };
+    // Under MPI each rank keeps its row block of the store (`crate::exchange::rowblock`).
+    let Some(mut ex) = crate::exchange::rowblock::build(scene, vf)? else { return Ok(None) };
     step(Phase::Enforcement, &ex);
     let facts = Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene)));
     let p = EnforceParams {
@@ -79,7 +80,9 @@ pub fn solve_scene_with(
     let solution = solve_gray(scene, &ex, params)?;
     let flags = std::mem::take(&mut ex.t.flags);
     let warnings = std::mem::take(&mut ex.t.warnings);
-    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes(), warnings, flags }))
+    crate::exchange::rowblock::report(&ex.t);
+    let store_bytes = crate::exchange::rowblock::total_bytes(&ex.t);
+    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes, warnings, flags }))
 }
 
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for
