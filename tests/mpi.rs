@@ -520,3 +520,47 @@ fn a_leaking_scene_is_refused_alike_on_any_rank_count() {
         }
     }
 }
+
+#[test]
+fn ranks_solving_different_scenes_on_the_dense_store_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    let text = std::fs::read_to_string(&furnace).unwrap();
+    let out = d.join("q.csv");
+    let solve = |b: &Path| {
+        let args = |scene: &str| -> Vec<String> {
+            ["solve", scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"]
+                .iter()
+                .map(|s| s.to_string())
+                .collect()
+        };
+        Command::new("mpiexec")
+            .args(["-np", "1", BIN])
+            .args(args(&furnace))
+            .arg(":")
+            .args(["-np", "1", BIN])
+            .args(args(b.to_str().unwrap()))
+            .output()
+            .expect("run mpiexec")
+    };
+    // Rank 1's floor is at 900 K: the same geometry, but the ranks would mix two right-hand
+    // sides in one CG. Then another patch count, then a scene that does not load.
+    let cooler = d.join("cooler.toml");
+    std::fs::write(&cooler, text.replacen("temperature = 1000.0", "temperature = 900.0", 1)).unwrap();
+    let finer = d.join("finer.toml");
+    std::fs::write(&finer, text.replacen("subdivide = [6, 6]", "subdivide = [5, 5]", 1)).unwrap();
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, "[[surface]]\nname = \"a\"\n").unwrap();
+    for (scene, says) in [
+        (&cooler, "do not hold the same patch count, surface conditions and dense store"),
+        (&finer, "do not hold the same patch count, surface conditions and dense store"),
+        (&bad, "rank 1 is finishing while rank 0 is about to check the memory of the dense store"),
+    ] {
+        let o = solve(scene);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{}: {err}", scene.display());
+        assert!(err.contains(says), "{}: {err}", scene.display());
+        assert!(!out.exists(), "a refused run wrote its output");
+    }
+}

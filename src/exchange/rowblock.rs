@@ -26,7 +26,6 @@ use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::row_block;
 use crate::Result;
 use std::hash::Hasher;
-use std::path::Path;
 
 /// Computes the patch-level lean store of `scene` for the `solve` route (after the memory
 /// check): under MPI each rank keeps its row block; `None` when the method needs the sparse
@@ -35,7 +34,7 @@ pub fn build(scene: &Scene, params: &crate::viewfactor::Params) -> Result<Option
     if params.method.is_monte_carlo() {
         return Ok(None);
     }
-    check_fits(scene.patches.len(), 8.0, params.method.is_symmetric(), &scene.source)?;
+    check_fits(scene, 8.0, params.method.is_symmetric())?;
     let Some(t) = crate::viewfactor::compute_triangle_with(scene, params, true)? else { return Ok(None) };
     let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
     Ok(Some(DenseExchange { t, names, ambient: None }))
@@ -48,14 +47,15 @@ const BOUNDS: [Bound; 5] = [Bound::Override, Bound::Free, Bound::AddressSpace, B
 /// kernel each rank checks its own row block (`bytes_per_pair` × its pairs, plus headroom)
 /// against its own available memory, and the ranks agree: when one does not fit, every rank
 /// returns the same error (exit code 2) naming it. Otherwise the single-process check.
-pub fn check_fits(n: usize, bytes_per_pair: f64, symmetric: bool, source: &Path) -> Result<()> {
+pub fn check_fits(scene: &Scene, bytes_per_pair: f64, symmetric: bool) -> Result<()> {
+    let (n, source) = (scene.patches.len(), scene.source.as_path());
     let Some(held) = row_block::keeps_rows(n, symmetric) else {
         return dense::check_fits(n, bytes_per_pair, source);
     };
-    let mut h = fnv::FnvHasher::default();
-    h.write_u64(n as u64);
-    h.write_u64(bytes_per_pair.to_bits());
-    crate::distributed::agree_store(h.finish(), "patch count and dense store");
+    crate::distributed::agree_store(
+        conditions_hash(scene, bytes_per_pair),
+        "patch count, surface conditions and dense store",
+    );
     let pairs: f64 = held.clone().map(|i| (n - i) as f64).sum();
     let need = pairs * bytes_per_pair * DENSE_PEAK_FACTOR;
     let avail = memory::available();
@@ -92,6 +92,22 @@ pub fn check_fits(n: usize, bytes_per_pair: f64, symmetric: bool, source: &Path)
         .into());
     }
     Ok(())
+}
+
+/// Hash of what the ranks of a distributed solve must share besides the geometry (checked
+/// when the view factors start): the patch count, each surface's emissivity and condition,
+/// the ambient, and the store's bytes per pair. Ranks whose conditions differed would mix
+/// their right-hand sides in one CG.
+fn conditions_hash(scene: &Scene, bytes_per_pair: f64) -> u64 {
+    let mut h = fnv::FnvHasher::default();
+    h.write_u64(scene.patches.len() as u64);
+    h.write_u64(bytes_per_pair.to_bits());
+    for s in &scene.surfaces {
+        h.write_u64(s.emissivity.to_bits());
+        h.write(format!("{:?}", s.condition).as_bytes());
+    }
+    h.write(format!("{:?}", scene.ambient.map(|a| a.temperature.to_bits())).as_bytes());
+    h.finish()
 }
 
 /// Bytes of the whole store: every rank's block summed (a collective when distributed).

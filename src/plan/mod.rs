@@ -415,8 +415,7 @@ impl Plan {
             Store::Auto => {
                 // Under MPI: each rank's row block against its own memory, agreed.
                 let symmetric = req.method.is_symmetric();
-                let fits = exchange::rowblock::check_fits(n, PACKED_BYTES_PER_PAIR, symmetric, &scene.source)
-                    .is_ok();
+                let fits = exchange::rowblock::check_fits(scene, PACKED_BYTES_PER_PAIR, symmetric).is_ok();
                 // A tight tolerance costs the links more than the dense store costs the pairs.
                 let tight = req.tolerance.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
                 let exact = clustered_kernel(req.method);
