@@ -240,6 +240,12 @@ impl PackedTriangular {
             }
         };
         let mut y = if self.distributed {
+            // Every rank must add its blocks: a product off the main thread would silently
+            // miss the other ranks' rows.
+            assert!(
+                crate::distributed::reduce::active(),
+                "a distributed store's product outside the MPI collectives"
+            );
             crate::distributed::reduce::ordered_sum(n, add)
         } else {
             let mut y = vec![0.0; n];
