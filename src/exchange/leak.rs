@@ -506,4 +506,25 @@ mod tests {
             assert!(rows[2].worst.is_none());
         }
     }
+
+    #[test]
+    fn partial_rows_merged_in_order_equal_the_rows_added_in_one_pass() {
+        // Entries of one leaking row as two MPI ranks see them: rank 0 the first three,
+        // rank 1 the rest. Two entries tie on the largest error: the first one seen wins.
+        let entries =
+            [("a", 0.1, 0.0), ("b", 0.2, 0.03), ("c", 0.0, 0.01), ("d", 0.3, 0.03), ("e", 0.1, 0.02)];
+        let mut whole = LeakRow::new("w#0", 0.6);
+        entries.iter().for_each(|e| whole.add(e.0, e.1, e.2));
+        let mut parts = [LeakRow::new("w#0", 0.6), LeakRow::new("w#0", 0.6)];
+        entries[..3].iter().for_each(|e| parts[0].add(e.0, e.1, e.2));
+        entries[3..].iter().for_each(|e| parts[1].add(e.0, e.1, e.2));
+        let mut merged = parts[0].emptied();
+        for p in &parts {
+            let bytes = p.partial_bytes();
+            assert_eq!(merged.merge_bytes(&bytes), Some(&[][..]));
+        }
+        assert_eq!(merged, whole);
+        assert_eq!(whole.worst.as_ref().map(|w| w.to.as_str()), Some("b"));
+        assert!(merged.merge_bytes(&parts[1].partial_bytes()[..20]).is_none(), "a cut record is refused");
+    }
 }
