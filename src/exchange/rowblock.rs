@@ -6,7 +6,7 @@
 //! - the mat-vec: each rank's row blocks' partial products, added in block order along the
 //!   ranks (`PackedTriangular::matvec_scaled`); x and y are replicated O(N) vectors, so every
 //!   rank runs the same CG and gets bit-identical numbers, the same as one process;
-//! - max |s̄| and the negative count ([`PackedTriangular::max_abs_and_negatives`]);
+//! - max |s̄| and the negative count (`PackedTriangular::max_abs_and_negatives`);
 //! - the coupled groups for the anchoring check ([`couplings`]: each rank's group labels,
 //!   all-gathered), and the leaking rows named in a refusal ([`merge_leak_rows`]);
 //! - [`check_fits`]: the memory refusal rule per rank (each rank's block against its own

@@ -1,7 +1,9 @@
 //! The lean dense solve: the net-radiation system K J = b (K = D − S̄ on the unknowns, black
 //! surfaces eliminated, docs/literature.md §5) solved by Jacobi-preconditioned conjugate gradients
 //! with the symmetric packed mat-vec of `crate::viewfactor::packed::PackedTriangular`. K is never assembled: the only N²
-//! object is the triangle of exchange areas, read once per iteration.
+//! object is the triangle of exchange areas, read once per iteration. Under MPI each rank
+//! holds a row block of it and every product adds the ranks' blocks in a fixed order
+//! (`crate::exchange::rowblock`): every rank runs the same CG on the same numbers.
 //!
 //! - [`solve_gray`]: solve on an enforced [`DenseExchange`];
 //! - [`solve_scene`]: view factors → enforcement → solve, the whole `solve` run on the lean
