@@ -3,8 +3,9 @@
 //! auto, analytic and Monte Carlo view factors (patch and surface level) and the solve routes
 //! (packed dense, sparse patch rows, hierarchical — distributed, one and two passes, open and
 //! closed — and iterative), with the measured and the estimated row split, and as merged
-//! shards; each rank holds a share of the hierarchy's links and pairs. Ranks that load
-//! different geometry are refused with exit code 2, and only rank 0 writes.
+//! shards; each rank holds a share of the hierarchy's links and pairs, and of the dense
+//! store's rows (whose memory check is per rank). Ranks that load different geometry are
+//! refused with exit code 2, and only rank 0 writes.
 //!
 //! Run with `cargo test --release --features mpi --test mpi` (the release binary is the one
 //! `cargo build --release --features mpi` makes, so CI builds it once).
@@ -180,12 +181,7 @@ fn hierarchical_solves_are_the_same_on_any_rank_count() {
     let d = dir.path();
     let (furnace, open) = (furnace(d), open_cube(d));
     // The obstructed room with conditions: the floor at 400 K, the rest at 300 K, ε 0.6.
-    let text = std::fs::read_to_string(room(d))
-        .unwrap()
-        .replace("[[surface]]\n", "[[surface]]\nemissivity = 0.6\ntemperature = 300.0\n");
-    let heated = d.join("heated.toml");
-    std::fs::write(&heated, text.replacen("temperature = 300.0", "temperature = 400.0", 1)).unwrap();
-    let heated = heated.to_str().unwrap().to_string();
+    let heated = heated_room(d);
     // One pass at 1e-2, two passes (the first's pairs reused) at 1e-3; closed and open scenes,
     // the room with its blocker's shadows.
     for (what, scene, tol) in [
@@ -355,4 +351,216 @@ fn ranks_refining_different_hierarchies_are_refused() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("rank 1 is finishing while rank 0 is about to refine the link hierarchy"), "{err}");
     assert!(!out.exists(), "a refused run wrote its output");
+}
+
+/// The obstructed room with conditions: the floor at 400 K, the rest at 300 K, ε 0.6.
+fn heated_room(dir: &Path) -> String {
+    let text = std::fs::read_to_string(room(dir))
+        .unwrap()
+        .replace("[[surface]]\n", "[[surface]]\nemissivity = 0.6\ntemperature = 300.0\n");
+    let heated = dir.join("heated.toml");
+    std::fs::write(&heated, text.replacen("temperature = 300.0", "temperature = 400.0", 1)).unwrap();
+    heated.to_str().unwrap().to_string()
+}
+
+#[test]
+fn dense_solves_on_row_blocks_are_the_same_on_any_rank_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (furnace, open, heated) = (furnace(d), open_cube(d), heated_room(d));
+    // Closed (closure scaling) and open (capped scaling, ambient) scenes, the room with its
+    // blocker's shadows; patch and surface outputs; 4 ranks too (oversubscribed on 2 cores).
+    // Hemicube rows are folded, not symmetric: they keep the gathered route.
+    for (what, scene, args) in [
+        ("dense furnace", &furnace, vec!["--patches"]),
+        ("dense furnace surfaces", &furnace, vec![]),
+        ("dense open", &open, vec!["--patches"]),
+        ("dense heated room", &heated, vec!["--patches"]),
+        ("dense analytic room", &heated, vec!["--patches", "-m", "analytic"]),
+        ("dense hemicube furnace", &furnace, vec!["--patches", "-m", "hemicube", "--resolution", "32"]),
+    ] {
+        let mut all = vec!["--exchange", "dense"];
+        all.extend(args);
+        assert_same_on(&[None, Some(1), Some(2), Some(3), Some(4)], d, what, "solve", scene, &all);
+    }
+}
+
+/// (first row, end row, store bytes) of each rank's block of the dense store, from the
+/// statistics of `solve --exchange dense` on `np` ranks, and the patch count.
+fn dense_blocks(np: usize, scene: &str, out: &Path) -> (Vec<(usize, usize, usize)>, usize) {
+    let o = Command::new("mpiexec")
+        .args(["-np", &np.to_string(), BIN, "solve", scene, "-o", out.to_str().unwrap()])
+        .args(["--patches", "--exchange", "dense", "--threads", "1"])
+        .env("LAMBERT_MPI_STATS", "1")
+        .output()
+        .expect("run mpiexec");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let mut n = 0;
+    let blocks = err
+        .lines()
+        .filter(|l| l.contains("mpi: dense rank"))
+        .map(|l| {
+            let words: Vec<&str> = l.split_whitespace().collect();
+            let at = |w: &str| words.iter().position(|x| *x == w).unwrap_or_else(|| panic!("{l}"));
+            let (a, b) = words[at("rows") + 1].split_once("..").unwrap();
+            n = words[at("of") + 1].trim_end_matches(',').parse().unwrap();
+            (a.parse().unwrap(), b.parse().unwrap(), words[at("store") - 1].parse().unwrap())
+        })
+        .collect();
+    (blocks, n)
+}
+
+#[test]
+fn each_rank_holds_a_share_of_the_dense_store() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    // Without MPI the store is whole and nothing is reported.
+    let o =
+        run(None, &["solve".into(), furnace.clone(), "-o".into(), d.join("w.csv").to_str().unwrap().into()]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("mpi: dense rank"));
+    for np in [2, 3, 4] {
+        let (blocks, n) = dense_blocks(np, &furnace, &d.join(format!("np{np}.csv")));
+        assert_eq!((blocks.len(), n), (np, 216), "np {np}: {blocks:?}");
+        // Contiguous blocks, every row held once ...
+        assert_eq!((blocks[0].0, blocks[np - 1].1), (0, n), "np {np}: {blocks:?}");
+        assert!(blocks.windows(2).all(|w| w[0].1 == w[1].0), "np {np}: {blocks:?}");
+        // ... the triangle's n(n+1)/2 cells held once in all, about 1/np of them each.
+        let cells = n * (n + 1) / 2;
+        assert_eq!(blocks.iter().map(|b| b.2).sum::<usize>(), 8 * cells, "np {np}: {blocks:?}");
+        for (r, b) in blocks.iter().enumerate() {
+            let share = b.2 as f64 / (8 * cells) as f64;
+            assert!(share > 0.7 / np as f64 && share < 1.3 / np as f64, "np {np}, rank {r}: {share}");
+        }
+    }
+}
+
+#[test]
+fn the_dense_memory_check_is_per_rank_and_a_refusal_ends_every_rank() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    // 216 patches: 23,436 cells of 8 bytes and 25 % headroom, 234 kB in one process; about
+    // half on each of two ranks. 160 kB: too little for one process, enough for two ranks.
+    let solve = |np: Option<usize>, mem: &str, out: &str| {
+        let mut cmd = match np {
+            Some(np) => {
+                let mut c = Command::new("mpiexec");
+                c.args(["-np", &np.to_string(), BIN]);
+                c
+            }
+            None => Command::new(BIN),
+        };
+        let out = d.join(out);
+        cmd.args(["solve", &furnace, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"])
+            .env("LAMBERT_MEM_AVAILABLE", mem)
+            .output()
+            .expect("run lambert")
+    };
+    for np in [None, Some(1)] {
+        let o = solve(np, "160000", "one.csv");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "np {np:?}: {err}");
+        assert!(err.contains("216 patches need about") && err.contains("LAMBERT_MEM_AVAILABLE"), "{err}");
+    }
+    assert!(!d.join("one.csv").exists(), "a refused run wrote its output");
+    let o = solve(Some(2), "160000", "two.csv");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = run(
+        None,
+        &[
+            "solve".into(),
+            furnace.clone(),
+            "-o".into(),
+            d.join("ref.csv").to_str().unwrap().into(),
+            "--patches".into(),
+        ],
+    );
+    assert!(o.status.success());
+    assert!(std::fs::read(d.join("two.csv")).unwrap() == std::fs::read(d.join("ref.csv")).unwrap());
+    // 100 kB: not even half fits. Every rank refuses, rank 0 alone says so, naming the rank.
+    let o = solve(Some(2), "100000", "no.csv");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.matches("per MPI rank").count(), 1, "{err}");
+    assert!(
+        err.contains("shared by 2 ranks (rank 0 holds rows 0..") && err.contains("run on more ranks"),
+        "{err}"
+    );
+    assert!(!d.join("no.csv").exists(), "a refused run wrote its output");
+}
+
+#[test]
+fn a_leaking_scene_is_refused_alike_on_any_rank_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The furnace without its ceiling, still closed (no ambient): every row leaks.
+    let text = std::fs::read_to_string(furnace(d)).unwrap();
+    let parts: Vec<&str> = text.split("[[surface]]").filter(|p| !p.contains("name = \"ceiling\"")).collect();
+    let leaky = d.join("leaky.toml");
+    std::fs::write(&leaky, parts.join("[[surface]]")).unwrap();
+    let mut first: Option<String> = None;
+    for np in [None, Some(2), Some(3)] {
+        let out = d.join("leak.csv");
+        let args: Vec<String> = ["solve", leaky.to_str().unwrap(), "-o", out.to_str().unwrap(), "--patches"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let o = run(np, &args);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert_eq!(o.status.code(), Some(2), "np {np:?}: {err}");
+        let line = err.lines().find(|l| l.contains("error:")).unwrap_or_else(|| panic!("{err}")).to_string();
+        assert!(line.contains("the closed scene leaks: 180 row(s)"), "{line}");
+        assert_eq!(err.matches("error:").count(), 1, "np {np:?}: {err}");
+        assert!(!out.exists(), "a refused run wrote its output");
+        match &first {
+            None => first = Some(line),
+            Some(f) => assert_eq!(f, &line, "np {np:?}"),
+        }
+    }
+}
+
+#[test]
+fn ranks_solving_different_scenes_on_the_dense_store_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let furnace = furnace(d);
+    let text = std::fs::read_to_string(&furnace).unwrap();
+    let out = d.join("q.csv");
+    let solve = |b: &Path| {
+        let args = |scene: &str| -> Vec<String> {
+            ["solve", scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"]
+                .iter()
+                .map(|s| s.to_string())
+                .collect()
+        };
+        Command::new("mpiexec")
+            .args(["-np", "1", BIN])
+            .args(args(&furnace))
+            .arg(":")
+            .args(["-np", "1", BIN])
+            .args(args(b.to_str().unwrap()))
+            .output()
+            .expect("run mpiexec")
+    };
+    // Rank 1's floor is at 900 K: the same geometry, but the ranks would mix two right-hand
+    // sides in one CG. Then another patch count, then a scene that does not load.
+    let cooler = d.join("cooler.toml");
+    std::fs::write(&cooler, text.replacen("temperature = 1000.0", "temperature = 900.0", 1)).unwrap();
+    let finer = d.join("finer.toml");
+    std::fs::write(&finer, text.replacen("subdivide = [6, 6]", "subdivide = [5, 5]", 1)).unwrap();
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, "[[surface]]\nname = \"a\"\n").unwrap();
+    for (scene, says) in [
+        (&cooler, "do not hold the same patch count, surface conditions and dense store"),
+        (&finer, "do not hold the same patch count, surface conditions and dense store"),
+        (&bad, "rank 1 is finishing while rank 0 is about to check the memory of the dense store"),
+    ] {
+        let o = solve(scene);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{}: {err}", scene.display());
+        assert!(err.contains(says), "{}: {err}", scene.display());
+        assert!(!out.exists(), "a refused run wrote its output");
+    }
 }

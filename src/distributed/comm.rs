@@ -31,6 +31,8 @@ pub const TAG_ROWS: u64 = 1;
 pub const TAG_FINISH: u64 = 2;
 /// Tag of the sync point before the link hierarchy is refined.
 pub const TAG_HIERARCHY: u64 = 3;
+/// Tag of the sync point before the ranks check that their row blocks of the dense store fit.
+pub const TAG_STORE: u64 = 4;
 
 static UNIVERSE: Mutex<Option<Universe>> = Mutex::new(None);
 static RANK_SIZE: OnceLock<(usize, usize)> = OnceLock::new();
@@ -124,6 +126,7 @@ fn tag_name(tag: u64) -> &'static str {
         TAG_ROWS => "about to compute view-factor rows",
         TAG_FINISH => "finishing",
         TAG_HIERARCHY => "about to refine the link hierarchy",
+        TAG_STORE => "about to check the memory of the dense store",
         _ => "somewhere unknown",
     }
 }

@@ -10,9 +10,11 @@
 //! - [`reduce`]: reductions in a fixed order (an ordered chain, all-gathers), bit-identical to
 //!   one process, for the distributed link hierarchy.
 //!
-//! Rank 0 is the root: it prints, writes and decides the exit code. The other ranks send their
-//! rows and leave (see `viewfactor::distributed`); their stderr is silenced unless
-//! [`VERBOSE_VAR`] is set.
+//! Rank 0 is the root: it prints, writes and decides the exit code. On the routes that gather
+//! (`viewfactors`, the sparse store, kernels that fold rows) the other ranks send their rows
+//! and leave (see `viewfactor::distributed`); on the dense `solve` route each rank keeps its
+//! row block and runs the route to its end (`exchange::rowblock`), as on the hierarchical
+//! route. The other ranks' stderr is silenced unless [`VERBOSE_VAR`] is set.
 pub mod partition;
 pub mod reduce;
 
@@ -55,6 +57,16 @@ pub fn agree(hash: u64, what: &str) {
     #[cfg(feature = "mpi")]
     if comm::active() {
         comm::check(comm::TAG_HIERARCHY, hash, what);
+    }
+    #[cfg(not(feature = "mpi"))]
+    let _ = (hash, what);
+}
+
+/// As [`agree`], at the step where the ranks check that their blocks of the dense store fit.
+pub fn agree_store(hash: u64, what: &str) {
+    #[cfg(feature = "mpi")]
+    if comm::active() {
+        comm::check(comm::TAG_STORE, hash, what);
     }
     #[cfg(not(feature = "mpi"))]
     let _ = (hash, what);

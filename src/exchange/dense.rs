@@ -16,7 +16,6 @@ use crate::error::InputError;
 use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::MethodSet;
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 /// Loosest relative CG residual of a Newton step (inexact Newton forcing term).
 const NEWTON_FORCING: f64 = 1e-2;
@@ -62,9 +61,7 @@ fn diagnostics(
 
 /// max |s̄_ij| and the count of negative entries, in one pass over the store.
 fn max_abs_and_negatives(t: &PackedTriangular) -> (f64, usize) {
-    t.s.par_iter()
-        .fold(|| (0.0, 0), |(m, k), &x| (f64::max(m, x.abs()), k + usize::from(x < 0.0)))
-        .reduce(|| (0.0, 0), |a, b| (a.0.max(b.0), a.1 + b.1))
+    t.max_abs_and_negatives()
 }
 
 /// Applies `p.mode` in place and sets the ambient of open scenes. Only the default closure
@@ -128,12 +125,7 @@ fn closure_error(sums: &[f64], areas: &[f64]) -> f64 {
 
 /// Multiplies s̄_ij by g_i g_j in place.
 fn rescale(t: &mut PackedTriangular, g: &[f64]) {
-    let rows = t.rows_mut();
-    rows.into_par_iter().enumerate().for_each(|(i, row)| {
-        for (s, gj) in row.iter_mut().zip(&g[i..]) {
-            *s *= g[i] * gj;
-        }
-    });
+    t.scale(g);
 }
 
 /// Closure Σ_j s̄_ij g_i g_j = A_i by Newton on log g (the step solves

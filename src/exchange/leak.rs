@@ -53,6 +53,46 @@ impl LeakRow {
     fn new(name: &str, row_sum: f64) -> Self {
         Self { name: name.to_string(), row_sum, sampled: 0, entries: 0, worst: None }
     }
+    /// The same row with nothing counted yet (the start of a merge across MPI ranks).
+    pub(crate) fn emptied(&self) -> Self {
+        Self::new(&self.name, self.row_sum)
+    }
+
+    /// The counts and worst entry, as bytes for [`LeakRow::merge_bytes`].
+    pub(crate) fn partial_bytes(&self) -> Vec<u8> {
+        let mut b = Vec::new();
+        b.extend_from_slice(&(self.entries as u64).to_le_bytes());
+        b.extend_from_slice(&(self.sampled as u64).to_le_bytes());
+        if let Some(w) = &self.worst {
+            b.push(1);
+            b.extend_from_slice(&(w.to.len() as u64).to_le_bytes());
+            b.extend_from_slice(w.to.as_bytes());
+            b.extend_from_slice(&w.factor.to_bits().to_le_bytes());
+            b.extend_from_slice(&w.std_error.to_bits().to_le_bytes());
+        } else {
+            b.push(0);
+        }
+        b
+    }
+
+    /// Adds the counts of [`LeakRow::partial_bytes`] at the start of `b` and takes its worst
+    /// entry when larger (as [`LeakRow::add`] would, entry by entry); returns the rest of `b`.
+    pub(crate) fn merge_bytes<'a>(&mut self, b: &'a [u8]) -> Option<&'a [u8]> {
+        let word = |b: &[u8], o: usize| Some(u64::from_le_bytes(b.get(o..o + 8)?.try_into().ok()?));
+        self.entries += usize::try_from(word(b, 0)?).ok()?;
+        self.sampled += usize::try_from(word(b, 8)?).ok()?;
+        if *b.get(16)? == 0 {
+            return Some(&b[17..]);
+        }
+        let len = usize::try_from(word(b, 17)?).ok()?;
+        let to = String::from_utf8_lossy(b.get(25..25 + len)?).into_owned();
+        let (factor, std_error) = (f64::from_bits(word(b, 25 + len)?), f64::from_bits(word(b, 33 + len)?));
+        if self.worst.as_ref().is_none_or(|w| std_error > w.std_error) {
+            self.worst = Some(SampledEntry { to, factor, std_error });
+        }
+        Some(&b[41 + len..])
+    }
+
     fn add(&mut self, to: &str, factor: f64, std_error: f64) {
         self.entries += usize::from(factor != 0.0);
         if std_error > 0.0 {
@@ -117,7 +157,8 @@ pub fn rows_from_triangle(t: &PackedTriangular, names: &[String], leaks: &[(usiz
             }
         }
     }
-    rows
+    // Under MPI each rank saw its own rows' entries only.
+    super::rowblock::merge_leak_rows(t, rows)
 }
 
 /// The hint for `rows` (worst first), or an empty string when the facts name no cause.
@@ -464,5 +505,26 @@ mod tests {
             assert!((w.factor - 0.3).abs() < 1e-15 && (w.std_error - 0.01).abs() < 1e-15, "{w:?}");
             assert!(rows[2].worst.is_none());
         }
+    }
+
+    #[test]
+    fn partial_rows_merged_in_order_equal_the_rows_added_in_one_pass() {
+        // Entries of one leaking row as two MPI ranks see them: rank 0 the first three,
+        // rank 1 the rest. Two entries tie on the largest error: the first one seen wins.
+        let entries =
+            [("a", 0.1, 0.0), ("b", 0.2, 0.03), ("c", 0.0, 0.01), ("d", 0.3, 0.03), ("e", 0.1, 0.02)];
+        let mut whole = LeakRow::new("w#0", 0.6);
+        entries.iter().for_each(|e| whole.add(e.0, e.1, e.2));
+        let mut parts = [LeakRow::new("w#0", 0.6), LeakRow::new("w#0", 0.6)];
+        entries[..3].iter().for_each(|e| parts[0].add(e.0, e.1, e.2));
+        entries[3..].iter().for_each(|e| parts[1].add(e.0, e.1, e.2));
+        let mut merged = parts[0].emptied();
+        for p in &parts {
+            let bytes = p.partial_bytes();
+            assert_eq!(merged.merge_bytes(&bytes), Some(&[][..]));
+        }
+        assert_eq!(merged, whole);
+        assert_eq!(whole.worst.as_ref().map(|w| w.to.as_str()), Some("b"));
+        assert!(merged.merge_bytes(&parts[1].partial_bytes()[..20]).is_none(), "a cut record is refused");
     }
 }

@@ -32,6 +32,7 @@ pub(crate) mod lsq;
 pub(crate) mod memory;
 pub(crate) mod ml;
 pub mod operator;
+pub mod rowblock;
 pub(crate) mod scaling;
 
 pub use diagnostics::Diagnostics;

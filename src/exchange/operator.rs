@@ -1,6 +1,6 @@
 //! The exchange operator that enforcement and the solves work on, whatever stores it: the
 //! sparse patch pairs ([`Exchange`], sprs CSR), the packed triangle of the dense path
-//! (`PackedTriangular`) or the link hierarchy of the clustered path. Everything they need is a
+//! (`PackedTriangular`, whole or, under MPI, one row block per rank: `super::rowblock`) or the link hierarchy of the clustered path. Everything they need is a
 //! scaled mat-vec W S W x, the areas, the diagonal s_ii, the row sums and (for the anchoring
 //! diagnostic only) the coupled pairs. The systems built on it (closure Newton steps, the
 //! net-radiation K = D − S) reach faer's conjugate gradients as a
@@ -47,19 +47,13 @@ impl Operator for PackedTriangular {
         PackedTriangular::matvec_scaled(self, w, x)
     }
     fn self_term(&self, i: usize) -> f64 {
-        self.row(i)[0]
+        PackedTriangular::self_term(self, i)
     }
     fn row_sums(&self) -> Vec<f64> {
         PackedTriangular::row_sums(self)
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
-        for i in 0..self.n {
-            for (k, &s) in self.row(i).iter().enumerate().skip(1) {
-                if s != 0.0 {
-                    f(i, i + k);
-                }
-            }
-        }
+        super::rowblock::couplings(self, f);
     }
 }
 

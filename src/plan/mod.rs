@@ -413,7 +413,9 @@ impl Plan {
             Store::Hierarchical => Reason::Asked,
             Store::Auto if !served => return Ok(packed(Reason::OnlySparse)),
             Store::Auto => {
-                let fits = exchange::dense::check_fits(n, PACKED_BYTES_PER_PAIR, &scene.source).is_ok();
+                // Under MPI: each rank's row block against its own memory, agreed.
+                let symmetric = req.method.is_symmetric();
+                let fits = exchange::rowblock::check_fits(scene, PACKED_BYTES_PER_PAIR, symmetric).is_ok();
                 // A tight tolerance costs the links more than the dense store costs the pairs.
                 let tight = req.tolerance.is_some_and(|t| t < HIERARCHICAL_MIN_TOLERANCE);
                 let exact = clustered_kernel(req.method);

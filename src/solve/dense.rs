@@ -1,7 +1,9 @@
 //! The lean dense solve: the net-radiation system K J = b (K = D − S̄ on the unknowns, black
 //! surfaces eliminated, docs/literature.md §5) solved by Jacobi-preconditioned conjugate gradients
 //! with the symmetric packed mat-vec of `crate::viewfactor::packed::PackedTriangular`. K is never assembled: the only N²
-//! object is the triangle of exchange areas, read once per iteration.
+//! object is the triangle of exchange areas, read once per iteration. Under MPI each rank
+//! holds a row block of it and every product adds the ranks' blocks in a fixed order
+//! (`crate::exchange::rowblock`): every rank runs the same CG on the same numbers.
 //!
 //! - [`solve_gray`]: solve on an enforced [`DenseExchange`];
 //! - [`solve_scene`]: view factors → enforcement → solve, the whole `solve` run on the lean
@@ -64,7 +66,8 @@ pub fn solve_scene_with(
     params: &Params,
     step: &mut dyn FnMut(Phase, &DenseExchange),
 ) -> Result<Option<DenseRun>> {
-    let Some(mut ex) = dense::build(scene, vf)? else { return Ok(None) };
+    // Under MPI each rank keeps its row block of the store (`crate::exchange::rowblock`).
+    let Some(mut ex) = crate::exchange::rowblock::build(scene, vf)? else { return Ok(None) };
     step(Phase::Enforcement, &ex);
     let facts = Some(std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene)));
     let p = EnforceParams {
@@ -79,7 +82,9 @@ pub fn solve_scene_with(
     let solution = solve_gray(scene, &ex, params)?;
     let flags = std::mem::take(&mut ex.t.flags);
     let warnings = std::mem::take(&mut ex.t.warnings);
-    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes: ex.t.bytes(), warnings, flags }))
+    crate::exchange::rowblock::report(&ex.t);
+    let store_bytes = crate::exchange::rowblock::total_bytes(&ex.t);
+    Ok(Some(DenseRun { solution, report, pairs: ex.t.pairs, store_bytes, warnings, flags }))
 }
 
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for

@@ -7,7 +7,9 @@
 //! engine or packed fill over a [`Gathered`] kernel that hands back those rows, so its outputs
 //! are byte-identical to a run without MPI (Monte Carlo streams are keyed by row, never by
 //! rank). The other ranks leave after sending. The flags and goal misses each rank's kernel
-//! recorded travel with the rows and are merged into rank 0's kernel.
+//! recorded travel with the rows and are merged into rank 0's kernel. The dense `solve`
+//! route with a symmetric kernel does not gather: each rank keeps its rows
+//! ([`super::row_block`]).
 //!
 //! The wire format ([`encode`], [`decode`]) is little-endian and private to one run (and to
 //! the part files of [`super::shard`], which carry their format version).

@@ -43,6 +43,7 @@ pub(crate) mod projection;
 pub mod range;
 pub(crate) mod registry;
 pub(crate) mod row;
+pub(crate) mod row_block;
 pub mod shadow;
 pub mod shard;
 pub mod single_plane;
@@ -184,6 +185,17 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 /// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
 /// per-entry variances and hit counts need the sparse store.
 pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<packed::PackedTriangular>> {
+    compute_triangle_with(scene, params, false)
+}
+
+/// As [`compute_triangle`]; with `keep_rows`, under MPI each rank computes and keeps its own
+/// row block of a symmetric kernel's triangle (`row_block`, the `solve` route) instead of
+/// gathering every row to rank 0.
+pub fn compute_triangle_with(
+    scene: &Scene,
+    params: &Params,
+    keep_rows: bool,
+) -> Result<Option<packed::PackedTriangular>> {
     let Some(kernel) = row_kernel(scene, params)? else { return Ok(None) };
     progress::enter(progress::Phase::ViewFactors);
     let n = scene.patches.len() as u64;
@@ -197,9 +209,19 @@ pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<packed:
         }
     });
     let mode = progress::Mode::for_stderr(params.progress);
+    let options = format!("packed {}", params.agreement());
+    if let Some(held) = keep_rows.then(|| row_block::keeps_rows(n as usize, symmetric)).flatten() {
+        // This rank's rows only: the progress counts its share.
+        let pairs = held.clone().map(|i| n - i as u64).sum();
+        let cost = costs[held.clone()].iter().sum();
+        let progress = progress::Progress::start_costed(pairs, "pairs", mode, cost);
+        let t = row_block::fill(scene, kernel.as_ref(), &options, held, &progress, &costs)?;
+        progress.finish();
+        return Ok(Some(t));
+    }
     let progress = progress::Progress::start_costed(total, "pairs", mode, costs.iter().sum());
     // Under mpirun: every rank computes a block of rows, rank 0 fills the store (others exit).
-    let gathered = shard::split_rows(scene, kernel.as_ref(), &format!("packed {}", params.agreement()))?;
+    let gathered = shard::split_rows(scene, kernel.as_ref(), &options)?;
     let kernel: &dyn engine::RowKernel = match &gathered {
         Some(g) => g,
         None => kernel.as_ref(),

@@ -5,7 +5,10 @@
 //! row is uniform (deterministic methods have no variance).
 //!
 //! - [`PackedTriangular`]: the store, packed row access and the symmetric mat-vec y = S x used by
-//!   closure and the solve (fixed chunking: identical on any thread count);
+//!   closure and the solve (fixed row blocks, [`matvec_blocks`]: identical on any thread count);
+//!   under MPI on the `solve` route each rank holds a contiguous run of those blocks
+//!   ([`PackedTriangular::held`], filled by `super::row_block`) and the blocks' partial
+//!   products are added in block order across the ranks, so the sums are those of one process;
 //! - [`fill`]: runs a [`RowKernel`] straight into the triangle. Symmetric kernels (j > i only)
 //!   write their row into its own packed slice in parallel; the others are computed in
 //!   bounded waves and folded serially, each cell receiving s_ij then s_ji.
@@ -15,6 +18,7 @@ use super::MethodSet;
 use crate::scene::Scene;
 use crate::{Error, Result};
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// One entry of a row that is not described by the row's default method alone.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,16 +58,45 @@ pub struct PackedTriangular {
     pub warnings: Vec<String>,
     /// Patch pairs whose entry the method could not bound (reported on stderr).
     pub flags: Vec<super::Flag>,
+    /// Rows held in `s`: every row in one process; under MPI on the `solve` route, this rank's
+    /// row block (`row_method` and `exceptions` are set on these rows only).
+    pub held: Range<usize>,
+    /// True when other MPI ranks hold the other rows: the sums over the store are collectives.
+    pub distributed: bool,
+    /// s̄_ii of every node when `distributed` (kept in step with `s`), else empty.
+    pub diag: Vec<f64>,
 }
 
-/// Rows per task of the symmetric mat-vec: a fixed count, so sums never depend on threads.
-const MATVEC_BLOCKS: usize = 64;
+/// Fewest row blocks of the symmetric mat-vec: a count fixed by n alone, so sums never depend
+/// on threads or ranks.
+pub const MATVEC_BLOCKS: usize = 64;
+/// Patches per row block above [`MATVEC_BLOCKS`] blocks: beyond 131,072 patches more than 64
+/// ranks can each hold a block (the single-process sums there change order, nothing below).
+const PATCHES_PER_BLOCK: usize = 2048;
+/// Most row blocks (1M patches: 488).
+const MAX_MATVEC_BLOCKS: usize = 4096;
+
+/// Row blocks of the mat-vec of order `n` (a function of `n` alone).
+pub fn matvec_blocks(n: usize) -> usize {
+    (n / PATCHES_PER_BLOCK).clamp(MATVEC_BLOCKS, MAX_MATVEC_BLOCKS)
+}
+
+/// Row bounds of the mat-vec's blocks for order `n`: blocks of about equal area.
+pub fn matvec_bounds(n: usize) -> Vec<usize> {
+    block_bounds(n, matvec_blocks(n))
+}
 
 impl PackedTriangular {
     /// An all-zero triangle of order `n`, refusing sizes whose length overflows.
     pub fn zeros(n: usize, areas: Vec<f64>) -> Result<Self> {
-        let len =
-            packed_len(n).ok_or_else(|| Error::Compute(format!("{n} nodes overflow the packed store")))?;
+        Self::zeros_rows(n, areas, 0..n)
+    }
+
+    /// An all-zero block `held` of the rows of a triangle of order `n`.
+    pub fn zeros_rows(n: usize, areas: Vec<f64>, held: Range<usize>) -> Result<Self> {
+        let overflow = || Error::Compute(format!("{n} nodes overflow the packed store"));
+        packed_len(n).ok_or_else(overflow)?;
+        let len = row_offset(n, held.end) - row_offset(n, held.start);
         Ok(Self {
             n,
             s: vec![0.0; len],
@@ -77,13 +110,26 @@ impl PackedTriangular {
             pairs: 0,
             warnings: Vec::new(),
             flags: Vec::new(),
+            held,
+            distributed: false,
+            diag: Vec::new(),
         })
     }
 
-    /// Start of row i in the packed store.
+    /// Start of row i (a held row) in the packed store.
     #[inline]
     pub fn offset(&self, i: usize) -> usize {
-        row_offset(self.n, i)
+        debug_assert!(self.held.contains(&i) || i == self.held.end, "row {i} is not held here");
+        row_offset(self.n, i) - row_offset(self.n, self.held.start)
+    }
+
+    /// s̄_ii, wherever row i is held.
+    pub fn self_term(&self, i: usize) -> f64 {
+        if self.distributed {
+            self.diag[i]
+        } else {
+            self.row(i)[0]
+        }
     }
 
     /// Row i (columns i..n).
@@ -108,11 +154,11 @@ impl PackedTriangular {
         }
     }
 
-    /// Mutable rows, one slice per row, in order.
+    /// Mutable held rows, one slice per row, in order (the first is row `held.start`).
     pub fn rows_mut(&mut self) -> Vec<&mut [f64]> {
-        let mut out = Vec::with_capacity(self.n);
+        let mut out = Vec::with_capacity(self.held.len());
         let mut rest: &mut [f64] = &mut self.s;
-        for i in 0..self.n {
+        for i in self.held.clone() {
             let (row, tail) = std::mem::take(&mut rest).split_at_mut(self.n - i);
             out.push(row);
             rest = tail;
@@ -120,20 +166,61 @@ impl PackedTriangular {
         out
     }
 
+    /// Multiplies s̄_ij by g_i g_j in place (the diagonal copy too).
+    pub fn scale(&mut self, g: &[f64]) {
+        let lo = self.held.start;
+        let rows = self.rows_mut();
+        rows.into_par_iter().enumerate().for_each(|(k, row)| {
+            let i = lo + k;
+            for (s, gj) in row.iter_mut().zip(&g[i..]) {
+                *s *= g[i] * gj;
+            }
+        });
+        // The same product as the row's first cell: s̄_ii g_i g_i.
+        self.diag.iter_mut().zip(g).for_each(|(d, gi)| *d *= gi * gi);
+    }
+
+    /// max |s̄_ij| and the count of negative entries over the whole store (a collective when
+    /// `distributed`).
+    pub fn max_abs_and_negatives(&self) -> (f64, usize) {
+        let (m, k) = self
+            .s
+            .par_iter()
+            .fold(|| (0.0, 0), |(m, k), &x| (f64::max(m, x.abs()), k + usize::from(x < 0.0)))
+            .reduce(|| (0.0, 0), |a, b| (a.0.max(b.0), a.1 + b.1));
+        if !self.distributed {
+            return (m, k);
+        }
+        let all = crate::distributed::reduce::all_gather_bytes(
+            &[m.to_le_bytes(), (k as u64).to_le_bytes()].concat(),
+        );
+        all.iter().fold((0.0, 0), |(m, k), b| {
+            let word = |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().expect("16 bytes a rank"));
+            (f64::max(m, f64::from_bits(word(0))), k + word(8) as usize)
+        })
+    }
+
     /// y = W S W x with W = diag(w) (w = None: y = S x), the full symmetric product from the
-    /// upper triangle. Deterministic: fixed row blocks, partial column sums added in order.
+    /// upper triangle. Deterministic: fixed row blocks ([`matvec_bounds`]), partial column sums
+    /// added in block order; under MPI each rank adds its blocks to the running sum of the
+    /// ranks before it ([`crate::distributed::reduce::ordered_sum`]), the same additions.
     pub fn matvec_scaled(&self, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
         let n = self.n;
         let wx: Vec<f64> = match w {
             Some(w) => x.iter().zip(w).map(|(x, w)| x * w).collect(),
             None => x.to_vec(),
         };
-        let blocks = block_bounds(n, MATVEC_BLOCKS);
+        let bounds = matvec_bounds(n);
+        let held = &self.held;
+        let blocks: Vec<(usize, usize)> = bounds
+            .windows(2)
+            .map(|b| (b[0], b[1]))
+            .filter(|&(lo, hi)| lo >= held.start && hi <= held.end)
+            .collect();
         // Each block: its own rows' y_i (row part) and a partial column vector for j ≥ lo.
         let parts: Vec<(usize, Vec<f64>)> = blocks
-            .par_windows(2)
-            .map(|b| {
-                let (lo, hi) = (b[0], b[1]);
+            .par_iter()
+            .map(|&(lo, hi)| {
                 let mut col = vec![0.0; n - lo];
                 for i in lo..hi {
                     let row = self.row(i);
@@ -145,12 +232,26 @@ impl PackedTriangular {
                 (lo, col)
             })
             .collect();
-        let mut y = vec![0.0; n];
-        for (lo, col) in parts {
-            for (k, c) in col.into_iter().enumerate() {
-                y[lo + k] += c;
+        let add = |y: &mut [f64]| {
+            for (lo, col) in parts {
+                for (k, c) in col.into_iter().enumerate() {
+                    y[lo + k] += c;
+                }
             }
-        }
+        };
+        let mut y = if self.distributed {
+            // Every rank must add its blocks: a product off the main thread would silently
+            // miss the other ranks' rows.
+            assert!(
+                crate::distributed::reduce::active(),
+                "a distributed store's product outside the MPI collectives"
+            );
+            crate::distributed::reduce::ordered_sum(n, add)
+        } else {
+            let mut y = vec![0.0; n];
+            add(&mut y);
+            y
+        };
         if let Some(w) = w {
             y.iter_mut().zip(w).for_each(|(y, w)| *y *= w);
         }
@@ -279,13 +380,29 @@ fn fill_symmetric(
     progress: &Progress,
     costs: &[u64],
 ) -> Result<()> {
-    let n = t.n;
+    if let Some((_, e)) = fill_held(t, kernel, progress, costs) {
+        return Err(e);
+    }
+    mirror(t);
+    Ok(())
+}
+
+/// Fills the held rows of `t` with a symmetric kernel and sets their raw row sums, variances,
+/// methods and pairs; returns the first held row that failed (later rows are left unset).
+pub(super) fn fill_held(
+    t: &mut PackedTriangular,
+    kernel: &dyn RowKernel,
+    progress: &Progress,
+    costs: &[u64],
+) -> Option<(usize, Error)> {
+    let (n, lo) = (t.n, t.held.start);
     let rows = t.rows_mut();
     let outs: Vec<Result<RowOut>> = rows
         .into_par_iter()
         .with_max_len(1)
         .enumerate()
-        .map(|(i, slot)| {
+        .map(|(k, slot)| {
+            let i = lo + k;
             // The store is fresh from the kernel: writing first maps each page once, where
             // `+=` would map the shared zero page and fault again (a TLB flush on every core).
             slot.fill(0.0);
@@ -307,21 +424,56 @@ fn fill_symmetric(
             Ok((def, ex, sum, var, methods, row.pairs))
         })
         .collect();
-    for (i, o) in outs.into_iter().enumerate() {
-        let (def, ex, sum, var, methods, pairs) = o?;
-        t.row_method[i] = def;
-        t.exceptions[i] = ex;
-        t.raw_row_sums[i] = sum;
-        t.raw_row_vars[i] = var;
-        t.raw_row_methods[i] = methods;
-        t.pairs += pairs;
+    for (k, o) in outs.into_iter().enumerate() {
+        let i = lo + k;
+        match o {
+            Ok((def, ex, sum, var, methods, pairs)) => {
+                t.row_method[i] = def;
+                t.exceptions[i] = ex;
+                t.raw_row_sums[i] = sum;
+                t.raw_row_vars[i] = var;
+                t.raw_row_methods[i] = methods;
+                t.pairs += pairs;
+            }
+            Err(e) => return Some((i, e)),
+        }
     }
-    // Mirror s_ji = s_ij into the column sums, variances and methods of the raw rows.
+    None
+}
+
+/// Mirrors s_ji = s_ij of a symmetric kernel's rows into the column sums, variances and
+/// methods of the raw rows (collectives when `t.distributed`: every rank calls it).
+pub(super) fn mirror(t: &mut PackedTriangular) {
+    let n = t.n;
     t.raw_row_sums = t.matvec_scaled(None, &vec![1.0; n]);
+    let held = t.held.clone();
     let mut extra_var = vec![0.0; n];
-    for (i, ex) in t.exceptions.iter().enumerate() {
-        for e in ex.iter().filter(|e| e.j as usize != i) {
-            extra_var[e.j as usize] += e.var;
+    if t.distributed {
+        use crate::distributed::reduce;
+        // The held rows' own variances, then their mirrored ones, added in row order across
+        // the ranks (as one process adds them).
+        let (vars, ex) = (&t.raw_row_vars, &t.exceptions);
+        let both = reduce::ordered_sum(2 * n, |v| {
+            for i in held.clone() {
+                v[i] += vars[i];
+                for e in ex[i].iter().filter(|e| e.j as usize != i) {
+                    v[n + e.j as usize] += e.var;
+                }
+            }
+        });
+        t.raw_row_vars.copy_from_slice(&both[..n]);
+        extra_var.copy_from_slice(&both[n..]);
+        let mine = t.raw_row_methods[held.clone()].iter().fold(MethodSet::default(), |a, &m| a.union(m));
+        for bits in reduce::all_gather_u64(u64::from(mine.bits())) {
+            let m = MethodSet(bits as u8);
+            t.raw_row_methods.iter_mut().for_each(|r| *r = r.union(m));
+        }
+        t.pairs = reduce::all_gather_u64(t.pairs).iter().sum();
+    } else {
+        for (i, ex) in t.exceptions.iter().enumerate() {
+            for e in ex.iter().filter(|e| e.j as usize != i) {
+                extra_var[e.j as usize] += e.var;
+            }
         }
     }
     // The mirrored half's methods are not tracked per entry: every row also takes every
@@ -333,7 +485,6 @@ fn fill_symmetric(
     for (v, e) in t.raw_row_vars.iter_mut().zip(extra_var) {
         *v += e;
     }
-    Ok(())
 }
 
 /// Cells per task when the store's pages are mapped up front (2 MB).

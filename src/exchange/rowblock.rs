@@ -1,0 +1,209 @@
+//! The dense exchange store of the `solve` route under MPI: every rank keeps its own row block
+//! of the packed triangle (`crate::viewfactor::row_block`), and enforcement, the CG solve and
+//! the error propagation run on it through the ordinary [`super::operator::Operator`] of
+//! `PackedTriangular`, whose sums become collectives in a fixed order:
+//!
+//! - the mat-vec: each rank's row blocks' partial products, added in block order along the
+//!   ranks (`PackedTriangular::matvec_scaled`); x and y are replicated O(N) vectors, so every
+//!   rank runs the same CG and gets bit-identical numbers, the same as one process;
+//! - max |s̄| and the negative count (`PackedTriangular::max_abs_and_negatives`);
+//! - the coupled groups for the anchoring check ([`couplings`]: each rank's group labels,
+//!   all-gathered), and the leaking rows named in a refusal ([`merge_leak_rows`]);
+//! - [`check_fits`]: the memory refusal rule per rank (each rank's block against its own
+//!   available memory, agreed across the ranks: a refusal ends every rank with one message);
+//! - [`build`] (view factors into the block), [`total_bytes`] and [`report`] (per-rank rows,
+//!   store bytes and bytes sent, printed by rank 0 under `LAMBERT_MPI_STATS`).
+//!
+//! Without MPI (or on one rank, or with a kernel that is not symmetric, whose rows are
+//! gathered to rank 0) every function here is the single-process one.
+use super::dense::{self, DenseExchange, DENSE_PEAK_FACTOR};
+use super::leak::LeakRow;
+use super::memory::{self, Available, Bound};
+use crate::distributed::reduce;
+use crate::error::InputError;
+use crate::scene::Scene;
+use crate::viewfactor::packed::PackedTriangular;
+use crate::viewfactor::row_block;
+use crate::Result;
+use std::hash::Hasher;
+
+/// Computes the patch-level lean store of `scene` for the `solve` route (after the memory
+/// check): under MPI each rank keeps its row block; `None` when the method needs the sparse
+/// store (Monte Carlo).
+pub fn build(scene: &Scene, params: &crate::viewfactor::Params) -> Result<Option<DenseExchange>> {
+    if params.method.is_monte_carlo() {
+        return Ok(None);
+    }
+    check_fits(scene, 8.0, params.method.is_symmetric())?;
+    let Some(t) = crate::viewfactor::compute_triangle_with(scene, params, true)? else { return Ok(None) };
+    let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
+    Ok(Some(DenseExchange { t, names, ambient: None }))
+}
+
+/// The bounds of [`memory::available`] in the order they travel between ranks.
+const BOUNDS: [Bound; 5] = [Bound::Override, Bound::Free, Bound::AddressSpace, Bound::Data, Bound::Cgroup];
+
+/// [`dense::check_fits`] for the store of the `solve` route: under MPI with a `symmetric`
+/// kernel each rank checks its own row block (`bytes_per_pair` × its pairs, plus headroom)
+/// against its own available memory, and the ranks agree: when one does not fit, every rank
+/// returns the same error (exit code 2) naming it. Otherwise the single-process check.
+pub fn check_fits(scene: &Scene, bytes_per_pair: f64, symmetric: bool) -> Result<()> {
+    let (n, source) = (scene.patches.len(), scene.source.as_path());
+    let Some(held) = row_block::keeps_rows(n, symmetric) else {
+        return dense::check_fits(n, bytes_per_pair, source);
+    };
+    crate::distributed::agree_store(
+        conditions_hash(scene, bytes_per_pair),
+        "patch count, surface conditions and dense store",
+    );
+    let pairs: f64 = held.clone().map(|i| (n - i) as f64).sum();
+    let need = pairs * bytes_per_pair * DENSE_PEAK_FACTOR;
+    let avail = memory::available();
+    let mut mine = Vec::with_capacity(17);
+    mine.extend_from_slice(&need.to_bits().to_le_bytes());
+    mine.extend_from_slice(&avail.map_or(u64::MAX, |a| a.bytes).to_le_bytes());
+    mine.push(avail.map_or(0, |a| BOUNDS.iter().position(|&b| b == a.bound).unwrap_or(0) as u8));
+    let all = reduce::all_gather_bytes(&mine);
+    let size = all.len();
+    for (r, b) in all.iter().enumerate() {
+        let word = |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().expect("17 bytes a rank"));
+        let (need, bytes) = (f64::from_bits(word(0)), word(8));
+        let avail = Available { bytes, bound: BOUNDS[usize::from(b[16]).min(BOUNDS.len() - 1)] };
+        if need <= avail.bytes as f64 {
+            continue;
+        }
+        let rows = row_block::held_rows(n, r, size);
+        return Err(InputError::file(
+            source,
+            format!(
+                "{n} patches need about {:.1} GB per MPI rank for the dense exchange matrix shared by {size} \
+                 ranks (rank {r} holds rows {}..{}: {pairs:.0} pairs × {bytes_per_pair} bytes) but only {:.1} GB \
+                 is available to rank {r} ({}); run on more ranks, or use `{} hierarchical`, or coarser \
+                 `subdivide`",
+                need / 1e9,
+                rows.start,
+                rows.end,
+                avail.bytes as f64 / 1e9,
+                avail.bound,
+                crate::error::opt("exchange"),
+                pairs = rows.clone().map(|i| (n - i) as f64).sum::<f64>(),
+            ),
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// Hash of what the ranks of a distributed solve must share besides the geometry (checked
+/// when the view factors start): the patch count, each surface's emissivity and condition,
+/// the ambient, and the store's bytes per pair. Ranks whose conditions differed would mix
+/// their right-hand sides in one CG.
+fn conditions_hash(scene: &Scene, bytes_per_pair: f64) -> u64 {
+    let mut h = fnv::FnvHasher::default();
+    h.write_u64(scene.patches.len() as u64);
+    h.write_u64(bytes_per_pair.to_bits());
+    for s in &scene.surfaces {
+        h.write_u64(s.emissivity.to_bits());
+        h.write(format!("{:?}", s.condition).as_bytes());
+    }
+    h.write(format!("{:?}", scene.ambient.map(|a| a.temperature.to_bits())).as_bytes());
+    h.finish()
+}
+
+/// Bytes of the whole store: every rank's block summed (a collective when distributed).
+pub fn total_bytes(t: &PackedTriangular) -> usize {
+    if !t.distributed {
+        return t.bytes();
+    }
+    reduce::all_gather_u64(t.bytes() as u64).iter().sum::<u64>() as usize
+}
+
+/// Under MPI with [`crate::distributed::STATS_VAR`] set and a distributed store: rank 0 prints
+/// each rank's rows, store bytes and the bytes it sent (a collective: every rank calls it).
+pub fn report(t: &PackedTriangular) {
+    use crate::distributed::STATS_VAR;
+    if !t.distributed || std::env::var_os(STATS_VAR).is_none() {
+        return;
+    }
+    let mut mine = Vec::with_capacity(32);
+    for v in [t.held.start as u64, t.held.end as u64, t.bytes() as u64, reduce::bytes_sent()] {
+        mine.extend_from_slice(&v.to_le_bytes());
+    }
+    let all = reduce::all_gather_bytes(&mine);
+    if crate::distributed::writes_outputs() {
+        for (r, b) in all.iter().enumerate() {
+            let word =
+                |k: usize| u64::from_le_bytes(b[8 * k..8 * k + 8].try_into().expect("32 bytes a rank"));
+            eprintln!(
+                "lambert: mpi: dense rank {r} holds rows {}..{} of {}, {} store bytes, sent {} bytes",
+                word(0),
+                word(1),
+                t.n,
+                word(2),
+                word(3)
+            );
+        }
+    }
+}
+
+/// Calls `f(i, j)` for pairs that couple i and j, enough to join every group of coupled
+/// patches: the held rows' couplings, and under MPI every rank's groups as each patch's
+/// group label (its smallest patch), all-gathered (a collective).
+pub fn couplings(t: &PackedTriangular, f: &mut dyn FnMut(usize, usize)) {
+    let held = |f: &mut dyn FnMut(usize, usize)| {
+        for i in t.held.clone() {
+            for (k, &s) in t.row(i).iter().enumerate().skip(1) {
+                if s != 0.0 {
+                    f(i, i + k);
+                }
+            }
+        }
+    };
+    if !t.distributed {
+        held(f);
+        return;
+    }
+    let n = t.n;
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    held(&mut |u, v| {
+        let (a, b) = (find(&mut parent, u), find(&mut parent, v));
+        parent[a.max(b)] = a.min(b);
+    });
+    let labels: Vec<u8> = (0..n).flat_map(|u| (find(&mut parent, u) as u32).to_le_bytes()).collect();
+    for bytes in reduce::all_gather_bytes(&labels) {
+        for (u, c) in bytes.chunks_exact(4).enumerate() {
+            let root = u32::from_le_bytes(c.try_into().expect("4 bytes")) as usize;
+            if root != u {
+                f(u, root);
+            }
+        }
+    }
+}
+
+/// The leaking rows of a distributed store: each rank's partial rows (from its held rows'
+/// exceptions) merged in rank order, so in row order as one process adds them (a
+/// collective); `rows` unchanged when the store is whole.
+pub fn merge_leak_rows(t: &PackedTriangular, rows: Vec<LeakRow>) -> Vec<LeakRow> {
+    if !t.distributed {
+        return rows;
+    }
+    let mine: Vec<u8> = rows.iter().flat_map(LeakRow::partial_bytes).collect();
+    let mut out: Vec<LeakRow> = rows.iter().map(LeakRow::emptied).collect();
+    for bytes in reduce::all_gather_bytes(&mine) {
+        let mut rest: &[u8] = &bytes;
+        for r in &mut out {
+            match r.merge_bytes(rest) {
+                Some(tail) => rest = tail,
+                None => return rows,
+            }
+        }
+    }
+    out
+}
