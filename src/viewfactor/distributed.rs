@@ -95,8 +95,13 @@ pub(super) fn row_costs(n: usize, symmetric: bool) -> Vec<f64> {
     (0..n).map(|i| if symmetric { (n - i) as f64 } else { n as f64 }).collect()
 }
 
-/// Computes rows `block` of `kernel` with rayon, cut at the first failure.
-pub(super) fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize>) -> Share {
+/// Computes rows `block` of `kernel` with rayon, cut at the first failure; `done(i)` hears of
+/// each row computed.
+pub(super) fn compute_block(
+    kernel: &dyn RowKernel,
+    block: std::ops::Range<usize>,
+    done: &(dyn Fn(usize) + Sync),
+) -> Share {
     use rayon::prelude::*;
     let start = std::time::Instant::now();
     let first = block.start;
@@ -105,7 +110,9 @@ pub(super) fn compute_block(kernel: &dyn RowKernel, block: std::ops::Range<usize
         .with_max_len(1)
         .map(|i| {
             let mut row = Row::default();
-            kernel.row(i, &mut row).map(|_| row)
+            let out = kernel.row(i, &mut row).map(|_| row);
+            done(i);
+            out
         })
         .collect();
     let mut rows = Vec::with_capacity(outs.len());

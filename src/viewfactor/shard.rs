@@ -19,6 +19,7 @@
 //! line, then a little-endian payload whose length and FNV-1a checksum the header states, so
 //! a truncated or damaged part is refused before its rows are read.
 use super::distributed::{self as wire, Gathered, Reader, Share};
+use super::progress::{self, Progress};
 use super::row::RowKernel;
 use crate::distributed::partition;
 use crate::error::InputError;
@@ -135,7 +136,19 @@ pub(super) fn rows<'k>(
             let symmetric = kernel.symmetric();
             let block = partition::balanced(&wire::row_costs(n, symmetric), count)[index].clone();
             drop(m);
-            let mut share = wire::compute_block(kernel, block);
+            // The shard's own pairs are what its progress counts (the run's display shows it),
+            // weighed by the kernel's estimated cost of each row when it has one.
+            let pairs = |i: usize| if symmetric { (n - i) as u64 } else { n as u64 };
+            let costs =
+                kernel.row_costs().filter(|c| c.len() == n).unwrap_or_else(|| (0..n).map(pairs).collect());
+            let progress = Progress::start_costed(
+                block.clone().map(pairs).sum(),
+                "pairs",
+                progress::Mode::Off,
+                costs[block.clone()].iter().sum(),
+            );
+            let mut share = wire::compute_block(kernel, block, &|i| progress.add_costed(pairs(i), costs[i]));
+            progress.finish();
             if let Some((_, e)) = share.failure.take() {
                 return Err(e);
             }

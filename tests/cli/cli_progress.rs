@@ -66,6 +66,33 @@ fn a_long_run_without_a_terminal_logs_progress_lines_and_quiet_silences_them() {
     assert_eq!(loud.stdout, quiet.stdout, "the report never changes the numbers");
 }
 
+#[test]
+fn a_shard_counts_its_own_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = scene(dir.path());
+    let part = dir.path().join("part_1");
+    let args = [
+        "viewfactors",
+        cube.to_str().unwrap(),
+        "-m",
+        "mc-cosine",
+        "--samples",
+        "5000",
+        "--shard",
+        "1/3",
+        "-o",
+    ];
+    let run = Command::new(BIN).args(args).arg(&part).env("LAMBERT_PROGRESS_EVERY", EVERY).output().unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    // Whole rows of 600 pairs, a third of the 600 rows: 120,000 pairs, and the count moves.
+    let counts: Vec<&str> =
+        progress_lines(&err).into_iter().filter_map(|l| l.strip_prefix("view factors: ")).collect();
+    assert!(!counts.is_empty(), "{err}");
+    assert!(counts.iter().all(|l| l.contains("% of 120000 pairs (")), "{err}");
+    assert!(counts.iter().any(|l| !l.starts_with("0.0%")), "{err}");
+}
+
 /// Runs `args` with a 1 ms log interval (every phase of a millisecond or more is named with
 /// its time): the run, and the solve phases (view factors, enforcement, solve) that said how
 /// long they took, in order.
