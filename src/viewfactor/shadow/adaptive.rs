@@ -31,7 +31,7 @@ use crate::geometry::convex::{ear_indices, is_convex_local};
 use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, EVENT_LEVEL_REL, PARALLELOGRAM_REL};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// One emitter cell in the receiver frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -215,6 +215,7 @@ pub struct AdaptScratch {
     pool: Vec<u32>,
     ring: Vec<DVec3>,
     volume: ShadowVolume,
+    shaft: Vec<Plane>,
 }
 
 /// A heap key: an error, ordered as a total order on f64.
@@ -448,6 +449,8 @@ impl Integrator {
     /// surviving list is copied to the end of the pool.
     fn reclassify(&self, geo: &ShadowGeometry, item: &mut Item, s: &mut AdaptScratch) {
         item.cell.ring(&mut s.ring);
+        let snap = geo.snap();
+        shaft_planes(&s.ring, geo.receiver_hull(), snap, &mut s.shaft);
         let start = s.pool.len();
         for k in item.start..item.start + item.len {
             let b = s.pool[k];
@@ -456,6 +459,11 @@ impl Integrator {
                 continue;
             }
             let blocker = &geo.blockers()[b as usize];
+            if s.shaft.iter().any(|p| blocker.iter().all(|&x| p.distance(x) > snap)) {
+                // Outside the hull of the cell and the receiver, which holds every segment
+                // between them: clear, without building its volume.
+                continue;
+            }
             if s.volume.build(&s.ring, blocker, geo.snap()) == Build::Never {
                 continue;
             }
@@ -511,6 +519,39 @@ impl Integrator {
             });
         }
         (sums[0], sums[1], seen, evals, work)
+    }
+}
+
+/// The side planes of the shaft conv(cell ∪ receiver) (every segment from the cell to the
+/// receiver lies in it), oriented with the shaft behind them (within `snap`): the planes through
+/// an edge of one polygon and a vertex of the other that leave every vertex on one side.
+fn shaft_planes(cell: &[DVec3], receiver: &[DVec2], snap: f64, out: &mut Vec<Plane>) {
+    out.clear();
+    let r = |k: usize| receiver[k % receiver.len()].extend(0.0);
+    let all = || cell.iter().copied().chain((0..receiver.len()).map(r));
+    let mut keep = |a: DVec3, b: DVec3, v: DVec3| {
+        let Some(p) = Plane::through(a, b, v, 1e-300) else { return };
+        let (lo, hi) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            let d = p.distance(x);
+            (lo.min(d), hi.max(d))
+        });
+        if hi <= snap {
+            out.push(p);
+        } else if lo >= -snap {
+            out.push(p.flipped());
+        }
+    };
+    for k in 0..cell.len() {
+        let (a, b) = (cell[k], cell[(k + 1) % cell.len()]);
+        for m in 0..receiver.len() {
+            keep(a, b, r(m));
+        }
+    }
+    for m in 0..receiver.len() {
+        let (a, b) = (r(m), r(m + 1));
+        for &v in cell {
+            keep(a, b, v);
+        }
     }
 }
 
@@ -854,6 +895,33 @@ mod tests {
     const PARALLEL_UNIT: f64 = 0.199_824_895_698;
 
     use crate::geometry::fixtures::square as sq;
+
+    #[test]
+    fn the_shaft_holds_every_segment_and_leaves_out_what_is_beside_it() {
+        let cell = [
+            DVec3::new(0.0, 0.0, 2.0),
+            DVec3::new(1.0, 0.0, 2.0),
+            DVec3::new(1.0, 1.0, 2.0),
+            DVec3::new(0.0, 1.0, 2.0),
+        ];
+        let receiver = [DVec2::new(0.2, 0.2), DVec2::new(0.4, 0.2), DVec2::new(0.3, 0.4)];
+        let mut planes = Vec::new();
+        shaft_planes(&cell, &receiver, 1e-12, &mut planes);
+        assert!(!planes.is_empty());
+        // Points on segments from the cell to the receiver are inside every plane.
+        for (x, y) in [(cell[0], receiver[0]), (cell[2], receiver[1]), (cell[3], receiver[2])] {
+            for t in [0.0, 0.3, 0.7, 1.0] {
+                let p = x + t * (y.extend(0.0) - x);
+                assert!(planes.iter().all(|q| q.distance(p) <= 1e-12), "{p}");
+            }
+        }
+        let outside = |b: &[DVec3]| planes.iter().any(|q| b.iter().all(|&x| q.distance(x) > 1e-12));
+        // A plate beside the shaft is outside one plane; one across it is not.
+        let beside = [DVec3::new(2.0, 0.0, 1.0), DVec3::new(3.0, 0.0, 1.0), DVec3::new(2.5, 1.0, 1.0)];
+        let across = [DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 1.0), DVec3::new(0.5, 1.0, 1.0)];
+        assert!(outside(&beside));
+        assert!(!outside(&across));
+    }
 
     /// Unit squares at gap 1 (emitter z = 0 facing up, receiver z = 1 facing down) past `blocker`.
     fn unit_pair(blocker: &[DVec3]) -> ShadowGeometry {

@@ -324,6 +324,10 @@ impl ShadowGeometry {
     pub fn emitter_normal(&self) -> DVec3 {
         self.n_e
     }
+    /// The receiver's convex hull in the frame (z = 0), counter-clockwise.
+    pub fn receiver_hull(&self) -> &[DVec2] {
+        &self.hull_ring
+    }
     /// Receiver vertices in the frame (z = 0); their convex hull bounds the receiver.
     pub fn receiver_ring(&self) -> &[DVec3] {
         &self.receiver_ring
