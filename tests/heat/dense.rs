@@ -137,7 +137,7 @@ fn check_obstructed(scene: &Scene) {
     // The closed exchange areas themselves.
     let mut d = dense::build(scene, &vf).unwrap().unwrap();
     let p = EnforceParams { mode: Enforce::Closure, source: scene.source.clone(), ..Default::default() };
-    dense::enforce(&mut d, &p).unwrap();
+    exchange::enforce(&mut d, &p).unwrap();
     let smax = (0..ex.len()).map(|i| ex.areas[i]).fold(0.0, f64::max);
     for i in 0..ex.len() {
         for j in 0..ex.len() {
@@ -298,7 +298,7 @@ proptest! {
         let vf = params(Method::Analytic);
         let mut d = dense::build(&scene, &vf).unwrap().unwrap();
         let ep = EnforceParams { mode: Enforce::Closure, source: scene.source.clone(), ..Default::default() };
-        let rep = dense::enforce(&mut d, &ep).unwrap();
+        let rep = exchange::enforce(&mut d, &ep).unwrap();
         prop_assert!(rep.after.max_row_error <= 1e-12, "{}", rep.after);
         let sol = solve::dense::solve_gray(&scene, &d, &Default::default()).unwrap();
         let (sum, max) = sol.heat_balance();
