@@ -255,3 +255,134 @@ pub fn refusal_hint(p: &EnforceParams, rows: &[super::leak::LeakRow]) -> String 
         hint
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A store with only the required hooks: a full symmetric matrix (row-major), so every
+    /// default hook is the one in use.
+    struct Full {
+        s: Vec<f64>,
+        areas: Vec<f64>,
+        names: Vec<String>,
+        ambient: Option<Vec<f64>>,
+    }
+
+    impl Full {
+        /// Three nodes, rows summing to `fill` × A_i: a and b see only c, c also sees itself
+        /// (an odd cycle: the closure constraints are definite).
+        fn new(fill: f64) -> Self {
+            let s = [[0.0, 0.0, 1.0], [0.0, 0.0, 2.0], [1.0, 2.0, 1.0]];
+            Full {
+                s: s.iter().flatten().map(|v| v * fill).collect(),
+                areas: vec![1.0, 2.0, 4.0],
+                names: ["a", "b", "c"].map(String::from).to_vec(),
+                ambient: None,
+            }
+        }
+    }
+
+    impl Operator for Full {
+        fn len(&self) -> usize {
+            self.areas.len()
+        }
+        fn areas(&self) -> &[f64] {
+            &self.areas
+        }
+        fn matvec_scaled(&self, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
+            let n = self.len();
+            let wt = |i: usize| w.map_or(1.0, |w| w[i]);
+            (0..n).map(|i| wt(i) * (0..n).map(|j| self.s[i * n + j] * wt(j) * x[j]).sum::<f64>()).collect()
+        }
+        fn self_term(&self, i: usize) -> f64 {
+            self.s[i * self.len() + i]
+        }
+        fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
+            let n = self.len();
+            for i in 0..n {
+                for j in (0..n).filter(|&j| j != i && self.s[i * n + j] != 0.0) {
+                    f(i, j);
+                }
+            }
+        }
+        fn names(&self) -> &[String] {
+            &self.names
+        }
+        fn ambient(&self) -> Option<&[f64]> {
+            self.ambient.as_deref()
+        }
+        fn set_ambient(&mut self, ambient: Vec<f64>) {
+            self.ambient = Some(ambient);
+        }
+        fn scale(&mut self, g: &[f64]) {
+            let n = self.len();
+            for i in 0..n {
+                for j in 0..n {
+                    self.s[i * n + j] *= g[i] * g[j];
+                }
+            }
+        }
+        fn negatives(&self) -> usize {
+            self.s.iter().filter(|&&x| x < 0.0).count()
+        }
+    }
+
+    fn closure() -> EnforceParams {
+        EnforceParams { mode: Enforce::Closure, source: "tri.toml".into(), ..Default::default() }
+    }
+
+    #[test]
+    fn any_operator_closes_through_its_hooks() {
+        // 1e-4 short: within the deterministic leak threshold, so closure scales it up.
+        let mut op = Full::new(1.0 - 1e-4);
+        let rep = enforce(&mut op, &closure()).unwrap();
+        assert_eq!(rep.method, "symmetric scaling");
+        assert!((rep.before.max_row_error - 1e-4).abs() < 1e-12, "{}", rep.before);
+        assert!(rep.after.max_row_error <= CLOSURE_TOL, "{}", rep.after);
+        assert!(rep.iterations > 0);
+        // Zeros stay zero and the matrix stays symmetric.
+        assert_eq!((op.s[1], op.s[3]), (0.0, 0.0));
+        assert_eq!(op.s[2], op.s[6]);
+    }
+
+    #[test]
+    fn any_operator_refuses_a_leak_and_a_method_it_cannot_serve() {
+        let mut op = Full::new(0.9);
+        let err = enforce(&mut op, &closure()).unwrap_err();
+        let msg = err.to_string();
+        assert_eq!(err.exit_code(), 2);
+        assert!(
+            msg.contains("tri.toml") && msg.contains("3 row(s)") && msg.contains("a (row sum 0.900000)"),
+            "{msg}"
+        );
+        // Refused before any change; a first pass without the check closes it.
+        assert_eq!(op.s[2], 0.9);
+        enforce(&mut op, &EnforceParams { check_leaks: false, ..closure() }).unwrap();
+        assert!((op.row_sums()[0] - 1.0).abs() <= 1e-12);
+        for (m, says) in [
+            (ClosureMethod::WeightedLs, "needs the sparse exchange store"),
+            (ClosureMethod::MaxLikelihood, "needs Monte Carlo hit counts"),
+        ] {
+            let err = enforce(&mut Full::new(1.0), &EnforceParams { method: m, ..closure() }).unwrap_err();
+            assert!(err.exit_code() == 2 && err.to_string().contains(says), "{m:?}: {err}");
+        }
+    }
+
+    #[test]
+    fn an_open_operator_gets_its_ambient_and_over_full_rows_scaled() {
+        // a and b over-full by 10 %, c short (without its self term: 3.3 of 4 m²).
+        let mut op = Full::new(1.1);
+        op.s[8] = 0.0;
+        let p = EnforceParams { mode: Enforce::Reciprocity, open: true, ..closure() };
+        let rep = enforce(&mut op, &p).unwrap();
+        assert!(rep.before.max_row_error > 0.09, "{}", rep.before);
+        assert!(rep.after.max_row_error <= CLOSURE_TOL, "{}", rep.after);
+        let (sums, amb) = (op.row_sums(), op.ambient.clone().unwrap());
+        for i in 0..3 {
+            assert!(amb[i] >= 0.0 && (sums[i] + amb[i] - op.areas[i]).abs() <= 1e-12 * op.areas[i]);
+        }
+        // The over-full rows end full; c keeps its scale and its shortfall goes to the ambient.
+        assert!(amb[0] <= 1e-11 && amb[1] <= 1e-11 && amb[2] > 0.7, "{amb:?}");
+    }
+}
