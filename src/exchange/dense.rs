@@ -116,12 +116,12 @@ impl Operator for DenseExchange {
     }
     /// Per node: the raw row's methods' own leak tolerance, or [`LEAK_SIGMAS`] standard
     /// errors of its sampled entries.
-    fn leak_budget(&self) -> Vec<(f64, f64)> {
+    fn leak_budget(&self, raw: &[f64]) -> Vec<(f64, f64)> {
         let t = &self.t;
         (0..t.n)
             .map(|i| {
                 let sigma = t.raw_row_vars[i].sqrt() / t.areas[i];
-                (t.raw_row_sums[i] / t.areas[i], t.raw_row_methods[i].leak_tol().max(LEAK_SIGMAS * sigma))
+                (raw[i] / t.areas[i], t.raw_row_methods[i].leak_tol().max(LEAK_SIGMAS * sigma))
             })
             .collect()
     }

@@ -26,15 +26,14 @@ impl Diagnostics {
     /// Measures any exchange store as it now is; `open` selects the one-sided row error of
     /// open scenes.
     pub fn of(op: &dyn Operator, open: bool) -> Self {
+        Self::with_sums(op, &op.row_sums(), op.asymmetry(), open)
+    }
+
+    /// As [`Diagnostics::of`] with the row sums `sums` (m²) and the reciprocity residual
+    /// given (the raw ones before enforcement, or sums the caller has already formed).
+    pub fn with_sums(op: &dyn Operator, sums: &[f64], reciprocity: f64, open: bool) -> Self {
         let amb_neg = op.ambient().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
-        Self::from_rows(
-            &op.row_sums(),
-            op.areas(),
-            op.names(),
-            open,
-            op.asymmetry(),
-            op.negatives() + amb_neg,
-        )
+        Self::from_rows(sums, op.areas(), op.names(), open, reciprocity, op.negatives() + amb_neg)
     }
 
     /// The row residuals of row sums `sums` (m²) over `areas`, with the other two measures

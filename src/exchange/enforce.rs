@@ -136,8 +136,13 @@ pub struct Leak {
 
 /// Rows of a closed scene short of 1 by more than the method's error, worst first.
 pub fn leaks(op: &dyn Operator) -> Vec<Leak> {
+    leaks_of(op, &op.raw_row_sums())
+}
+
+/// [`leaks`] of the raw row sums `raw` (m²).
+fn leaks_of(op: &dyn Operator, raw: &[f64]) -> Vec<Leak> {
     let mut out: Vec<Leak> = op
-        .leak_budget()
+        .leak_budget(raw)
         .into_iter()
         .enumerate()
         .filter(|&(_, (p, threshold))| 1.0 - p > threshold)
@@ -147,18 +152,13 @@ pub fn leaks(op: &dyn Operator) -> Vec<Leak> {
     out
 }
 
-/// Residuals of the raw store (row sums and asymmetry before enforcement), as
-/// [`Diagnostics::of`] measures the store as it now is.
-fn raw_diagnostics(op: &dyn Operator, open: bool) -> Diagnostics {
-    let negatives = op.negatives() + op.ambient().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
-    Diagnostics::from_rows(&op.raw_row_sums(), op.areas(), op.names(), open, op.raw_asymmetry(), negatives)
-}
-
 /// Applies `p.mode` to any exchange store in place and sets the ambient column of open
 /// scenes: the one enforcement of the sparse, packed and clustered stores, through the
 /// [`Operator`] hooks.
 pub fn enforce(op: &mut dyn Operator, p: &EnforceParams) -> Result<EnforceReport> {
-    let before = raw_diagnostics(op, p.open);
+    // The raw row sums serve the diagnostics and the leak check (one product on the store).
+    let raw = op.raw_row_sums();
+    let before = Diagnostics::with_sums(op, &raw, op.raw_asymmetry(), p.open);
     let (method, iterations) = match (p.mode, p.open) {
         (Enforce::None, _) => ("none", 0),
         (Enforce::Reciprocity, false) => {
@@ -175,13 +175,13 @@ pub fn enforce(op: &mut dyn Operator, p: &EnforceParams) -> Result<EnforceReport
         }
         (Enforce::Closure, false) => {
             if p.check_leaks {
-                refuse_leaks(op, p)?;
+                refuse_leaks(op, &raw, p)?;
             }
             close(op, p)?
         }
     };
+    let sums = op.row_sums();
     if p.open {
-        let sums = op.row_sums();
         // Round-off below the closure tolerance is not an overshoot.
         let amb = op.areas().iter().zip(&sums).map(|(a, s)| {
             let r = a - s;
@@ -193,7 +193,7 @@ pub fn enforce(op: &mut dyn Operator, p: &EnforceParams) -> Result<EnforceReport
         });
         op.set_ambient(amb.collect());
     }
-    let after = Diagnostics::of(op, p.open);
+    let after = Diagnostics::with_sums(op, &sums, op.asymmetry(), p.open);
     Ok(EnforceReport { before, after, method, iterations })
 }
 
@@ -222,8 +222,8 @@ fn close(op: &mut dyn Operator, p: &EnforceParams) -> Result<(&'static str, usiz
 }
 
 /// SPEC: "never stretch a leaking row to 1" — a closed scene with leaking rows is bad input.
-fn refuse_leaks(op: &dyn Operator, p: &EnforceParams) -> Result<()> {
-    let leaks = leaks(op);
+fn refuse_leaks(op: &dyn Operator, raw: &[f64], p: &EnforceParams) -> Result<()> {
+    let leaks = leaks_of(op, raw);
     let Some(first) = leaks.first() else { return Ok(()) };
     let rows: Vec<(usize, f64)> = leaks.iter().map(|l| (l.node, l.row_sum)).collect();
     let hint = refusal_hint(p, &op.leak_rows(&rows));

@@ -78,12 +78,11 @@ pub trait Operator: Sync {
     }
     /// Enforcement hook: the number of stored negative s_ij (ambient excluded).
     fn negatives(&self) -> usize;
-    /// Enforcement hook: the leak check's rows of a closed scene, on the raw store: per row,
-    /// Σ_j F_ij and the shortfall below 1 that the method's error allows. Default: every
-    /// node's raw row sum against [`DETERMINISTIC_LEAK_TOL`].
-    fn leak_budget(&self) -> Vec<(f64, f64)> {
-        let areas = self.areas();
-        self.raw_row_sums().iter().zip(areas).map(|(s, a)| (s / a, DETERMINISTIC_LEAK_TOL)).collect()
+    /// Enforcement hook: the leak check's rows of a closed scene from the raw row sums `raw`
+    /// (m², [`Operator::raw_row_sums`]): per row, Σ_j F_ij and the shortfall below 1 that the
+    /// method's error allows. Default: every node against [`DETERMINISTIC_LEAK_TOL`].
+    fn leak_budget(&self, raw: &[f64]) -> Vec<(f64, f64)> {
+        raw.iter().zip(self.areas()).map(|(s, a)| (s / a, DETERMINISTIC_LEAK_TOL)).collect()
     }
     /// Enforcement hook: the name of leak-check row `k`. Default: node k's name.
     fn leak_row_name(&self, k: usize) -> String {
@@ -175,8 +174,7 @@ impl Operator for Exchange {
     }
     /// Per node: the row's methods' own leak tolerance, or [`LEAK_SIGMAS`] standard errors of
     /// the row sum (binomial for hit counts, the entries' variances otherwise).
-    fn leak_budget(&self) -> Vec<(f64, f64)> {
-        let sums = Exchange::row_sums(self);
+    fn leak_budget(&self, sums: &[f64]) -> Vec<(f64, f64)> {
         let ip = self.indptr();
         let hits = Exchange::has_hit_counts(self);
         (0..Exchange::len(self))

@@ -630,9 +630,9 @@ impl Hierarchy {
     /// The leak check's rows: surface rows, not patch rows (a link shares its value by area
     /// within a cluster, which moves exchange between patches of one surface but never between
     /// surfaces). Per surface: its raw row sum (m²), the links' error bound, the exchange area
-    /// that unanimous rays may have missed, the sampled pairs' variance and the area.
-    fn surface_rows(&self) -> Vec<[f64; 5]> {
-        let sums = self.matvec_scaled(None, &vec![1.0; self.areas.len()]);
+    /// that unanimous rays may have missed, the sampled pairs' variance and the area, from the
+    /// patches' raw row sums `sums`.
+    fn surface_rows(&self, sums: &[f64]) -> Vec<[f64; 5]> {
         let (errs, vars, unsure) = (self.row_errors(), self.row_variances(), self.row_unsure());
         let mut out = vec![[0.0; 5]; self.surface_names.len()];
         for (i, &k) in self.surface.iter().enumerate() {
@@ -687,8 +687,8 @@ impl Operator for Hierarchy {
     /// Surface rows: the links by their bounds ([`LEAK_ERR_SIGMAS`] of them, at least
     /// [`DETERMINISTIC_LEAK_TOL`]) plus what unanimous rays may have missed, the sampled pairs by
     /// [`LEAK_SIGMAS`] standard errors (as the dense store's check).
-    fn leak_budget(&self) -> Vec<(f64, f64)> {
-        self.surface_rows()
+    fn leak_budget(&self, raw: &[f64]) -> Vec<(f64, f64)> {
+        self.surface_rows(raw)
             .iter()
             .map(|&[sum, err, unsure, var, area]| {
                 if area <= 0.0 {
@@ -705,13 +705,17 @@ impl Operator for Hierarchy {
         self.surface_names[k].clone()
     }
     fn leak_rows(&self, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
-        let rows = self.surface_rows();
+        let var = self.row_variances();
+        let mut sampled = vec![false; self.surface_names.len()];
+        for (i, &k) in self.surface.iter().enumerate() {
+            sampled[k as usize] |= var[i] > 0.0;
+        }
         leaks
             .iter()
             .map(|&(k, p)| LeakRow {
                 name: self.surface_names[k].clone(),
                 row_sum: p,
-                sampled: usize::from(rows[k][3] > 0.0),
+                sampled: usize::from(sampled[k]),
                 entries: usize::from(p > 0.0),
                 worst: None,
             })
