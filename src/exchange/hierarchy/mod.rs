@@ -8,9 +8,11 @@
 //! - this file: [`Hierarchy`] — the exact values of the patch pairs (the `analytic`/`auto`
 //!   kernel, shadows included), the symmetric operator S = Σ_links s_AB a_A b_Bᵀ (+ its
 //!   transpose) applied by pull (area-weighted means up the tree), one pass over the links and
-//!   push (area shares down the tree), closure or capped scaling g (S → G S G), the ambient of
-//!   open scenes, and the heat-rate error estimate of a solution: each link's bound on its
-//!   total, and the first-order error of its sharing by area, signed ([`Hierarchy::sharing_shift`]).
+//!   push (area shares down the tree); the enforcement hooks of [`Operator`] (the leak check
+//!   on surface rows against the links' bounds, closure or capped scales g kept as a vector,
+//!   S → G S G, the ambient of open scenes); and the heat-rate error estimate of a solution:
+//!   each link's bound on its total, and the first-order error of its sharing by area, signed
+//!   ([`Hierarchy::sharing_shift`]).
 //!
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
