@@ -5,7 +5,8 @@
 //! closed — and iterative), with the measured and the estimated row split, and as merged
 //! shards; each rank holds a share of the hierarchy's links and pairs, and of the dense
 //! store's rows (whose memory check is per rank). Ranks that load different geometry are
-//! refused with exit code 2, and only rank 0 writes.
+//! refused with exit code 2, and only rank 0 writes; a leaking or unanchored closed scene is
+//! refused alike on any rank count.
 //!
 //! Run with `cargo test --release --features mpi --test mpi` (the release binary is the one
 //! `cargo build --release --features mpi` makes, so CI builds it once).
@@ -512,6 +513,47 @@ fn a_leaking_scene_is_refused_alike_on_any_rank_count() {
         assert_eq!(o.status.code(), Some(2), "np {np:?}: {err}");
         let line = err.lines().find(|l| l.contains("error:")).unwrap_or_else(|| panic!("{err}")).to_string();
         assert!(line.contains("the closed scene leaks: 180 row(s)"), "{line}");
+        assert_eq!(err.matches("error:").count(), 1, "np {np:?}: {err}");
+        assert!(!out.exists(), "a refused run wrote its output");
+        match &first {
+            None => first = Some(line),
+            Some(f) => assert_eq!(f, &line, "np {np:?}"),
+        }
+    }
+}
+
+#[test]
+fn an_unanchored_enclosure_is_refused_alike_on_any_rank_count() {
+    // The furnace with heat fluxes on every face: singular, refused by the one anchoring
+    // check, whose coupled groups are gathered across the ranks' row blocks.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = std::fs::read_to_string(furnace(d))
+        .unwrap()
+        .replace("temperature = 1000.0", "heat_flux = 100.0")
+        .replace("temperature = 400.0", "heat_flux = -100.0");
+    let flux = d.join("flux.toml");
+    std::fs::write(&flux, text).unwrap();
+    let mut first: Option<String> = None;
+    for np in [None, Some(2), Some(3)] {
+        let out = d.join("flux.csv");
+        let args: Vec<String> = [
+            "solve",
+            flux.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--patches",
+            "--exchange",
+            "dense",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let o = run(np, &args);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert_eq!(o.status.code(), Some(2), "np {np:?}: {err}");
+        let line = err.lines().find(|l| l.contains("error:")).unwrap_or_else(|| panic!("{err}")).to_string();
+        assert!(line.contains("flux.toml") && line.contains("no temperature anchor"), "{line}");
         assert_eq!(err.matches("error:").count(), 1, "np {np:?}: {err}");
         assert!(!out.exists(), "a refused run wrote its output");
         match &first {

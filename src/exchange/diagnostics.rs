@@ -1,6 +1,6 @@
 //! Residuals of an exchange matrix: closure (row sums), reciprocity and sign, with the worst
 //! rows by name. Computed before and after enforcement and printed by the CLI.
-use super::Exchange;
+use super::operator::Operator;
 use std::fmt;
 
 /// How many worst rows are named.
@@ -23,15 +23,17 @@ pub struct Diagnostics {
 }
 
 impl Diagnostics {
-    /// Measures `ex`; `open` selects the one-sided row error of open scenes.
-    pub fn of(ex: &Exchange, open: bool) -> Self {
-        let (num, den) = ex.fold_mirrored((0.0f64, 0.0f64), |(num, den), s, sji| {
-            (num.max((s - sji).abs()), den.max(s.abs()))
-        });
-        let reciprocity = if den > 0.0 { num / den } else { 0.0 };
-        let amb_neg = ex.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
-        let negatives = ex.s.data().iter().filter(|&&x| x < 0.0).count() + amb_neg;
-        Self::from_rows(&ex.row_sums(), &ex.areas, &ex.names, open, reciprocity, negatives)
+    /// Measures any exchange store as it now is; `open` selects the one-sided row error of
+    /// open scenes.
+    pub fn of(op: &dyn Operator, open: bool) -> Self {
+        Self::with_sums(op, &op.row_sums(), op.asymmetry(), open)
+    }
+
+    /// As [`Diagnostics::of`] with the row sums `sums` (m²) and the reciprocity residual
+    /// given (the raw ones before enforcement, or sums the caller has already formed).
+    pub fn with_sums(op: &dyn Operator, sums: &[f64], reciprocity: f64, open: bool) -> Self {
+        let amb_neg = op.ambient().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
+        Self::from_rows(sums, op.areas(), op.names(), open, reciprocity, op.negatives() + amb_neg)
     }
 
     /// The row residuals of row sums `sums` (m²) over `areas`, with the other two measures

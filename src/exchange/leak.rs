@@ -50,7 +50,8 @@ pub struct LeakRow {
 }
 
 impl LeakRow {
-    fn new(name: &str, row_sum: f64) -> Self {
+    /// A row named `name` with row sum `row_sum` and no entries yet.
+    pub fn new(name: &str, row_sum: f64) -> Self {
         Self { name: name.to_string(), row_sum, sampled: 0, entries: 0, worst: None }
     }
     /// The same row with nothing counted yet (the start of a merge across MPI ranks).

@@ -44,7 +44,7 @@ pub fn max_likelihood(ex: &mut Exchange, tol: f64) -> Result<usize> {
                 data[k] = if m[k] > 0.0 { m[k] / d } else { 0.0 };
             }
         }
-        Some(super::scaling::closure_error(ex))
+        Some(super::scaling::closure_error(&ex.row_sums(), &ex.areas))
     };
     let mut err = eval(&lambda, ex).ok_or_else(|| Error::Compute("ML closure: rows without rays".into()))?;
     for step in 0..ML_MAX_NEWTON {

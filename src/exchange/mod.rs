@@ -5,13 +5,18 @@
 //!   column), assembly from any method's [`ViewFactors`], symmetrisation s̄ = ½(s + sᵀ),
 //!   aggregation to surfaces and conversion back to [`ViewFactors`] for output;
 //! - `diagnostics`: row-sum, reciprocity and sign residuals, worst rows by name;
-//! - [`mod@enforce`]: `--enforce none|reciprocity|closure`, the leak check and method dispatch;
+//! - [`mod@enforce`]: `--enforce none|reciprocity|closure`, the leak check and method dispatch:
+//!   one function for every store;
+//! - [`operator`]: the trait every store implements (sparse [`Exchange`], packed
+//!   [`dense::DenseExchange`], clustered [`hierarchy::Hierarchy`]): the symmetric operator the
+//!   solves work on and the hooks of the enforcement;
 //! - `leak`: why a closed scene leaks, checked against the geometry facts;
-//! - `scaling`: symmetric diagonal scaling s_ij = s̄_ij g_i g_j (also capped, for open scenes);
-//! - `lsq`: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1;
-//! - `ml`: constrained maximum likelihood s_ij = M_ij/(λ_i + λ_j) (Daun, Morton & Howell 2005);
-//! - [`operator`]: the symmetric operator (packed triangle or link hierarchy) that the lean
-//!   enforcement and solve work on;
+//! - `scaling`: symmetric diagonal scaling s_ij = s̄_ij g_i g_j on any operator (also capped,
+//!   for open scenes);
+//! - `lsq`: weighted least squares s_ij = s̄_ij + w_ij(λ_i + λ_j), w = s̄ or 1 (sparse store);
+//! - `ml`: constrained maximum likelihood s_ij = M_ij/(λ_i + λ_j) (Daun, Morton & Howell 2005;
+//!   sparse store);
+//! - [`dense`]: the packed dense store, its memory check and build;
 //! - [`hierarchy`]: clustered exchange with error-bounded links for large scenes;
 //! - `linalg`: deterministic parallel reductions and the PSD conjugate-gradient solver;
 //! - `memory`: the memory a run may still allocate (free memory, rlimits, cgroup).

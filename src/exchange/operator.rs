@@ -1,15 +1,30 @@
 //! The exchange operator that enforcement and the solves work on, whatever stores it: the
 //! sparse patch pairs ([`Exchange`], sprs CSR), the packed triangle of the dense path
-//! (`PackedTriangular`, whole or, under MPI, one row block per rank: `super::rowblock`) or the link hierarchy of the clustered path. Everything they need is a
-//! scaled mat-vec W S W x, the areas, the diagonal s_ii, the row sums and (for the anchoring
-//! diagnostic only) the coupled pairs. The systems built on it (closure Newton steps, the
-//! net-radiation K = D − S) reach faer's conjugate gradients as a
-//! `super::linalg::Linear` over [`Operator::matvec_scaled`].
+//! ([`super::dense::DenseExchange`]: whole or, under MPI, one row block per rank,
+//! `super::rowblock`, whose sums are cross-rank collectives) or the link hierarchy of the
+//! clustered path (`super::hierarchy::Hierarchy`).
+//!
+//! - The operator: a scaled mat-vec W S W x, the areas, the diagonal s_ii, the row sums, the
+//!   coupled pairs (for the anchoring check), the node names and the ambient column. The
+//!   systems built on it (closure Newton steps, the net-radiation K = D − S) reach faer's
+//!   conjugate gradients as a `super::linalg::Linear` over [`Operator::matvec_scaled`].
+//! - The enforcement hooks: what [`fn@super::enforce`] reads and changes on every store — the
+//!   raw row sums, asymmetry and sign count for the diagnostics, the leak check's rows and
+//!   thresholds, reciprocity by averaging, the diagonal scales s_ij ← s_ij g_i g_j, the ambient
+//!   column, and the closure methods only a store of single entries serves (maximum
+//!   likelihood, least squares).
+//!
+//! Hooks with a natural default have one: a store held symmetric by construction needs no
+//! `symmetrize`, a deterministic store no hit counts.
+use super::enforce::{ClosureMethod, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
+use super::leak::LeakRow;
 use super::Exchange;
-use crate::viewfactor::packed::PackedTriangular;
+use crate::viewfactor::MethodSet;
+use crate::Result;
 use rayon::prelude::*;
 
-/// A symmetric operator of exchange areas S (m²) over n patches.
+/// A symmetric operator of exchange areas S (m²) over n patches, with the hooks of its
+/// enforcement.
 pub trait Operator: Sync {
     /// Patch count.
     fn len(&self) -> usize;
@@ -34,31 +49,67 @@ pub trait Operator: Sync {
     /// Calls `f(i, j)` for pairs that couple i and j (s_ij ≠ 0), enough to join every group of
     /// coupled patches; used only to name an unanchored group.
     fn couplings(&self, f: &mut dyn FnMut(usize, usize));
-}
+    /// Node names, as in the outputs.
+    fn names(&self) -> &[String];
+    /// S_i,amb of open scenes once enforcement set it.
+    fn ambient(&self) -> Option<&[f64]>;
 
-impl Operator for PackedTriangular {
-    fn len(&self) -> usize {
-        self.n
+    /// Enforcement hook: sets the ambient column S_i,amb.
+    fn set_ambient(&mut self, ambient: Vec<f64>);
+    /// Enforcement hook: s_ij ← s_ij g_i g_j for diagonal scales g > 0 (reciprocity, zeros and
+    /// signs are kept).
+    fn scale(&mut self, g: &[f64]);
+    /// Enforcement hook: reciprocity by averaging, s̄ = ½(s + sᵀ). Default: nothing, the
+    /// store holds s̄ by construction.
+    fn symmetrize(&mut self) {}
+    /// Enforcement hook: max |s_ij − s_ji| / max |s_ij| of the store as it now is. Default:
+    /// 0, symmetric by construction.
+    fn asymmetry(&self) -> f64 {
+        0.0
     }
-    fn areas(&self) -> &[f64] {
-        &self.areas
+    /// Enforcement hook: the same residual of the raw exchange areas, before the store
+    /// averaged them (read before enforcement). Default: [`Operator::asymmetry`].
+    fn raw_asymmetry(&self) -> f64 {
+        self.asymmetry()
     }
-    fn matvec_scaled(&self, w: Option<&[f64]>, x: &[f64]) -> Vec<f64> {
-        PackedTriangular::matvec_scaled(self, w, x)
+    /// Enforcement hook: Σ_j s_ij per node of the raw exchange areas (read before
+    /// enforcement). Default: [`Operator::row_sums`].
+    fn raw_row_sums(&self) -> Vec<f64> {
+        self.row_sums()
     }
-    fn self_term(&self, i: usize) -> f64 {
-        PackedTriangular::self_term(self, i)
+    /// Enforcement hook: the number of stored negative s_ij (ambient excluded).
+    fn negatives(&self) -> usize;
+    /// Enforcement hook: the leak check's rows of a closed scene from the raw row sums `raw`
+    /// (m², [`Operator::raw_row_sums`]): per row, Σ_j F_ij and the shortfall below 1 that the
+    /// method's error allows. Default: every node against [`DETERMINISTIC_LEAK_TOL`].
+    fn leak_budget(&self, raw: &[f64]) -> Vec<(f64, f64)> {
+        raw.iter().zip(self.areas()).map(|(s, a)| (s / a, DETERMINISTIC_LEAK_TOL)).collect()
     }
-    fn row_sums(&self) -> Vec<f64> {
-        PackedTriangular::row_sums(self)
+    /// Enforcement hook: the name of leak-check row `k`. Default: node k's name.
+    fn leak_row_name(&self, k: usize) -> String {
+        self.names()[k].clone()
     }
-    fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
-        super::rowblock::couplings(self, f);
+    /// Enforcement hook: the leaking rows `(row, row sum)` with their sampled entries, for the
+    /// refusal's hint. Default: the rows without entries.
+    fn leak_rows(&self, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+        leaks.iter().map(|&(k, sum)| LeakRow::new(&self.leak_row_name(k), sum)).collect()
+    }
+    /// Enforcement hook: true when every row comes from a hit-counting estimator with its rays
+    /// known (closure by maximum likelihood). Default: false.
+    fn has_hit_counts(&self) -> bool {
+        false
+    }
+    /// Enforcement hook: closure by `method` when it is not a diagonal scaling (maximum
+    /// likelihood, least squares), on a store of single entries: the method's name and its
+    /// iterations. Default: `None`, the store serves symmetric scaling only.
+    fn close_by(&mut self, method: ClosureMethod, tol: f64) -> Option<Result<(&'static str, usize)>> {
+        let _ = (method, tol);
+        None
     }
 }
 
 /// The sparse store, as stored (symmetric once reciprocity is enforced: the solves and
-/// scalings that use the trait need it to be).
+/// scalings that use the operator need it to be).
 impl Operator for Exchange {
     fn len(&self) -> usize {
         Exchange::len(self)
@@ -89,6 +140,82 @@ impl Operator for Exchange {
                 }
             }
         }
+    }
+    fn names(&self) -> &[String] {
+        &self.names
+    }
+    fn ambient(&self) -> Option<&[f64]> {
+        self.ambient.as_deref()
+    }
+    fn set_ambient(&mut self, ambient: Vec<f64>) {
+        self.ambient = Some(ambient);
+    }
+    fn scale(&mut self, g: &[f64]) {
+        for (i, mut row) in self.s.outer_iterator_mut().enumerate() {
+            for (j, s) in row.iter_mut() {
+                *s *= g[i] * g[j];
+            }
+        }
+    }
+    fn symmetrize(&mut self) {
+        Exchange::symmetrize(self);
+    }
+    fn asymmetry(&self) -> f64 {
+        let (num, den) = self.fold_mirrored((0.0f64, 0.0f64), |(num, den), s, sji| {
+            (num.max((s - sji).abs()), den.max(s.abs()))
+        });
+        if den > 0.0 {
+            num / den
+        } else {
+            0.0
+        }
+    }
+    fn negatives(&self) -> usize {
+        self.s.data().iter().filter(|&&x| x < 0.0).count()
+    }
+    /// Per node: the row's methods' own leak tolerance, or [`LEAK_SIGMAS`] standard errors of
+    /// the row sum (binomial for hit counts, the entries' variances otherwise).
+    fn leak_budget(&self, sums: &[f64]) -> Vec<(f64, f64)> {
+        let ip = self.indptr();
+        let hits = Exchange::has_hit_counts(self);
+        (0..Exchange::len(self))
+            .map(|i| {
+                let p = sums[i] / self.areas[i];
+                let methods =
+                    self.methods[ip[i]..ip[i + 1]].iter().fold(MethodSet::default(), |a, &m| a.union(m));
+                let sigma = if self.samples[i] > 0 && hits {
+                    // Multinomial: the row sum is a binomial proportion of n rays.
+                    let q = p.clamp(0.0, 1.0);
+                    (q * (1.0 - q) / self.samples[i] as f64).sqrt()
+                } else {
+                    self.var[ip[i]..ip[i + 1]].iter().sum::<f64>().sqrt() / self.areas[i]
+                };
+                (p, methods.leak_tol().max(LEAK_SIGMAS * sigma))
+            })
+            .collect()
+    }
+    fn leak_rows(&self, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+        super::leak::rows_from_exchange(self, leaks)
+    }
+    fn has_hit_counts(&self) -> bool {
+        Exchange::has_hit_counts(self)
+    }
+    fn close_by(&mut self, method: ClosureMethod, tol: f64) -> Option<Result<(&'static str, usize)>> {
+        use super::lsq::{weighted_least_squares, Weight};
+        Some(match method {
+            ClosureMethod::MaxLikelihood => {
+                super::ml::max_likelihood(self, tol).map(|it| ("maximum likelihood", it))
+            }
+            ClosureMethod::WeightedLs => {
+                Exchange::symmetrize(self);
+                weighted_least_squares(self, Weight::Sbar).map(|it| ("weighted least squares (w = s)", it))
+            }
+            ClosureMethod::UnweightedLs => {
+                Exchange::symmetrize(self);
+                weighted_least_squares(self, Weight::Unit).map(|it| ("least squares (w = 1)", it))
+            }
+            ClosureMethod::Auto | ClosureMethod::SymmetricScaling => return None,
+        })
     }
 }
 

@@ -1,7 +1,8 @@
 //! The dense exchange store of the `solve` route under MPI: every rank keeps its own row block
-//! of the packed triangle (`crate::viewfactor::row_block`), and enforcement, the CG solve and
-//! the error propagation run on it through the ordinary [`super::operator::Operator`] of
-//! `PackedTriangular`, whose sums become collectives in a fixed order:
+//! of the packed triangle (`crate::viewfactor::row_block`), and the one enforcement
+//! (`super::enforce`), the anchoring check, the CG solve and the error propagation run on it
+//! through the ordinary [`super::operator::Operator`] of [`DenseExchange`], whose hooks sum
+//! through the store's own methods, collectives in a fixed order:
 //!
 //! - the mat-vec: each rank's row blocks' partial products, added in block order along the
 //!   ranks (`PackedTriangular::matvec_scaled`); x and y are replicated O(N) vectors, so every
@@ -37,7 +38,7 @@ pub fn build(scene: &Scene, params: &crate::viewfactor::Params) -> Result<Option
     check_fits(scene, 8.0, params.method.is_symmetric())?;
     let Some(t) = crate::viewfactor::compute_triangle_with(scene, params, true)? else { return Ok(None) };
     let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
-    Ok(Some(DenseExchange { t, names, ambient: None }))
+    Ok(Some(DenseExchange::new(t, names)))
 }
 
 /// The bounds of [`memory::available`] in the order they travel between ranks.

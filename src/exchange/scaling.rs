@@ -1,99 +1,105 @@
-//! Symmetric diagonal scaling s_ij = s̄_ij g_i g_j (View3D `NormAF`): keeps reciprocity,
-//! structural zeros and signs exactly.
-//! - [`symmetric_scaling`]: closure Σ_j s_ij = A_i by Newton on log g; each Newton step is
-//!   the weighted least-squares step with w = the current s (see [`super::lsq`]), so the method
-//!   converges quadratically from the WLS w = s̄ answer.
-//! - [`capped_scaling`]: open scenes: only rows whose sum exceeds A_i are scaled down
+//! Symmetric diagonal scaling s_ij = s̄_ij g_i g_j (View3D `NormAF`) on any exchange
+//! [`Operator`]: keeps reciprocity, structural zeros and signs exactly. The scales are found on
+//! the operator applied as g ∘ S̄(g ∘ x), so the store is only read until
+//! [`Operator::scale`] applies them once.
+//! - [`closure_scales`]: closure Σ_j s_ij = A_i by Newton on log g; each Newton step is the
+//!   weighted least-squares step with w = the current s (see `super::lsq`), solved inexactly
+//!   to the current closure error, so the method converges quadratically from the WLS w = s̄
+//!   answer;
+//! - [`capped_scales`]: open scenes: only rows whose sum exceeds A_i are scaled down
 //!   (g_i ≤ 1), by the damped fixed point g_i ← min(1, √(g_i A_i / (S g)_i)); the ambient
 //!   takes the rest of every row.
-use super::lsq::solve_constraints;
-use super::Exchange;
+use super::linalg::{cg, max_iter, Linear, CG_TOL};
+use super::operator::Operator;
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 /// Newton steps allowed; quadratic convergence needs 3–6 from any sane start.
-pub(super) const MAX_NEWTON: usize = 50;
+const MAX_NEWTON: usize = 50;
 /// Fixed-point sweeps allowed for the capped variant (only noise-level overshoots occur).
-pub(super) const MAX_CAPPED: usize = 10_000;
+const MAX_CAPPED: usize = 10_000;
+/// Loosest relative CG residual of a Newton step (inexact Newton forcing term).
+const NEWTON_FORCING: f64 = 1e-2;
 
-/// max_i |Σ_j S_ij / A_i − 1|.
-pub fn closure_error(ex: &Exchange) -> f64 {
-    ex.row_sums().iter().zip(&ex.areas).map(|(s, a)| (s / a - 1.0).abs()).fold(0.0, f64::max)
+/// max_i |r_i / A_i − 1| of row sums `sums` over `areas`.
+pub fn closure_error(sums: &[f64], areas: &[f64]) -> f64 {
+    sums.iter().zip(areas).map(|(s, a)| (s / a - 1.0).abs()).fold(0.0, f64::max)
 }
 
-/// Scales a symmetric `ex` in place to Σ_j S_ij = A_i within `tol`; returns CG iterations.
-pub fn symmetric_scaling(ex: &mut Exchange, tol: f64) -> Result<usize> {
-    let base = ex.s.data().to_vec();
-    let ip = ex.indptr().to_vec();
-    let idx = ex.s.indices().to_vec();
-    let mut logg = vec![0.0; ex.len()];
+/// The scales g with Σ_j s_ij g_i g_j = A_i within `tol` on a symmetric operator, and the
+/// CG iterations spent; the operator itself is left as it is.
+pub fn closure_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
+    let n = t.len();
+    let areas = t.areas();
+    let ones = vec![1.0; n];
+    let mut logg = vec![0.0; n];
+    let mut g = ones.clone();
+    let mut sums = t.matvec_scaled(Some(&g), &ones);
+    let mut err = closure_error(&sums, areas);
     let mut total = 0;
-    let mut err = closure_error(ex);
     for _ in 0..MAX_NEWTON {
         if err <= tol {
-            return Ok(total);
+            break;
         }
-        // Newton step: Σ_j s_ij (u_i + u_j) = A_i − Σ_j s_ij, then g ← g·exp(u).
-        let w = ex.s.data().to_vec();
-        let sums = ex.row_sums();
-        let r: Vec<f64> = ex.areas.iter().zip(&sums).map(|(a, s)| a - s).collect();
-        let (u, it) = solve_constraints(ex, &w, &r)?;
+        // Newton step: Σ_j w_ij (u_i + u_j) = A_i − Σ_j w_ij with w = the current scaled s,
+        // then g ← g·exp(u). The operator's diagonal is Σ_j w_ij + w_ii.
+        let r: Vec<f64> = areas.iter().zip(&sums).map(|(a, s)| a - s).collect();
+        let diag: Vec<f64> = (0..n).map(|i| sums[i] + t.self_term(i) * g[i] * g[i]).collect();
+        let apply = Linear {
+            n,
+            apply: |x: &[f64], y: &mut [f64]| {
+                let wx = t.matvec_scaled(Some(&g), x);
+                y.iter_mut().zip(wx).zip(&sums).zip(x).for_each(|(((y, w), s), x)| *y = w + s * x);
+            },
+        };
+        // Inexact Newton: each step solved to the current closure error (quadratic
+        // convergence is kept), never looser than NEWTON_FORCING.
+        let goal = err.clamp(CG_TOL, NEWTON_FORCING);
+        let (u, info) = cg(&apply, &diag, &r, goal, max_iter(n));
+        let (it, res) = (info.iterations, info.residual);
         total += it;
+        if res > goal && res > 1e-8 {
+            return Err(Error::Compute(format!(
+                "closure constraints have no solution (CG stopped at relative residual {res:.3e} after \
+                 {it} iterations): a group of patches that see only each other has unequal areas on its two sides"
+            )));
+        }
         // Backtrack until the closure error falls.
-        let mut t = 1.0;
+        let mut step = 1.0;
         loop {
-            let trial: Vec<f64> = logg.iter().zip(&u).map(|(l, u)| l + t * u).collect();
-            apply(ex, &base, &ip, &idx, &trial);
-            let e = closure_error(ex);
-            if e < err || t < 1e-3 {
-                (logg, err) = (trial, e);
+            let trial: Vec<f64> = logg.iter().zip(&u).map(|(l, u)| l + step * u).collect();
+            let tg: Vec<f64> = trial.iter().map(|l| l.exp()).collect();
+            let ts = t.matvec_scaled(Some(&tg), &ones);
+            let e = closure_error(&ts, areas);
+            if e < err || step < 1e-3 {
+                (logg, g, sums, err) = (trial, tg, ts, e);
                 break;
             }
-            t *= 0.5;
+            step *= 0.5;
         }
     }
-    if err <= tol {
-        return Ok(total);
+    if err > tol {
+        return Err(Error::Compute(format!(
+            "symmetric scaling did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
+        )));
     }
-    Err(Error::Compute(format!(
-        "symmetric scaling did not converge: closure error {err:.3e} after {MAX_NEWTON} Newton steps"
-    )))
+    Ok((g, total))
 }
 
-fn apply(ex: &mut Exchange, base: &[f64], ip: &[usize], idx: &[usize], logg: &[f64]) {
-    let data = ex.s.data_mut();
-    for i in 0..ip.len() - 1 {
-        for k in ip[i]..ip[i + 1] {
-            data[k] = base[k] * (logg[i] + logg[idx[k]]).exp();
-        }
-    }
-}
-
-/// Scales rows whose sum exceeds A_i(1 + tol) down until Σ_j S_ij ≤ A_i; returns sweeps.
-pub fn capped_scaling(ex: &mut Exchange, tol: f64) -> Result<usize> {
-    let base = ex.s.data().to_vec();
-    let ip = ex.indptr().to_vec();
-    let idx = ex.s.indices().to_vec();
-    let n = ex.len();
+/// The scales g ≤ 1 that bring rows whose sum exceeds A_i(1 + tol) down to Σ_j S_ij ≤ A_i,
+/// by g_i ← min(1, √(g_i A_i / (S̄g)_i)), and the sweeps spent.
+pub fn capped_scales(t: &dyn Operator, tol: f64) -> Result<(Vec<f64>, usize)> {
+    let n = t.len();
+    let areas = t.areas();
     let mut g = vec![1.0; n];
     for sweep in 0..MAX_CAPPED {
-        let r: Vec<f64> = (0..n)
-            .into_par_iter()
-            .map(|i| (ip[i]..ip[i + 1]).map(|k| base[k] * g[idx[k]]).sum::<f64>())
-            .collect();
-        let over = (0..n).any(|i| g[i] * r[i] > ex.areas[i] * (1.0 + tol));
+        let r = t.matvec_scaled(None, &g);
+        let over = (0..n).any(|i| g[i] * r[i] > areas[i] * (1.0 + tol));
         if !over {
-            let data = ex.s.data_mut();
-            for i in 0..n {
-                for k in ip[i]..ip[i + 1] {
-                    data[k] = base[k] * (g[i] * g[idx[k]]);
-                }
-            }
-            return Ok(sweep);
+            return Ok((g, sweep));
         }
         for i in 0..n {
             if r[i] > 0.0 {
-                g[i] = (g[i] * ex.areas[i] / r[i]).sqrt().min(1.0);
+                g[i] = (g[i] * areas[i] / r[i]).sqrt().min(1.0);
             }
         }
     }

@@ -143,7 +143,7 @@ impl Plan {
                 facts: Some(std::sync::Arc::new(scene::orientation::SceneFacts::of(scene))),
                 ..Default::default()
             };
-            let rep = exchange::dense::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
+            let rep = exchange::enforce(&mut ex, &p).map_err(|e| with_obstruction_note(scene, e))?;
             d.enforcement = Some(rep);
         }
         let worst_row = packed_worst_row(scene, &ex.t, d.enforcement.is_some());
@@ -361,7 +361,7 @@ fn packed_leak_warnings(scene: &Scene, ex: &exchange::dense::DenseExchange) -> V
     if !scene.is_closed() {
         return Vec::new();
     }
-    let leaks: Vec<(usize, f64)> = exchange::dense::leaks(&ex.t).iter().map(|l| (l.0, l.1)).collect();
+    let leaks: Vec<(usize, f64)> = exchange::enforce::leaks(ex).iter().map(|l| (l.node, l.row_sum)).collect();
     if leaks.is_empty() {
         return Vec::new();
     }

@@ -126,8 +126,9 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
         nodes.iter().zip(&mean_eps).map(|(nd, &e)| Node { emissivity: e, ..*nd }).collect();
     let e_amb_gray = scene.ambient.map_or(0.0, |a| SIGMA * a.temperature.powi(4));
     let rows: Vec<RowKind> = gray_nodes.iter().map(Node::row_kind).collect();
+    let surface: Vec<usize> = nodes.iter().map(|nd| nd.surface).collect();
+    system::check_anchored(scene, ex, &surface, &mean_eps, &rows)?;
     let gsys = system::assemble(ex, &mean_eps, &rows, e_amb_gray);
-    system::check_anchored(scene, ex, &gray_nodes, &gsys)?;
     let (x, _) =
         super::solve_system(&gsys, &Params { solver: super::Solver::Direct, ..params.clone() }, &mut None)?;
     let start_t = system::recover(ex, &gray_nodes, &rows, &gsys.radiosities(&x), e_amb_gray)?;

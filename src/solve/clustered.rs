@@ -16,7 +16,7 @@
 use super::{Params, Solution};
 use crate::exchange::enforce::CLOSURE_TOL;
 use crate::exchange::hierarchy::{Budget, Hierarchy, Stats};
-use crate::exchange::{Enforce, EnforceReport};
+use crate::exchange::{Enforce, EnforceParams, EnforceReport};
 use crate::scene::{BoundaryCondition, Scene};
 use crate::viewfactor::progress::Phase;
 use crate::{Result, SIGMA};
@@ -85,9 +85,9 @@ pub fn solve_scene_with(
         (Hierarchy::build(scene, vf, tol, &budget(scene))?, None)
     };
     phase(Phase::Enforcement);
-    let report = h.enforce(scene, mode, !scene.is_closed(), CLOSURE_TOL)?;
+    let report = crate::exchange::enforce(&mut h, &enforce_params(scene, mode, true))?;
     phase(Phase::Solve);
-    let mut solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
+    let mut solution = super::dense::solve_operator(scene, &h, params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
     let direct = h.heat_rate_errors(&j, e_amb(scene));
     let mut error = super::dense::propagate_errors(scene, &h, &direct)?;
@@ -134,8 +134,8 @@ pub fn radiosity_ranges(
 ) -> Result<(Vec<(f64, f64)>, Hierarchy)> {
     let apriori = budget(scene);
     let mut h = Hierarchy::build(scene, vf, loose, &apriori)?;
-    h.enforce_with(scene, mode, !scene.is_closed(), CLOSURE_TOL, false)?;
-    let solution = super::dense::solve_operator(scene, &h, &h.names, h.ambient.as_deref(), params)?;
+    crate::exchange::enforce(&mut h, &enforce_params(scene, mode, false))?;
+    let solution = super::dense::solve_operator(scene, &h, params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
     let mut e = h.heat_rate_errors(&j, e_amb(scene));
     for (e, c) in e.iter_mut().zip(h.enforcement_shift(&j)) {
@@ -147,6 +147,20 @@ pub fn radiosity_ranges(
         .map(|i| ((j[i] - dj[i]).max(apriori.radiosity[i].0), (j[i] + dj[i]).min(apriori.radiosity[i].1)))
         .collect();
     Ok((bounds, h))
+}
+
+/// The enforcement of `scene`'s links in `mode` to the closure tolerance; `check_leaks`
+/// false for a first pass, whose links only bound the final pass's radiosities.
+fn enforce_params(scene: &Scene, mode: Enforce, check_leaks: bool) -> EnforceParams {
+    EnforceParams {
+        mode,
+        open: !scene.is_closed(),
+        source: scene.source.clone(),
+        tolerance: CLOSURE_TOL,
+        facts: check_leaks.then(|| std::sync::Arc::new(crate::scene::orientation::SceneFacts::of(scene))),
+        check_leaks,
+        ..Default::default()
+    }
 }
 
 /// Emissive power of the ambient of an open scene, W/m².

@@ -8,10 +8,10 @@
 //! - [`solve_gray`]: solve on an enforced [`DenseExchange`];
 //! - [`solve_scene`]: view factors → enforcement → solve, the whole `solve` run on the lean
 //!   path (`None` when the method needs the sparse store).
-use super::system::{RowKind, ANCHOR_TOL};
+use super::system::RowKind;
 use super::{Info, NodeResult, Params, Solution};
 use crate::error::InputError;
-use crate::exchange::dense::{self, DenseExchange};
+use crate::exchange::dense::DenseExchange;
 use crate::exchange::linalg::{cg, Linear, CG_TOL};
 use crate::exchange::operator::Operator;
 use crate::exchange::{Enforce, EnforceParams, EnforceReport};
@@ -77,7 +77,7 @@ pub fn solve_scene_with(
         facts,
         ..Default::default()
     };
-    let report = dense::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
+    let report = crate::exchange::enforce(&mut ex, &p).map_err(|e| e.with_notes(&ex.t.warnings))?;
     step(Phase::Solve, &ex);
     let solution = solve_gray(scene, &ex, params)?;
     let flags = std::mem::take(&mut ex.t.flags);
@@ -90,19 +90,14 @@ pub fn solve_scene_with(
 /// Solves the gray net-radiation problem on the patches of `ex` (with its ambient column for
 /// open scenes).
 pub fn solve_gray(scene: &Scene, ex: &DenseExchange, params: &Params) -> Result<Solution> {
-    solve_operator(scene, &ex.t, &ex.names, ex.ambient.as_deref(), params)
+    solve_operator(scene, ex, params)
 }
 
-/// Solves the gray net-radiation problem on the patches with exchange operator `t` (already
-/// enforced), node names `names` and, for open scenes, the ambient exchange areas `amb`.
-pub fn solve_operator(
-    scene: &Scene,
-    t: &dyn Operator,
-    names: &[String],
-    amb: Option<&[f64]>,
-    params: &Params,
-) -> Result<Solution> {
+/// Solves the gray net-radiation problem on the patches of any exchange operator `t` (already
+/// enforced: for open scenes it carries the ambient column).
+pub fn solve_operator(scene: &Scene, t: &dyn Operator, params: &Params) -> Result<Solution> {
     let start = Instant::now();
+    let (names, amb) = (t.names(), t.ambient());
     let n = t.len();
     if n != scene.patches.len() {
         return Err(InputError::file(
@@ -133,7 +128,8 @@ pub fn solve_operator(
             b[i] += sk[i];
         }
     }
-    check_anchored(scene, t, names, unknown, rows, &sys.d, &sys.diag)?;
+    let surface: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
+    super::system::check_anchored(scene, t, &surface, eps, rows)?;
     for i in (0..n).filter(|&i| !unknown[i]) {
         b[i] = 0.0;
     }
@@ -319,38 +315,3 @@ pub fn propagate_shift(scene: &Scene, t: &dyn Operator, c: &[f64]) -> Result<Vec
 
 /// Relative residual of the error propagation solve (an estimate needs two digits).
 const ERROR_CG_TOL: f64 = 1e-6;
-
-/// Refuses a group of unknowns without a temperature anchor ([`super::system::unanchored`],
-/// as the sparse store's [`super::system::check_anchored`]): heat-flux rows whose dominance
-/// margin D_i − Σ_{j unknown} s̄_ij is at round-off level, connected only to such rows. A
-/// given temperature anchors its group whatever its emissivity; known rows anchor themselves.
-fn check_anchored(
-    scene: &Scene,
-    t: &dyn Operator,
-    names: &[String],
-    unknown: &[bool],
-    rows: &[RowKind],
-    d: &[f64],
-    diag: &[f64],
-) -> Result<()> {
-    let n = t.len();
-    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
-    let su = t.matvec_scaled(None, &mask);
-    let anchored: Vec<bool> = (0..n)
-        .map(|i| {
-            !unknown[i]
-                || matches!(rows[i], RowKind::Temperature(_))
-                || d[i] - su[i] > ANCHOR_TOL * diag[i].abs()
-        })
-        .collect();
-    let bad = super::system::unanchored(&anchored, |join| {
-        t.couplings(&mut |i, j| {
-            if unknown[i] && unknown[j] {
-                join(i, j);
-            }
-        })
-    });
-    let Some(&first) = bad.first() else { return Ok(()) };
-    let surfaces: Vec<usize> = bad.iter().map(|&i| scene.patches[i].surface).collect();
-    Err(super::system::no_anchor(scene, names[first].clone(), surfaces))
-}

@@ -243,8 +243,9 @@ pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solut
     let eps: Vec<f64> = nodes.iter().map(|n| n.emissivity).collect();
     let e_amb = scene.ambient.map_or(0.0, |a| crate::SIGMA * a.temperature.powi(4));
     let rows: Vec<system::RowKind> = nodes.iter().map(|n| n.row_kind()).collect();
+    let surface: Vec<usize> = nodes.iter().map(|n| n.surface).collect();
+    system::check_anchored(scene, ex, &surface, &eps, &rows)?;
     let sys = system::assemble(ex, &eps, &rows, e_amb);
-    system::check_anchored(scene, ex, &nodes, &sys)?;
     let (x, mut info) = solve_system(&sys, params, &mut None)?;
     let j = sys.radiosities(&x);
     let results = system::recover(ex, &nodes, &rows, &j, e_amb)?;
@@ -255,7 +256,7 @@ pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solut
         names: ex.names.clone(),
         areas: ex.areas.clone(),
         emissivity: eps,
-        surface: nodes.iter().map(|n| n.surface).collect(),
+        surface,
         results,
         ambient,
         info,

@@ -6,6 +6,7 @@
 //! K = D − S is symmetric when S is, and SPD iff every connected group of unknowns has a
 //! strictly dominant row ([`check_anchored`]).
 use crate::error::InputError;
+use crate::exchange::operator::Operator;
 use crate::exchange::Exchange;
 use crate::scene::{BoundaryCondition, Scene};
 use crate::viewfactor::Level;
@@ -220,39 +221,50 @@ pub fn assemble(ex: &Exchange, eps: &[f64], rows: &[RowKind], e_amb: f64) -> Sys
 }
 
 /// Refuses a system with a group of unknowns that has no temperature anchor (all-flux closed
-/// enclosure): K is singular there. Exit 2: a missing temperature is bad input. A given
+/// enclosure): K = D − S is singular there. Exit 2: a missing temperature is bad input. One
+/// check for every exchange store, on the operator's couplings and the rows' kinds: the
+/// unknowns are all nodes but the black temperature ones (J = E_b is known); a given
 /// temperature anchors its group whatever its emissivity; a heat-flux row anchors only through
-/// a dominance margin (what it loses to the ambient or to black temperature nodes).
-pub fn check_anchored(scene: &Scene, ex: &Exchange, nodes: &[Node], sys: &System) -> Result<()> {
-    let anchored: Vec<bool> = sys
-        .k
-        .outer_iterator()
-        .enumerate()
-        .map(|(u, row)| {
-            let margin: f64 = row.iter().map(|(_, &kv)| kv).sum();
-            let diag = row.get(u).copied().unwrap_or(0.0);
-            let given_t = matches!(nodes[sys.node[u]].condition, BoundaryCondition::Temperature(_));
-            given_t || margin > ANCHOR_TOL * diag.abs()
+/// a dominance margin A_i − Σ_{j unknown} s_ij (what it loses to the ambient or to black
+/// temperature nodes). `surface[i]` is node i's surface, for the message.
+pub fn check_anchored(
+    scene: &Scene,
+    op: &dyn Operator,
+    surface: &[usize],
+    eps: &[f64],
+    rows: &[RowKind],
+) -> Result<()> {
+    let n = op.len();
+    let areas = op.areas();
+    let unknown: Vec<bool> =
+        (0..n).map(|i| !matches!(rows[i], RowKind::Temperature(_) if eps[i] >= 1.0)).collect();
+    if rows.iter().all(|r| matches!(r, RowKind::Temperature(_))) {
+        return Ok(());
+    }
+    let mask: Vec<f64> = unknown.iter().map(|&u| if u { 1.0 } else { 0.0 }).collect();
+    let su = op.matvec_scaled(None, &mask);
+    let anchored: Vec<bool> = (0..n)
+        .map(|i| match rows[i] {
+            RowKind::Temperature(_) => true,
+            // K_ii = A_i − s_ii; the margin is the row's sum over the unknowns.
+            RowKind::Flux(_) => areas[i] - su[i] > ANCHOR_TOL * (areas[i] - op.self_term(i)).abs(),
         })
         .collect();
     let bad = unanchored(&anchored, |join| {
-        for (u, row) in sys.k.outer_iterator().enumerate() {
-            for (v, _) in row.iter().filter(|&(v, _)| v != u) {
-                join(u, v);
+        op.couplings(&mut |i, j| {
+            if unknown[i] && unknown[j] {
+                join(i, j);
             }
-        }
+        })
     });
     let Some(&first) = bad.first() else { return Ok(()) };
-    let surfaces: Vec<usize> = bad.iter().map(|&u| nodes[sys.node[u]].surface).collect();
-    Err(no_anchor(scene, ex.names[sys.node[first]].clone(), surfaces))
+    let surfaces: Vec<usize> = bad.iter().map(|&i| surface[i]).collect();
+    Err(no_anchor(scene, op.names()[first].clone(), surfaces))
 }
 
-/// The one anchoring test of every store: the rows (in order) of the groups that
-/// `couplings` joins (it calls its argument on coupled pairs) and that hold no `anchored` row.
-pub(crate) fn unanchored(
-    anchored: &[bool],
-    couplings: impl FnOnce(&mut dyn FnMut(usize, usize)),
-) -> Vec<usize> {
+/// The rows (in order) of the groups that `couplings` joins (it calls its argument on coupled
+/// pairs) and that hold no `anchored` row.
+fn unanchored(anchored: &[bool], couplings: impl FnOnce(&mut dyn FnMut(usize, usize))) -> Vec<usize> {
     let m = anchored.len();
     if anchored.iter().all(|&a| a) {
         return Vec::new();
@@ -279,7 +291,7 @@ pub(crate) fn unanchored(
 
 /// The refusal of an enclosure with only heat-flux conditions and no ambient: `first` names
 /// the row, `surfaces` (in node order) the surfaces of that enclosure.
-pub(crate) fn no_anchor(scene: &Scene, first: String, mut surfaces: Vec<usize>) -> Error {
+fn no_anchor(scene: &Scene, first: String, mut surfaces: Vec<usize>) -> Error {
     surfaces.dedup();
     let names: Vec<&str> = surfaces.iter().take(8).map(|&s| scene.surfaces[s].name.as_str()).collect();
     InputError::surface(

@@ -137,7 +137,7 @@ fn check_obstructed(scene: &Scene) {
     // The closed exchange areas themselves.
     let mut d = dense::build(scene, &vf).unwrap().unwrap();
     let p = EnforceParams { mode: Enforce::Closure, source: scene.source.clone(), ..Default::default() };
-    dense::enforce(&mut d, &p).unwrap();
+    exchange::enforce(&mut d, &p).unwrap();
     let smax = (0..ex.len()).map(|i| ex.areas[i]).fold(0.0, f64::max);
     for i in 0..ex.len() {
         for j in 0..ex.len() {
@@ -177,6 +177,39 @@ fn a_leaking_closed_scene_is_refused_not_stretched() {
             .unwrap_err();
     assert_eq!(err.exit_code(), 2, "{err}");
     assert!(err.to_string().contains("leaks"), "{err}");
+}
+
+#[test]
+fn one_anchoring_check_serves_every_store() {
+    // Heat-flux walls in an enclosure without a temperature: singular on every store, refused
+    // naming the same surfaces. A black temperature floor anchors them through the dominance
+    // margin (its J is known and leaves the unknowns).
+    let dir = tempfile::tempdir().unwrap();
+    let flux = "emissivity = 0.5\nheat_flux = 10.0";
+    let scene = load(dir.path(), "flux.toml", &box_toml([1.0, 1.0, 1.0], 2, [flux; 6], false));
+    let vf = params(Method::Analytic);
+    let raw = viewfactor::compute(&scene, &vf, Level::Patch).unwrap();
+    let mut ex = Exchange::from_viewfactors(&raw);
+    exchange::enforce(&mut ex, &EnforceParams { mode: Enforce::Closure, ..Default::default() }).unwrap();
+    let errors = [
+        solve::solve_gray(&scene, &ex, &solve::Params::default()).unwrap_err(),
+        solve::dense::solve_scene(&scene, &vf, Enforce::Closure, &Default::default()).unwrap_err(),
+        solve::clustered::solve_scene(&scene, &vf, Enforce::Closure, 1e-2, &Default::default()).unwrap_err(),
+    ];
+    for err in &errors {
+        let msg = err.to_string();
+        assert_eq!(err.exit_code(), 2, "{msg}");
+        assert!(msg.contains("flux.toml") && msg.contains("no temperature anchor"), "{msg}");
+        assert!(msg.contains("surface 'floor#0'") && msg.contains("floor, ceiling, wall_x0"), "{msg}");
+    }
+    let black = "emissivity = 1.0\ntemperature = 300.0";
+    let scene = load(
+        dir.path(),
+        "black.toml",
+        &box_toml([1.0, 1.0, 1.0], 2, [black, flux, flux, flux, flux, flux], false),
+    );
+    assert!(solve::dense::solve_scene(&scene, &vf, Enforce::Closure, &Default::default()).is_ok());
+    assert!(solve::clustered::solve_scene(&scene, &vf, Enforce::Closure, 1e-2, &Default::default()).is_ok());
 }
 
 /// The obstructed room of cases/o3 (12×12 per wall, block 6×6 per face), every surface at
@@ -298,7 +331,7 @@ proptest! {
         let vf = params(Method::Analytic);
         let mut d = dense::build(&scene, &vf).unwrap().unwrap();
         let ep = EnforceParams { mode: Enforce::Closure, source: scene.source.clone(), ..Default::default() };
-        let rep = dense::enforce(&mut d, &ep).unwrap();
+        let rep = exchange::enforce(&mut d, &ep).unwrap();
         prop_assert!(rep.after.max_row_error <= 1e-12, "{}", rep.after);
         let sol = solve::dense::solve_gray(&scene, &d, &Default::default()).unwrap();
         let (sum, max) = sol.heat_balance();

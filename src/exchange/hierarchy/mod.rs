@@ -8,9 +8,11 @@
 //! - this file: [`Hierarchy`] — the exact values of the patch pairs (the `analytic`/`auto`
 //!   kernel, shadows included), the symmetric operator S = Σ_links s_AB a_A b_Bᵀ (+ its
 //!   transpose) applied by pull (area-weighted means up the tree), one pass over the links and
-//!   push (area shares down the tree), closure or capped scaling g (S → G S G), the ambient of
-//!   open scenes, and the heat-rate error estimate of a solution: each link's bound on its
-//!   total, and the first-order error of its sharing by area, signed ([`Hierarchy::sharing_shift`]).
+//!   push (area shares down the tree); the enforcement hooks of [`Operator`] (the leak check
+//!   on surface rows against the links' bounds, closure or capped scales g kept as a vector,
+//!   S → G S G, the ambient of open scenes); and the heat-rate error estimate of a solution:
+//!   each link's bound on its total, and the first-order error of its sharing by area, signed
+//!   ([`Hierarchy::sharing_shift`]).
 //!
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
@@ -20,10 +22,9 @@
 //! over them (the operator's product, row sums, error estimates) is a local sum plus a
 //! combination in a fixed order, bit-identical to one process. The tree, the vectors over
 //! patches and nodes, and the sampled pairs' variances are replicated.
-use super::dense::{capped_scales, closure_scales};
-use super::enforce::{EnforceReport, DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
+use super::enforce::{DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS};
+use super::leak::LeakRow;
 use super::operator::Operator;
-use super::{Diagnostics, Enforce};
 use crate::error::InputError;
 use crate::scene::Scene;
 use crate::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
@@ -120,6 +121,10 @@ pub struct Hierarchy {
     g: Option<Vec<f64>>,
     /// Patch names.
     pub names: Vec<String>,
+    /// Each patch's surface (the leak check's rows).
+    surface: Vec<u32>,
+    /// Surface names.
+    surface_names: Vec<String>,
     /// S_i,amb of open scenes, after enforcement.
     pub ambient: Option<Vec<f64>>,
     /// Build statistics.
@@ -341,6 +346,8 @@ impl Hierarchy {
         };
         let areas = tree.geom.iter().map(|g| g.area).collect();
         let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
+        let surface = scene.patches.iter().map(|p| p.surface as u32).collect();
+        let surface_names = scene.surfaces.iter().map(|s| s.name.clone()).collect();
         Ok(Hierarchy {
             tree,
             areas,
@@ -351,6 +358,8 @@ impl Hierarchy {
             sampled,
             g: None,
             names,
+            surface,
+            surface_names,
             ambient: None,
             stats,
         })
@@ -620,128 +629,21 @@ impl Hierarchy {
         y
     }
 
-    /// Closure (closed scenes, after the leak check) or capped scaling and the ambient (open
-    /// scenes), as the dense path does; `tol` is the closure tolerance.
-    pub fn enforce(&mut self, scene: &Scene, mode: Enforce, open: bool, tol: f64) -> Result<EnforceReport> {
-        self.enforce_with(scene, mode, open, tol, true)
-    }
-
-    /// As [`Hierarchy::enforce`]; `check_leaks` false skips the closed scene's leak check (a
-    /// first, loose pass whose links only bound the radiosities of the final one).
-    pub fn enforce_with(
-        &mut self,
-        scene: &Scene,
-        mode: Enforce,
-        open: bool,
-        tol: f64,
-        check_leaks: bool,
-    ) -> Result<EnforceReport> {
-        let start_sums = self.matvec_scaled(None, &vec![1.0; self.areas.len()]);
-        let before = self.diagnostics(&start_sums, open);
-        let (method, iterations) = match (mode, open) {
-            (Enforce::None | Enforce::Reciprocity, false) => ("reciprocity by construction", 0),
-            (_, true) => {
-                let (g, sweeps) = capped_scales(self, tol)?;
-                self.g = g.iter().any(|&x| x != 1.0).then_some(g);
-                ("over-full rows scaled", sweeps)
-            }
-            (Enforce::Closure, false) => {
-                if check_leaks {
-                    self.refuse_leaks(scene, &start_sums)?;
-                }
-                let (g, its) = closure_scales(self, tol)?;
-                self.g = Some(g);
-                ("symmetric scaling of the links", its)
-            }
-        };
-        let sums = self.matvec_scaled(None, &vec![1.0; self.areas.len()]);
-        if open {
-            self.ambient = Some(
-                self.areas
-                    .iter()
-                    .zip(&sums)
-                    .map(|(a, s)| {
-                        let r = a - s;
-                        if r < 0.0 && -r <= tol * a * 10.0 {
-                            0.0
-                        } else {
-                            r
-                        }
-                    })
-                    .collect(),
-            );
-        }
-        let after = self.diagnostics(&sums, open);
-        Ok(EnforceReport { before, after, method, iterations })
-    }
-
-    fn diagnostics(&self, sums: &[f64], open: bool) -> Diagnostics {
-        let negatives = self.held.total(
-            self.links.iter().filter(|l| l.s < 0.0).count() + self.pairs.iter().filter(|p| p.2 < 0.0).count(),
-        ) + self.ambient.as_ref().map_or(0, |a| a.iter().filter(|&&x| x < 0.0).count());
-        // Reciprocity is exact by construction.
-        Diagnostics::from_rows(sums, &self.areas, &self.names, open, 0.0, negatives)
-    }
-
-    /// A closed scene whose surface row falls short of 1 by more than its links' error allows
-    /// leaks. Surface rows, not patch rows: a link shares its value by area within a cluster,
-    /// which moves exchange between patches of one surface but never between surfaces.
-    fn refuse_leaks(&self, scene: &Scene, sums: &[f64]) -> Result<()> {
+    /// The leak check's rows: surface rows, not patch rows (a link shares its value by area
+    /// within a cluster, which moves exchange between patches of one surface but never between
+    /// surfaces). Per surface: its raw row sum (m²), the links' error bound, the exchange area
+    /// that unanimous rays may have missed, the sampled pairs' variance and the area, from the
+    /// patches' raw row sums `sums`.
+    fn surface_rows(&self, sums: &[f64]) -> Vec<[f64; 5]> {
         let (errs, vars, unsure) = (self.row_errors(), self.row_variances(), self.row_unsure());
-        let m = scene.surfaces.len();
-        let (mut s_sum, mut s_err, mut s_area) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-        let (mut s_var, mut s_unsure) = (vec![0.0; m], vec![0.0; m]);
-        for (i, p) in scene.patches.iter().enumerate() {
-            s_sum[p.surface] += sums[i];
-            s_err[p.surface] += errs[i];
-            s_unsure[p.surface] += unsure[i];
-            s_var[p.surface] += vars[i];
-            s_area[p.surface] += self.areas[i];
+        let mut out = vec![[0.0; 5]; self.surface_names.len()];
+        for (i, &k) in self.surface.iter().enumerate() {
+            let r = &mut out[k as usize];
+            for (x, v) in r.iter_mut().zip([sums[i], errs[i], unsure[i], vars[i], self.areas[i]]) {
+                *x += v;
+            }
         }
-        let mut bad: Vec<(usize, f64)> = (0..m)
-            .filter(|&k| s_area[k] > 0.0)
-            .filter_map(|k| {
-                let p = s_sum[k] / s_area[k];
-                // Links by their bounds (and what unanimous rays may have missed), sampled
-                // pairs by their standard errors (as the dense path's leak check).
-                let allowed = DETERMINISTIC_LEAK_TOL.max(LEAK_ERR_SIGMAS * s_err[k] / s_area[k])
-                    + s_unsure[k] / s_area[k]
-                    + LEAK_SIGMAS * s_var[k].sqrt() / s_area[k];
-                (1.0 - p > allowed).then_some((k, p))
-            })
-            .collect();
-        if bad.is_empty() {
-            return Ok(());
-        }
-        bad.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        let names: Vec<String> = bad
-            .iter()
-            .take(5)
-            .map(|(k, p)| format!("{} (row sum {p:.6})", scene.surfaces[*k].name))
-            .collect();
-        let facts = crate::scene::orientation::SceneFacts::of(scene);
-        let rows: Vec<super::leak::LeakRow> = bad
-            .iter()
-            .map(|&(k, p)| super::leak::LeakRow {
-                name: scene.surfaces[k].name.clone(),
-                row_sum: p,
-                sampled: usize::from(s_var[k] > 0.0),
-                entries: usize::from(p > 0.0),
-                worst: None,
-            })
-            .collect();
-        let hint = super::leak::hint(&facts, &rows);
-        Err(InputError::surface(
-            &scene.source,
-            scene.surfaces[bad[0].0].name.clone(),
-            format!(
-                "closed scene leaks: {} surface rows fall short of 1 by more than the link errors allow: {}{}",
-                bad.len(),
-                names.join(", "),
-                if hint.is_empty() { String::new() } else { format!(". {hint}") }
-            ),
-        )
-        .into())
+        out
     }
 
     /// Cluster links with their error bounds (this process's chunks under MPI).
@@ -762,6 +664,64 @@ impl Operator for Hierarchy {
     }
     fn self_term(&self, _i: usize) -> f64 {
         0.0
+    }
+    fn names(&self) -> &[String] {
+        &self.names
+    }
+    fn ambient(&self) -> Option<&[f64]> {
+        self.ambient.as_deref()
+    }
+    fn set_ambient(&mut self, ambient: Vec<f64>) {
+        self.ambient = Some(ambient);
+    }
+    /// Composes the scales with those already applied (S → G S G is kept as the vector g).
+    fn scale(&mut self, g: &[f64]) {
+        self.g = Some(match self.g.take() {
+            Some(old) => old.iter().zip(g).map(|(a, b)| a * b).collect(),
+            None => g.to_vec(),
+        });
+    }
+    fn negatives(&self) -> usize {
+        self.held.total(
+            self.links.iter().filter(|l| l.s < 0.0).count() + self.pairs.iter().filter(|p| p.2 < 0.0).count(),
+        )
+    }
+    /// Surface rows: the links by their bounds ([`LEAK_ERR_SIGMAS`] of them, at least
+    /// [`DETERMINISTIC_LEAK_TOL`]) plus what unanimous rays may have missed, the sampled pairs by
+    /// [`LEAK_SIGMAS`] standard errors (as the dense store's check).
+    fn leak_budget(&self, raw: &[f64]) -> Vec<(f64, f64)> {
+        self.surface_rows(raw)
+            .iter()
+            .map(|&[sum, err, unsure, var, area]| {
+                if area <= 0.0 {
+                    return (1.0, 0.0);
+                }
+                let allowed = DETERMINISTIC_LEAK_TOL.max(LEAK_ERR_SIGMAS * err / area)
+                    + unsure / area
+                    + LEAK_SIGMAS * var.sqrt() / area;
+                (sum / area, allowed)
+            })
+            .collect()
+    }
+    fn leak_row_name(&self, k: usize) -> String {
+        self.surface_names[k].clone()
+    }
+    fn leak_rows(&self, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
+        let var = self.row_variances();
+        let mut sampled = vec![false; self.surface_names.len()];
+        for (i, &k) in self.surface.iter().enumerate() {
+            sampled[k as usize] |= var[i] > 0.0;
+        }
+        leaks
+            .iter()
+            .map(|&(k, p)| LeakRow {
+                name: self.surface_names[k].clone(),
+                row_sum: p,
+                sampled: usize::from(sampled[k]),
+                entries: usize::from(p > 0.0),
+                worst: None,
+            })
+            .collect()
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
         if !self.held.distributed {
