@@ -191,7 +191,7 @@ impl Task {
 
 /// The top of the recursion cut into tasks of at most `max_size` patch pairs each (or single
 /// pairs of nodes whose fate the budget decides), in the recursion's order. Only geometric
-/// decisions are taken on the way down ([`geometric`]), so the list depends on the tree alone:
+/// decisions are taken on the way down (`geometric`), so the list depends on the tree alone:
 /// not on the tolerance, the radiosity bounds or the rank count.
 pub fn tasks(ctx: &Context, max_size: f64) -> Vec<Task> {
     let mut out = Vec::new();

@@ -21,7 +21,7 @@
 //!   faces' shadows: the region bounded by its silhouette loops, whatever its shape; an open
 //!   mesh (a sheet, a fin) contributes every facet;
 //! - in the boolean, a closed body enters by its outline only: the edges its front faces share
-//!   are dropped (both ways round), the rest chained into loops ([`crate::geometry::loops`]),
+//!   are dropped (both ways round), the rest chained into loops (`geometry::loops`),
 //!   whose winding number counts the front faces over each point, so the non-zero region is the
 //!   same; the boolean then splits crossings of silhouette edges only, not of every facet's
 //!   edges over the layers behind (thousands per viewpoint on a meshed part). If the edges do
