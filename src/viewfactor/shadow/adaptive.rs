@@ -450,7 +450,10 @@ impl Integrator {
     fn reclassify(&self, geo: &ShadowGeometry, item: &mut Item, s: &mut AdaptScratch) {
         item.cell.ring(&mut s.ring);
         let snap = geo.snap();
-        shaft_planes(&s.ring, geo.receiver_hull(), snap, &mut s.shaft);
+        s.shaft.clear();
+        if item.len >= SHAFT_MIN_BLOCKERS {
+            shaft_planes(&s.ring, geo.receiver_hull(), snap, &mut s.shaft);
+        }
         let start = s.pool.len();
         for k in item.start..item.start + item.len {
             let b = s.pool[k];
@@ -521,6 +524,11 @@ impl Integrator {
         (sums[0], sums[1], seen, evals, work)
     }
 }
+
+/// Fewest active blockers for which a cell's reclassification first builds its shaft planes
+/// ([`shaft_planes`], about 24 candidate planes): below, the shadow volumes of the few blockers
+/// cost less than the planes.
+const SHAFT_MIN_BLOCKERS: usize = 8;
 
 /// The side planes of the shaft conv(cell ∪ receiver) (every segment from the cell to the
 /// receiver lies in it), oriented with the shaft behind them (within `snap`): the planes through
