@@ -73,7 +73,7 @@ impl Operator for DenseExchange {
         self.t.row_sums()
     }
     fn couplings(&self, f: &mut dyn FnMut(usize, usize)) {
-        super::rowblock::couplings(&self.t, f);
+        super::ranks::couplings(&self.t, f);
     }
     fn names(&self) -> &[String] {
         &self.names
@@ -116,7 +116,7 @@ impl Operator for DenseExchange {
             .collect()
     }
     fn leak_rows(&self, leaks: &[(usize, f64)]) -> Vec<LeakRow> {
-        super::leak::rows_from_triangle(&self.t, &self.names, leaks)
+        super::ranks::rows_from_triangle(&self.t, &self.names, leaks)
     }
 }
 

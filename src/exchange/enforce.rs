@@ -22,6 +22,7 @@ use std::str::FromStr;
 /// Closure target: max |Σ_j F_ij − 1| after enforcement (a few hundred ulps of 1).
 pub const CLOSURE_TOL: f64 = 1e-12;
 /// The leak thresholds are the methods' own knowledge (`crate::viewfactor::accuracy`).
+pub use super::operator::ClosureMethod;
 pub use crate::viewfactor::accuracy::{DETERMINISTIC_LEAK_TOL, LEAK_SIGMAS, LEAK_TOL_SINGLE_PLANE};
 
 /// The docs/SPEC.md enforcement modes (named in [`crate::choice`]).
@@ -57,22 +58,6 @@ impl Enforce {
             Enforce::Closure
         }
     }
-}
-
-/// How closure is reached (the study compares all of them).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ClosureMethod {
-    /// ML for hit counts, symmetric scaling otherwise.
-    #[default]
-    Auto,
-    /// Constrained maximum likelihood (needs hit counts).
-    MaxLikelihood,
-    /// s_ij = s̄_ij g_i g_j.
-    SymmetricScaling,
-    /// One weighted least-squares projection, w = s̄.
-    WeightedLs,
-    /// One least-squares projection, w = 1 on the pattern.
-    UnweightedLs,
 }
 
 /// Options of [`enforce`].

@@ -17,7 +17,6 @@
 use super::Exchange;
 use crate::error::opt;
 use crate::scene::orientation::SceneFacts;
-use crate::viewfactor::packed::PackedTriangular;
 use crate::viewfactor::ViewFactors;
 
 /// Leaking rows named in a hint.
@@ -94,7 +93,7 @@ impl LeakRow {
         Some(&b[41 + len..])
     }
 
-    fn add(&mut self, to: &str, factor: f64, std_error: f64) {
+    pub(super) fn add(&mut self, to: &str, factor: f64, std_error: f64) {
         self.entries += usize::from(factor != 0.0);
         if std_error > 0.0 {
             self.sampled += 1;
@@ -133,33 +132,6 @@ pub fn rows_from_exchange(ex: &Exchange, leaks: &[(usize, f64)]) -> Vec<LeakRow>
             r
         })
         .collect()
-}
-
-/// The leaking rows `(row, row sum)` of the packed store, whose sampled entries are its
-/// exceptions with a variance (one pass over them).
-pub fn rows_from_triangle(t: &PackedTriangular, names: &[String], leaks: &[(usize, f64)]) -> Vec<LeakRow> {
-    let mut slot = vec![usize::MAX; t.n];
-    let mut rows: Vec<LeakRow> = leaks
-        .iter()
-        .enumerate()
-        .map(|(k, &(i, sum))| {
-            slot[i] = k;
-            LeakRow::new(&names[i], sum)
-        })
-        .collect();
-    for (a, list) in t.exceptions.iter().enumerate() {
-        for e in list.iter().filter(|e| e.var > 0.0) {
-            let (b, s, sd) = (e.j as usize, t.get(a, e.j as usize), e.var.sqrt());
-            if slot[a] != usize::MAX {
-                rows[slot[a]].add(&names[b], s / t.areas[a], sd / t.areas[a]);
-            }
-            if b != a && slot[b] != usize::MAX {
-                rows[slot[b]].add(&names[a], s / t.areas[b], sd / t.areas[b]);
-            }
-        }
-    }
-    // Under MPI each rank saw its own rows' entries only.
-    super::rowblock::merge_leak_rows(t, rows)
 }
 
 /// The hint for `rows` (worst first), or an empty string when the facts name no cause.
@@ -459,53 +431,6 @@ mod tests {
             h.contains("if it is the enclosure, reverse its triangles' winding")
                 && h.contains("add an [ambient]")
         );
-    }
-
-    /// Three patches of area 2; entries 0–1 sampled (σ of s̄ = 0.02), 1–2 exact.
-    fn stores() -> (ViewFactors, PackedTriangular) {
-        use crate::viewfactor::packed::Exception;
-        use crate::viewfactor::{Entry, Level, MethodSet};
-        let names: Vec<String> = ["a#0", "a#1", "b#0"].iter().map(|s| s.to_string()).collect();
-        let e = |to: u32, factor: f64, std_error: f64| Entry {
-            to,
-            factor,
-            std_error,
-            method: MethodSet::ANALYTIC,
-        };
-        let vf = ViewFactors {
-            level: Level::Patch,
-            names: names.clone(),
-            areas: vec![2.0; 3],
-            rows: vec![vec![e(1, 0.3, 0.01)], vec![e(0, 0.3, 0.01), e(2, 0.5, 0.0)], vec![e(1, 0.5, 0.0)]],
-            patch_row_sums: vec![0.3, 0.8, 0.5],
-            patch_samples: vec![0; 3],
-            pairs: 3,
-            wall: std::time::Duration::ZERO,
-            flags: Vec::new(),
-            warnings: Vec::new(),
-        };
-        let mut t = PackedTriangular::zeros(3, vec![2.0; 3]).unwrap();
-        let (k01, k12) = (t.offset(0) + 1, t.offset(1) + 1);
-        t.s[k01] = 0.6;
-        t.s[k12] = 1.0;
-        t.exceptions[0].push(Exception { j: 1, method: MethodSet::SHADOWED, var: 0.02f64.powi(2) });
-        (vf, t)
-    }
-
-    #[test]
-    fn every_store_gives_the_same_sampled_entries() {
-        let (vf, t) = stores();
-        let leaks = [(0, 0.3), (1, 0.8), (2, 0.5)];
-        let from_vf = rows_from_viewfactors(&vf, &leaks);
-        let from_ex = rows_from_exchange(&Exchange::from_viewfactors(&vf), &leaks);
-        let from_t = rows_from_triangle(&t, &vf.names, &leaks);
-        for rows in [&from_vf, &from_ex, &from_t] {
-            assert_eq!(rows.iter().map(|r| r.sampled).collect::<Vec<_>>(), [1, 1, 0], "{rows:?}");
-            let w = rows[1].worst.as_ref().unwrap();
-            assert_eq!(w.to, "a#0");
-            assert!((w.factor - 0.3).abs() < 1e-15 && (w.std_error - 0.01).abs() < 1e-15, "{w:?}");
-            assert!(rows[2].worst.is_none());
-        }
     }
 
     #[test]

@@ -37,8 +37,10 @@ pub(crate) mod lsq;
 pub(crate) mod memory;
 pub(crate) mod ml;
 pub mod operator;
+pub(crate) mod ranks;
 pub mod rowblock;
 pub(crate) mod scaling;
+pub(crate) mod sparse;
 
 pub use diagnostics::Diagnostics;
 /// One CSR row under construction: (columns, values, variances, methods).

@@ -8,8 +8,8 @@
 //!   ranks (`PackedTriangular::matvec_scaled`); x and y are replicated O(N) vectors, so every
 //!   rank runs the same CG and gets bit-identical numbers, the same as one process;
 //! - max |s̄| and the negative count (`PackedTriangular::max_abs_and_negatives`);
-//! - the coupled groups for the anchoring check ([`couplings`]: each rank's group labels,
-//!   all-gathered), and the leaking rows named in a refusal ([`merge_leak_rows`]);
+//! - the coupled groups for the anchoring check (`super::ranks::couplings`: each rank's group labels,
+//!   all-gathered), and the leaking rows named in a refusal (`super::ranks::merge_leak_rows`);
 //! - [`check_fits`]: the memory refusal rule per rank (each rank's block against its own
 //!   available memory, agreed across the ranks: a refusal ends every rank with one message);
 //! - [`build`] (view factors into the block), [`total_bytes`] and [`report`] (per-rank rows,
@@ -18,7 +18,6 @@
 //! Without MPI (or on one rank, or with a kernel that is not symmetric, whose rows are
 //! gathered to rank 0) every function here is the single-process one.
 use super::dense::{self, DenseExchange, DENSE_PEAK_FACTOR};
-use super::leak::LeakRow;
 use super::memory::{self, Available, Bound};
 use crate::distributed::reduce;
 use crate::error::InputError;
@@ -145,66 +144,4 @@ pub fn report(t: &PackedTriangular) {
             );
         }
     }
-}
-
-/// Calls `f(i, j)` for pairs that couple i and j, enough to join every group of coupled
-/// patches: the held rows' couplings, and under MPI every rank's groups as each patch's
-/// group label (its smallest patch), all-gathered (a collective).
-pub fn couplings(t: &PackedTriangular, f: &mut dyn FnMut(usize, usize)) {
-    let held = |f: &mut dyn FnMut(usize, usize)| {
-        for i in t.held.clone() {
-            for (k, &s) in t.row(i).iter().enumerate().skip(1) {
-                if s != 0.0 {
-                    f(i, i + k);
-                }
-            }
-        }
-    };
-    if !t.distributed {
-        held(f);
-        return;
-    }
-    let n = t.n;
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    held(&mut |u, v| {
-        let (a, b) = (find(&mut parent, u), find(&mut parent, v));
-        parent[a.max(b)] = a.min(b);
-    });
-    let labels: Vec<u8> = (0..n).flat_map(|u| (find(&mut parent, u) as u32).to_le_bytes()).collect();
-    for bytes in reduce::all_gather_bytes(&labels) {
-        for (u, c) in bytes.chunks_exact(4).enumerate() {
-            let root = u32::from_le_bytes(c.try_into().expect("4 bytes")) as usize;
-            if root != u {
-                f(u, root);
-            }
-        }
-    }
-}
-
-/// The leaking rows of a distributed store: each rank's partial rows (from its held rows'
-/// exceptions) merged in rank order, so in row order as one process adds them (a
-/// collective); `rows` unchanged when the store is whole.
-pub fn merge_leak_rows(t: &PackedTriangular, rows: Vec<LeakRow>) -> Vec<LeakRow> {
-    if !t.distributed {
-        return rows;
-    }
-    let mine: Vec<u8> = rows.iter().flat_map(LeakRow::partial_bytes).collect();
-    let mut out: Vec<LeakRow> = rows.iter().map(LeakRow::emptied).collect();
-    for bytes in reduce::all_gather_bytes(&mine) {
-        let mut rest: &[u8] = &bytes;
-        for r in &mut out {
-            match r.merge_bytes(rest) {
-                Some(tail) => rest = tail,
-                None => return rows,
-            }
-        }
-    }
-    out
 }

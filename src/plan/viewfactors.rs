@@ -365,7 +365,7 @@ fn packed_leak_warnings(scene: &Scene, ex: &exchange::dense::DenseExchange) -> V
     if leaks.is_empty() {
         return Vec::new();
     }
-    let rows = exchange::leak::rows_from_triangle(&ex.t, &ex.names, &leaks);
+    let rows = exchange::ranks::rows_from_triangle(&ex.t, &ex.names, &leaks);
     leak_lines(scene, &rows, &leaks, &ex.names)
 }
 
