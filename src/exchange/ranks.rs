@@ -23,27 +23,55 @@ pub fn couplings(t: &PackedTriangular, f: &mut dyn FnMut(usize, usize)) {
         held(f);
         return;
     }
-    let n = t.n;
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    held(&mut |u, v| {
-        let (a, b) = (find(&mut parent, u), find(&mut parent, v));
-        parent[a.max(b)] = a.min(b);
-    });
-    let labels: Vec<u8> = (0..n).flat_map(|u| (find(&mut parent, u) as u32).to_le_bytes()).collect();
-    for bytes in reduce::all_gather_bytes(&labels) {
+    gathered_couplings(t.n, held, reduce::all_gather_bytes, f);
+}
+
+/// The couplings of a store held in parts across ranks: `local` calls its argument on this
+/// rank's coupled pairs; each patch's group label (its smallest member) is all-gathered by
+/// `all_gather`, and `f(u, label)` joins every patch to its group on every rank, so that the
+/// groups are those of one process's couplings (a collective).
+pub(crate) fn gathered_couplings(
+    n: usize,
+    local: impl FnOnce(&mut dyn FnMut(usize, usize)),
+    all_gather: impl FnOnce(&[u8]) -> Vec<Vec<u8>>,
+    f: &mut dyn FnMut(usize, usize),
+) {
+    let mut groups = Groups::new(n);
+    local(&mut |u, v| groups.join(u, v));
+    let labels: Vec<u8> = (0..n).flat_map(|u| (groups.root(u) as u32).to_le_bytes()).collect();
+    for bytes in all_gather(&labels) {
         for (u, c) in bytes.chunks_exact(4).enumerate() {
             let root = u32::from_le_bytes(c.try_into().expect("4 bytes")) as usize;
             if root != u {
                 f(u, root);
             }
         }
+    }
+}
+
+/// Disjoint groups of 0..n joined pair by pair (union–find with path halving); the root of a
+/// group is its smallest member.
+#[derive(Debug, Clone)]
+pub(crate) struct Groups(Vec<usize>);
+
+impl Groups {
+    /// n groups of one.
+    pub(crate) fn new(n: usize) -> Self {
+        Self((0..n).collect())
+    }
+    /// The smallest member of x's group.
+    pub(crate) fn root(&mut self, mut x: usize) -> usize {
+        let p = &mut self.0;
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    /// Puts u and v in one group.
+    pub(crate) fn join(&mut self, u: usize, v: usize) {
+        let (a, b) = (self.root(u), self.root(v));
+        self.0[a.max(b)] = a.min(b);
     }
 }
 
@@ -101,6 +129,17 @@ mod tests {
     use super::super::Exchange;
     use super::*;
     use crate::viewfactor::ViewFactors;
+
+    #[test]
+    fn groups_join_pairs_and_root_at_their_smallest_member() {
+        let mut g = Groups::new(6);
+        g.join(4, 2);
+        g.join(5, 4);
+        g.join(3, 1);
+        assert_eq!((0..6).map(|u| g.root(u)).collect::<Vec<_>>(), [0, 1, 2, 1, 2, 2]);
+        g.join(5, 3);
+        assert_eq!((0..6).map(|u| g.root(u)).collect::<Vec<_>>(), [0, 1, 1, 1, 1, 1]);
+    }
 
     /// Three patches of area 2; entries 0–1 sampled (σ of s̄ = 0.02), 1–2 exact.
     fn stores() -> (ViewFactors, PackedTriangular) {

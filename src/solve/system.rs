@@ -7,6 +7,7 @@
 //! strictly dominant row ([`check_anchored`]).
 use crate::error::InputError;
 use crate::exchange::operator::Operator;
+use crate::exchange::ranks::Groups;
 use crate::exchange::Exchange;
 use crate::scene::{BoundaryCondition, Scene};
 use crate::viewfactor::Level;
@@ -269,24 +270,13 @@ fn unanchored(anchored: &[bool], couplings: impl FnOnce(&mut dyn FnMut(usize, us
     if anchored.iter().all(|&a| a) {
         return Vec::new();
     }
-    let mut parent: Vec<usize> = (0..m).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    couplings(&mut |u, v| {
-        let (a, b) = (find(&mut parent, u), find(&mut parent, v));
-        parent[a] = b;
-    });
+    let mut groups = Groups::new(m);
+    couplings(&mut |u, v| groups.join(u, v));
     let mut root_ok = vec![false; m];
     for (u, &a) in anchored.iter().enumerate() {
-        let r = find(&mut parent, u);
-        root_ok[r] |= a;
+        root_ok[groups.root(u)] |= a;
     }
-    (0..m).filter(|&u| !root_ok[find(&mut parent, u)]).collect()
+    (0..m).filter(|&u| !root_ok[groups.root(u)]).collect()
 }
 
 /// The refusal of an enclosure with only heat-flux conditions and no ambient: `first` names

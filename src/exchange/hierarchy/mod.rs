@@ -728,30 +728,9 @@ impl Operator for Hierarchy {
             self.local_couplings(f);
             return;
         }
-        // Under MPI: this rank's groups as each patch's group label (its smallest patch), every
-        // rank's labels joined on every rank: the same groups as one process's couplings.
-        let n = self.areas.len();
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn find(p: &mut [usize], mut x: usize) -> usize {
-            while p[x] != x {
-                p[x] = p[p[x]];
-                x = p[x];
-            }
-            x
-        }
-        self.local_couplings(&mut |u, v| {
-            let (a, b) = (find(&mut parent, u), find(&mut parent, v));
-            parent[a.max(b)] = a.min(b);
-        });
-        let labels: Vec<u8> = (0..n).flat_map(|u| (find(&mut parent, u) as u32).to_le_bytes()).collect();
-        for bytes in self.held.all_gather(&labels) {
-            for (u, c) in bytes.chunks_exact(4).enumerate() {
-                let root = u32::from_le_bytes(c.try_into().expect("4 bytes")) as usize;
-                if root != u {
-                    f(u, root);
-                }
-            }
-        }
+        // Under MPI: every rank's groups joined on every rank, as one process's couplings.
+        let all_gather = |mine: &[u8]| self.held.all_gather(mine);
+        super::ranks::gathered_couplings(self.areas.len(), |g| self.local_couplings(g), all_gather, f);
     }
 }
 
