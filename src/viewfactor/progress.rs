@@ -205,6 +205,12 @@ impl Drop for Display {
     }
 }
 
+/// True when a display draws this thread's progress (a run without `--quiet`): callers skip
+/// work that only feeds the drawing, such as the rows' cost estimates.
+pub fn displayed() -> bool {
+    DISPLAY.with(|d| d.borrow().is_some())
+}
+
 /// The run on this thread enters `phase`: its display and watch hear it.
 pub fn enter(phase: Phase) {
     if let Some(s) = DISPLAY.with(|d| d.borrow().clone()) {

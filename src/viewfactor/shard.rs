@@ -137,10 +137,10 @@ pub(super) fn rows<'k>(
             let block = partition::balanced(&wire::row_costs(n, symmetric), count)[index].clone();
             drop(m);
             // The shard's own pairs are what its progress counts (the run's display shows it),
-            // weighed by the kernel's estimated cost of each row when it has one.
+            // weighed by the kernel's estimated cost of each row when it has one and a display
+            // draws them (`--quiet` skips the estimate).
             let pairs = |i: usize| if symmetric { (n - i) as u64 } else { n as u64 };
-            let costs =
-                kernel.row_costs().filter(|c| c.len() == n).unwrap_or_else(|| (0..n).map(pairs).collect());
+            let costs = super::engine::row_costs(kernel, progress::displayed(), n, pairs);
             let progress = Progress::start_costed(
                 block.clone().map(pairs).sum(),
                 "pairs",

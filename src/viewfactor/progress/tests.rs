@@ -255,3 +255,15 @@ fn a_stage_under_a_display_reports_to_it_and_leaves_it_when_done() {
     // Without a display, a stage draws by itself again.
     assert!(Progress::start(10, "pairs", Mode::Log(Duration::from_secs(3600))).reporter.is_some());
 }
+
+#[test]
+fn a_display_is_seen_only_while_it_draws() {
+    assert!(!displayed());
+    {
+        let _quiet = Display::start(Mode::Off);
+        assert!(!displayed(), "an Off display installs nothing");
+        let _lines = Display::start(Mode::Log(std::time::Duration::from_secs(3600)));
+        assert!(displayed());
+    }
+    assert!(!displayed(), "dropping the display uninstalls it");
+}
