@@ -78,7 +78,7 @@ pub fn solve_scene_with(
         let (bounds, h1) = radiosity_ranges(scene, vf, mode, loose, params)?;
         let stats = h1.stats.clone();
         let pairs = h1.into_pairs();
-        let budget = Budget { radiosity: bounds, heat_rate_scale: heat_rate_scale(scene) };
+        let budget = budget_within(scene, bounds);
         let h = Hierarchy::build_bounded(scene, vf, tol, &budget, Some(pairs))?;
         (h, Some((loose, stats)))
     } else {
@@ -171,47 +171,20 @@ fn e_amb(scene: &Scene) -> Option<f64> {
 /// The a-priori [`Budget`] of `scene`'s boundary conditions: [`radiosity_bounds`] and the
 /// heat-rate scale.
 pub fn budget(scene: &Scene) -> Budget {
-    Budget { radiosity: radiosity_bounds(scene), heat_rate_scale: heat_rate_scale(scene) }
+    budget_within(scene, radiosity_bounds(scene))
 }
 
-/// Radiosity bounds of each patch before the solve (W/m²): J = εE_b + ρH with the irradiation
-/// H between the scene's lowest and highest radiosity; flux patches span the whole range.
+/// The [`Budget`] of `scene` with the radiosity ranges `radiosity` (per patch) and the
+/// surfaces' weights under them.
+fn budget_within(scene: &Scene, radiosity: Vec<(f64, f64)>) -> Budget {
+    let surface_weight = super::apriori::surface_weights(scene, &radiosity);
+    Budget { radiosity, heat_rate_scale: heat_rate_scale(scene), surface_weight }
+}
+
+/// Radiosity bounds of each patch before the solve (W/m²): the emissive powers' range, narrowed
+/// by the view caps of the surfaces' bounding spheres ([`super::apriori`]).
 pub fn radiosity_bounds(scene: &Scene) -> Vec<(f64, f64)> {
-    let eb = |t: f64| SIGMA * t.powi(4);
-    let mut e_lo = scene.ambient.map_or(f64::INFINITY, |a| eb(a.temperature));
-    let mut e_hi = scene.ambient.map_or(0.0, |a| eb(a.temperature));
-    let mut q_max: f64 = 0.0;
-    let mut eps_min: f64 = 1.0;
-    for s in &scene.surfaces {
-        match s.condition {
-            Some(BoundaryCondition::Temperature(t)) => (e_lo, e_hi) = (e_lo.min(eb(t)), e_hi.max(eb(t))),
-            Some(BoundaryCondition::HeatFlux(q)) => {
-                q_max = q_max.max(q.abs());
-                eps_min = eps_min.min(s.emissivity.max(1e-3));
-            }
-            None => {}
-        }
-    }
-    if !e_lo.is_finite() {
-        e_lo = 0.0;
-    }
-    // A heated flux surface radiates above the hottest fixed temperature by about q/ε.
-    let top = e_hi + q_max / eps_min;
-    scene
-        .patches
-        .iter()
-        .map(|p| {
-            let s = &scene.surfaces[p.surface];
-            match s.condition {
-                Some(BoundaryCondition::Temperature(t)) => {
-                    let (e, r) = (s.emissivity * eb(t), 1.0 - s.emissivity);
-                    (e + r * e_lo, e + r * top)
-                }
-                // J ≥ 0 is all that is known below a flux surface's radiosity.
-                _ => (0.0, top),
-            }
-        })
-        .collect()
+    super::apriori::radiosity_bounds(scene)
 }
 
 /// The largest heat rate to expect (W): A ε |E_b − Ē_b| of temperature surfaces (Ē_b their

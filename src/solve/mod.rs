@@ -18,6 +18,7 @@ use crate::{Error, Result};
 use std::str::FromStr;
 use std::time::{Duration, Instant};
 
+pub mod apriori;
 pub mod bands;
 pub mod clustered;
 pub mod conductance;

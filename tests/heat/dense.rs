@@ -650,3 +650,83 @@ fn hierarchical_estimate_covers_the_area_sharing_of_links() {
         check_against_dense(&format!("box {k}"), &scene, &params(Method::Analytic), tol);
     }
 }
+
+/// A 2 m room (4 × 4 patches per wall, 300 K, ε 0.8) around a 0.3 m cube at 600 K (ε 0.85,
+/// 2 × 2 per face, outward), its top open to a 250 K ambient when `open`.
+fn hot_cube_in_room(open: bool) -> String {
+    let wall = "emissivity = 0.8\ntemperature = 300.0";
+    let mut t = box_toml([2.0; 3], 4, [wall; 6], open);
+    let (a, b, s) = (0.85, 1.15, 0.3);
+    let hot = "emissivity = 0.85\ntemperature = 600.0";
+    t += &rect("cube_z0", [a, a, a], [0.0, s, 0.0], [s, 0.0, 0.0], 2, hot);
+    t += &rect("cube_z1", [a, a, b], [s, 0.0, 0.0], [0.0, s, 0.0], 2, hot);
+    t += &rect("cube_x0", [a, a, a], [0.0, 0.0, s], [0.0, s, 0.0], 2, hot);
+    t += &rect("cube_x1", [b, a, a], [0.0, s, 0.0], [0.0, 0.0, s], 2, hot);
+    t += &rect("cube_y0", [a, a, a], [s, 0.0, 0.0], [0.0, 0.0, s], 2, hot);
+    t += &rect("cube_y1", [a, b, a], [0.0, 0.0, s], [s, 0.0, 0.0], 2, hot);
+    t
+}
+
+#[test]
+fn a_priori_radiosity_bounds_and_surface_weights_hold_the_exact_solution() {
+    // The hierarchical budget reads these before any view factor is known: each must hold
+    // the exact (analytic, dense) radiosities and exchange areas, and the view caps must
+    // narrow the room walls' ranges well below the emissive-power range.
+    let dir = tempfile::tempdir().unwrap();
+    for open in [false, true] {
+        let scene = load(dir.path(), "room.toml", &hot_cube_in_room(open));
+        let vf = params(Method::Analytic);
+        let mode = Enforce::solve_default(open);
+        let (ex, sol) = sparse(&scene, &vf, mode);
+        let bounds = solve::apriori::radiosity_bounds(&scene);
+        let coarse = solve::apriori::emissive_bounds(&scene);
+        let (mut wall, mut wall0) = (0.0, 0.0);
+        for (i, r) in sol.results.iter().enumerate() {
+            let (lo, hi) = bounds[i];
+            let slack = HEAT_TOL * r.radiosity;
+            assert!(
+                lo - slack <= r.radiosity && r.radiosity <= hi + slack,
+                "open {open}, patch {i}: J {} outside [{lo}, {hi}]",
+                r.radiosity
+            );
+            if !scene.surfaces[scene.patches[i].surface].name.starts_with("cube") {
+                wall += hi - lo;
+                wall0 += coarse[i].1 - coarse[i].0;
+            }
+        }
+        assert!(wall < 0.25 * wall0, "open {open}: walls' ranges {wall:e} against {wall0:e}");
+        // Σ_t S_st ΔJ_st with the exact exchange areas between surfaces.
+        let weights = solve::apriori::surface_weights(&scene, &bounds).expect("few surfaces");
+        let m = scene.surfaces.len();
+        let (mut lo, mut hi) = (vec![f64::INFINITY; m], vec![f64::NEG_INFINITY; m]);
+        for (p, &(l, h)) in scene.patches.iter().zip(&bounds) {
+            lo[p.surface] = lo[p.surface].min(l);
+            hi[p.surface] = hi[p.surface].max(h);
+        }
+        let mut exact = vec![0.0; m];
+        for (&v, (i, j)) in ex.s.iter() {
+            let (s, t) = (scene.patches[i].surface, scene.patches[j].surface);
+            exact[s] += v * (hi[s].max(hi[t]) - lo[s].min(lo[t]));
+        }
+        for s in 0..m {
+            assert!(
+                exact[s] <= weights[s] * (1.0 + 1e-12),
+                "open {open}, {}: weight {} below the exact {}",
+                scene.surfaces[s].name,
+                weights[s],
+                exact[s]
+            );
+        }
+        // The walls' weight is far below their area at the widest radiosity range: their
+        // links to the small cube get the budget that wall-to-wall links do not need.
+        let widest = (0..m).map(|s| hi[s]).fold(f64::NEG_INFINITY, f64::max)
+            - (0..m).map(|s| lo[s]).fold(f64::INFINITY, f64::min);
+        let floor = scene.surfaces.iter().position(|s| s.name == "floor").unwrap();
+        assert!(
+            weights[floor] < 0.25 * 4.0 * widest,
+            "open {open}: floor weight {} against {}",
+            weights[floor],
+            4.0 * widest
+        );
+    }
+}

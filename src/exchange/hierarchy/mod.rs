@@ -139,6 +139,10 @@ pub struct Budget {
     pub radiosity: Vec<(f64, f64)>,
     /// The largest heat rate to expect, W: `tol` is relative to it.
     pub heat_rate_scale: f64,
+    /// Per surface, a bound on Σ S·ΔJ over its links (W): a link's share of the heat-rate
+    /// budget is its S·ΔJ over the larger of its two surfaces' weights. `None`: its S over the
+    /// larger of its surfaces' areas (every link of a surface at the widest ΔJ).
+    pub surface_weight: Option<Vec<f64>>,
 }
 
 impl Hierarchy {
@@ -193,6 +197,7 @@ impl Hierarchy {
             radiosity,
             tol,
             q_ref: budget.heat_rate_scale,
+            weight: budget.surface_weight.clone(),
             area: tree.nodes[0].area,
             prefix,
             seed: vf.seed,
@@ -859,6 +864,7 @@ mod tests {
             radiosity: tree.ranges(|p| budget.radiosity[p]),
             tol,
             q_ref: budget.heat_rate_scale,
+            weight: budget.surface_weight.clone(),
             area: tree.nodes[0].area,
             prefix: Vec::new(),
             seed: 0,

@@ -16,11 +16,14 @@
 //!
 //! Two single patches always form a leaf pair, evaluated later by the exact kernel.
 //!
-//! The budget of a link (single-surface clusters on surfaces s_A, s_B) is
-//! tol · Q_ref · S_AB / (2 max(A_sA, A_sB)): summed over the links of any surface s it stays
-//! under tol · Q_ref, since those links' exchange areas add up to at most A_s. Each link thus
-//! gets the same relative accuracy, loosened where its radiosity difference ΔJ is small (ΔJ:
-//! the range of the radiosity bounds of the patches of A ∪ B).
+//! The budget of a link (single-surface clusters on surfaces s_A, s_B, ΔJ the range of the
+//! radiosity bounds of the patches of A ∪ B) is tol · Q_ref · S_AB ΔJ / (2 max(W_sA, W_sB)) in
+//! heat rate, W_s a bound on Σ S·ΔJ over the links of s ([`crate::solve::apriori`]: view caps
+//! of bounding spheres): summed over the links of any surface it stays under tol · Q_ref / 2,
+//! and a link carries its share of the surface's radiosity differences, so a small hot part's
+//! links to a room wall are not held to the accuracy that the wall's area at the part's ΔJ
+//! would ask. Without weights (scenes of many surfaces) it is tol · Q_ref · S_AB /
+//! (2 max(A_sA, A_sB)): each link the same relative accuracy, loosened where ΔJ is small.
 use super::tree::{Node, Tree, NONE};
 use crate::viewfactor::shadow::blockers::Blockers;
 use crate::visibility::Visibility;
@@ -143,6 +146,9 @@ pub struct Context<'a> {
     pub tol: f64,
     /// Heat-rate scale the tolerance refers to (largest |Q_s|), W.
     pub q_ref: f64,
+    /// Per surface, the bound on Σ S·ΔJ over its links (W) that weighs each link's budget
+    /// ([`super::Budget::surface_weight`]).
+    pub weight: Option<Vec<f64>>,
     /// Total patch area, m².
     pub area: f64,
     /// Cumulative patch areas in tree order (for area sampling of rays).
@@ -485,7 +491,14 @@ fn budgeted(ctx: &Context, a: u32, b: u32, far: Far) -> Decision {
         let (ra, rb) = (ctx.radiosity[a as usize], ctx.radiosity[b as usize]);
         ra.1.max(rb.1) - ra.0.min(rb.0)
     };
-    let budget = ctx.tol * ctx.q_ref * two / (2.0 * na.min_surface_area.max(nb.min_surface_area));
+    // Each surface's links share tol·Q_ref/2: by S·ΔJ against the surface's weight (the bound on
+    // its links' Σ S·ΔJ), else by S against its area at the link's ΔJ.
+    let weight = ctx.weight.as_ref().map_or(0.0, |w| w[na.surface as usize].max(w[nb.surface as usize]));
+    let budget = if weight > 0.0 {
+        ctx.tol * ctx.q_ref * two * dj / (2.0 * weight)
+    } else {
+        ctx.tol * ctx.q_ref * two / (2.0 * na.min_surface_area.max(nb.min_surface_area))
+    };
     if geo * dj > budget {
         return split(ctx, a, b);
     }
