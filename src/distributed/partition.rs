@@ -174,7 +174,7 @@ mod tests {
             // Cost 9·256 + 768 = 3072 in all: the first run ends near item 171 (group 10 or 11).
             assert!((10..=11).contains(&runs[0].end), "kept {kept}: {runs:?}");
             let cost = |r: &Range<usize>| -> f64 {
-                groups[r.clone()].iter().flat_map(|g| g.clone()).map(|i| dear(i)).sum()
+                groups[r.clone()].iter().flat_map(|g| g.clone()).map(dear).sum()
             };
             assert!((cost(&runs[0]) / cost(&runs[1]) - 1.0).abs() < 0.1, "kept {kept}: {runs:?}");
         }

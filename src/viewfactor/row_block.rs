@@ -48,6 +48,7 @@ pub fn estimated_split(n: usize, size: usize) -> Vec<Range<usize>> {
 /// balanced by each row's pairs times the measured seconds per pair of the probes around it
 /// (`probes`: row, seconds, sorted by row), probe rows not counted (they are computed
 /// already). The same on every rank that gathered the same probes.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 pub fn measured_split(n: usize, size: usize, probes: &[(usize, f64)]) -> Vec<Range<usize>> {
     let bounds = packed::matvec_bounds(n);
     let blocks: Vec<Range<usize>> = bounds.windows(2).map(|b| b[0]..b[1]).collect();
@@ -298,7 +299,7 @@ fn mpi_fill(
     drop(got);
     let exchange = (exchange_start.elapsed().as_secs_f64(), reduce::bytes_sent() - bytes_before);
     // The other held rows, computed here.
-    let is_probe = |i: usize| measured && i % partition::PROBE_STRIDE == 0;
+    let is_probe = |i: usize| measured && i.is_multiple_of(partition::PROBE_STRIDE);
     let pairs = held.clone().filter(|&i| !is_probe(i)).map(|i| (n - i) as u64).sum();
     let cost = held.clone().filter(|&i| !is_probe(i)).map(|i| costs.get(i).copied().unwrap_or(0)).sum();
     let progress = progress::Progress::start_costed(pairs, "pairs", mode, cost);
