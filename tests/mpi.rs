@@ -773,3 +773,27 @@ fn the_measured_split_moves_rows_and_chunks_off_the_dear_ranks() {
     assert_eq!(meas, chunk_runs(&room, &d.join("hm2.csv"), 3, "measured"));
     assert!(std::fs::read(d.join("he.csv")).unwrap() == std::fs::read(d.join("hm.csv")).unwrap());
 }
+
+#[test]
+fn the_dense_memory_check_uses_each_ranks_final_share() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = uneven(d);
+    // 408 patches: 83,436 cells, 834 kB with the headroom; by pair count about 417 kB a
+    // rank at np 2. Measured, rank 1 takes the cheap rows, over 480 kB of them: the early
+    // check (estimated split) passes, the final one refuses, naming rank 1 and its rows.
+    let solve = |split: &str, out: &str| {
+        let out = d.join(out);
+        let args = ["solve", &scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"];
+        run_env(2, &args, &[("LAMBERT_MPI_BALANCE", split), ("LAMBERT_MEM_AVAILABLE", "480000")])
+    };
+    let o = solve("estimated", "e.csv");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = solve("measured", "m.csv");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.matches("per MPI rank").count(), 1, "{err}");
+    assert!(err.contains("shared by 2 ranks (rank 1 holds rows "), "{err}");
+    assert!(err.contains("of probe rows in passing") && err.contains("run on more ranks"), "{err}");
+    assert!(!d.join("m.csv").exists(), "a refused run wrote its output");
+}

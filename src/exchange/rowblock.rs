@@ -91,7 +91,7 @@ fn check_share(scene: &Scene, bytes_per_pair: f64, split: &RowSplit) -> Result<(
         let rows = &split.held[r];
         let passing = match split.transit[r] {
             0 => String::new(),
-            t => format!(", plus {:.1} MB of probe rows in passing", t as f64 / 1e6),
+            t => format!(", plus {:.3} MB of probe rows in passing", t as f64 / 1e6),
         };
         return Err(InputError::file(
             source,

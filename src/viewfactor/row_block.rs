@@ -147,7 +147,7 @@ fn process_cpu_seconds() -> f64 {
 }
 
 /// Probe rows computed on this rank: (row, its packed slice, its metadata, thread CPU s).
-#[cfg(feature = "mpi")]
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 type Probed = Vec<(usize, Vec<f64>, packed::RowOut, f64)>;
 
 /// Computes `rows` (a symmetric kernel) in parallel, each into its own slice, timed; the
@@ -178,7 +178,7 @@ fn probe(kernel: &dyn RowKernel, n: usize, rows: &[usize]) -> (Probed, Option<(u
 }
 
 /// Probe rows on the wire: row, slice, metadata (bit-exact).
-#[cfg(feature = "mpi")]
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 fn encode_probed(rows: &[&(usize, Vec<f64>, packed::RowOut, f64)]) -> Vec<u8> {
     use super::distributed::{put_f64, put_u32, put_u64, put_u8};
     let mut b = Vec::new();
@@ -202,7 +202,7 @@ fn encode_probed(rows: &[&(usize, Vec<f64>, packed::RowOut, f64)]) -> Vec<u8> {
 
 /// Writes the probe rows of [`encode_probed`]'s bytes into `t` (rows it holds); false when
 /// the bytes are damaged or name a row not held here.
-#[cfg(feature = "mpi")]
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 fn place_probed(t: &mut PackedTriangular, bytes: &[u8]) -> bool {
     use super::distributed::Reader;
     use super::MethodSet;
@@ -436,6 +436,37 @@ mod tests {
         // Without probes the estimate decides (probe rows not counted: about the same split).
         let m = measured_split(n, 2, &[]);
         assert!(m[0].end.abs_diff(estimated_split(n, 2)[0].end) <= 40, "{m:?}");
+    }
+
+    #[test]
+    fn probe_rows_survive_the_wire_and_damaged_bytes_are_refused() {
+        use super::super::MethodSet;
+        let n = 6;
+        let ex = vec![packed::Exception { j: 3, method: MethodSet::SHADOWED, var: 2.5e-9 }];
+        let a = (
+            2,
+            vec![0.0, 0.25, -1e-300, 0.5],
+            (MethodSet::ANALYTIC, ex, 0.75, 2.5e-9, MethodSet::ANALYTIC, 4),
+            0.1,
+        );
+        let b =
+            (4, vec![0.0, 0.125], (MethodSet::ANALYTIC, Vec::new(), 0.125, 0.0, MethodSet::ANALYTIC, 2), 0.2);
+        let bytes = encode_probed(&[&a, &b]);
+        let mut t = PackedTriangular::zeros_rows(n, vec![1.0; n], 2..6).unwrap();
+        assert!(place_probed(&mut t, &bytes));
+        assert_eq!((t.row(2), t.row(4)), (&a.1[..], &b.1[..]));
+        assert_eq!(
+            (t.exceptions[2].clone(), t.raw_row_sums[2], t.raw_row_vars[2]),
+            (a.2 .1.clone(), 0.75, 2.5e-9)
+        );
+        assert_eq!((t.row_method[4], t.raw_row_sums[4], t.pairs), (MethodSet::ANALYTIC, 0.125, 6));
+        for cut in [1, 9, bytes.len() - 1] {
+            let mut t = PackedTriangular::zeros_rows(n, vec![1.0; n], 2..6).unwrap();
+            assert!(!place_probed(&mut t, &bytes[..cut]), "bytes cut at {cut} were placed");
+        }
+        // A row this rank does not hold is refused, not written elsewhere.
+        let mut t = PackedTriangular::zeros_rows(n, vec![1.0; n], 3..6).unwrap();
+        assert!(!place_probed(&mut t, &bytes));
     }
 
     #[test]
