@@ -372,7 +372,7 @@ fn report_split(measured: bool, seconds: f64, cpu: f64, probe: f64, exchange: (f
     }
     for (r, v) in all.iter().enumerate() {
         eprintln!(
-            "lambert: mpi: dense rank {r}: view factors {:.3} s wall, {:.3} CPU s ({:.3} s probing, probe rows \
+            "lambert: mpi: dense view factors, rank {r}: {:.3} s wall, {:.3} CPU s ({:.3} s probing, probe rows \
              exchanged in {:.3} s, {:.0} bytes sent)",
             v[0], v[1], v[2], v[3], v[4]
         );
