@@ -386,12 +386,15 @@ fn dense_solves_on_row_blocks_are_the_same_on_any_rank_count() {
     }
 }
 
-/// (first row, end row, store bytes) of each rank's block of the dense store, from the
-/// statistics of `solve --exchange dense` on `np` ranks, and the patch count.
+/// (first row, end row, store bytes) of each rank's block of the dense store under the
+/// estimated split, from the statistics of `solve --exchange dense` on `np` ranks, and the
+/// patch count.
 fn dense_blocks(np: usize, scene: &str, out: &Path) -> (Vec<(usize, usize, usize)>, usize) {
     let o = Command::new("mpiexec")
         .args(["-np", &np.to_string(), BIN, "solve", scene, "-o", out.to_str().unwrap()])
         .args(["--patches", "--exchange", "dense", "--threads", "1"])
+        // The pair-count split (the measured one follows the rows' timings).
+        .env("LAMBERT_MPI_BALANCE", "estimated")
         .env("LAMBERT_MPI_STATS", "1")
         .output()
         .expect("run mpiexec");
@@ -456,6 +459,8 @@ fn the_dense_memory_check_is_per_rank_and_a_refusal_ends_every_rank() {
         let out = d.join(out);
         cmd.args(["solve", &furnace, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"])
             .env("LAMBERT_MEM_AVAILABLE", mem)
+            // The pair-count split: the final, measured share has its own test below.
+            .env("LAMBERT_MPI_BALANCE", "estimated")
             .output()
             .expect("run lambert")
     };
@@ -586,4 +591,214 @@ fn ranks_solving_different_scenes_on_the_dense_store_are_refused() {
         assert!(err.contains(says), "{}: {err}", scene.display());
         assert!(!out.exists(), "a refused run wrote its output");
     }
+}
+
+/// Runs lambert under `mpiexec -np np` (1 thread per rank) with `env` set.
+fn run_env(np: usize, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new("mpiexec");
+    c.args(["-np", &np.to_string(), BIN]).args(args).args(["--threads", "1"]);
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("run mpiexec")
+}
+
+#[test]
+fn solves_with_the_measured_and_the_estimated_split_are_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let heated = heated_room(d);
+    for (what, args) in [
+        ("dense", vec!["--patches", "--exchange", "dense"]),
+        ("hierarchical", vec!["--patches", "--exchange", "hierarchical", "--tolerance", "1e-3"]),
+    ] {
+        let want = d.join(format!("{what}.csv"));
+        let mut all = vec!["solve", &heated, "-o", want.to_str().unwrap()];
+        all.extend(&args);
+        let o = Command::new(BIN).args(&all).output().unwrap();
+        assert!(o.status.success(), "{what}: {}", String::from_utf8_lossy(&o.stderr));
+        let want = std::fs::read(&want).unwrap();
+        for split in ["measured", "estimated"] {
+            for np in [1, 2, 3] {
+                let out = d.join(format!("{what}_{split}_{np}.csv"));
+                let mut all = vec!["solve", &heated, "-o", out.to_str().unwrap()];
+                all.extend(&args);
+                let o = run_env(np, &all, &[("LAMBERT_MPI_BALANCE", split), ("LAMBERT_MPI_STATS", "1")]);
+                let err = String::from_utf8_lossy(&o.stderr);
+                assert!(o.status.success(), "{what}, {split}, np {np}: {err}");
+                let said = if what == "dense" {
+                    format!("dense {split} split")
+                } else {
+                    "measured split".to_string()
+                };
+                // One rank has nothing to split; the hierarchy names a measured split only.
+                let named = err.contains(&said);
+                assert_eq!(
+                    named,
+                    np > 1 && (what == "dense" || split == "measured"),
+                    "{what}, {split}, np {np}: {err}"
+                );
+                assert!(
+                    std::fs::read(&out).unwrap() == want,
+                    "{what}, {split} split, np {np}: differs from no MPI"
+                );
+            }
+        }
+    }
+}
+
+/// Two 10×10 plates facing each other across a blocking plate (every pair between them
+/// shadow-tested), then 20×10 coplanar patches far below, facing away from everything (every
+/// pair culled at once): 408 patches whose first rows cost far more per pair than the rest.
+fn uneven(dir: &Path) -> String {
+    let text = r#"
+[ambient]
+temperature = 300.0
+
+[[surface]]
+name = "bottom"
+rectangle = { origin = [0.0, 0.0, 0.0], u = [1.0, 0.0, 0.0], v = [0.0, 1.0, 0.0] }
+subdivide = [10, 10]
+emissivity = 0.8
+temperature = 400.0
+
+[[surface]]
+name = "top"
+rectangle = { origin = [0.0, 0.0, 1.0], u = [0.0, 1.0, 0.0], v = [1.0, 0.0, 0.0] }
+subdivide = [10, 10]
+emissivity = 0.8
+temperature = 300.0
+
+[[surface]]
+name = "plate_down"
+rectangle = { origin = [0.25, 0.25, 0.5], u = [0.0, 0.5, 0.0], v = [0.5, 0.0, 0.0] }
+subdivide = [2, 2]
+emissivity = 0.5
+temperature = 350.0
+
+[[surface]]
+name = "plate_up"
+rectangle = { origin = [0.25, 0.25, 0.5], u = [0.5, 0.0, 0.0], v = [0.0, 0.5, 0.0] }
+subdivide = [2, 2]
+emissivity = 0.5
+temperature = 350.0
+
+[[surface]]
+name = "shelf"
+rectangle = { origin = [0.0, 0.0, -5.0], u = [0.0, 1.0, 0.0], v = [2.0, 0.0, 0.0] }
+subdivide = [10, 20]
+emissivity = 0.8
+temperature = 300.0
+"#;
+    let p = dir.join("uneven.toml");
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+/// (first, end) row of each rank's dense block under `split`, from the statistics.
+fn dense_rows(scene: &str, out: &Path, np: usize, split: &str) -> Vec<(usize, usize)> {
+    let args = ["solve", scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"];
+    let o = run_env(np, &args, &[("LAMBERT_MPI_BALANCE", split), ("LAMBERT_MPI_STATS", "1")]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    err.lines()
+        .filter(|l| l.contains("mpi: dense rank") && l.contains("holds rows"))
+        .map(|l| {
+            let words: Vec<&str> = l.split_whitespace().collect();
+            let at = words.iter().position(|x| *x == "rows").unwrap();
+            let (a, b) = words[at + 1].split_once("..").unwrap();
+            (a.parse().unwrap(), b.parse().unwrap())
+        })
+        .collect()
+}
+
+/// Each rank's chunk range and refined entries of the last hierarchy built under `split`,
+/// from the statistics.
+fn chunk_runs(scene: &str, out: &Path, np: usize, split: &str) -> Vec<(String, usize)> {
+    let args = ["solve", scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "hierarchical"];
+    let o = run_env(np, &args, &[("LAMBERT_MPI_BALANCE", split), ("LAMBERT_MPI_STATS", "1")]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let runs: Vec<(String, usize)> = err
+        .lines()
+        .filter(|l| l.contains("mpi: hierarchy rank") && l.contains("chunks "))
+        .map(|l| {
+            let run = l.split("chunks ").nth(1).unwrap().split(',').next().unwrap().to_string();
+            let refined = l.split(" refined").next().unwrap().rsplit(' ').next().unwrap().parse().unwrap();
+            (run, refined)
+        })
+        .collect();
+    assert_eq!(runs.len(), np, "{err}");
+    runs
+}
+
+/// The obstructed room of validation/scenes/room_8472.toml at half its patches per side
+/// (2,054 patches: cluster links and patch pairs; floor 1000 K, the rest 300 K).
+fn room_2k(dir: &Path) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("validation/scenes/room_8472.toml");
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace("subdivide = [34, 34]", "subdivide = [17, 17]")
+        .replace("subdivide = [16, 16]", "subdivide = [8, 8]");
+    let p = dir.join("room_2k.toml");
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+/// Largest over mean of the refined entries per rank.
+fn spread(runs: &[(String, usize)]) -> f64 {
+    let max = runs.iter().map(|r| r.1).max().unwrap() as f64;
+    max * runs.len() as f64 / runs.iter().map(|r| r.1).sum::<usize>() as f64
+}
+
+#[test]
+fn the_measured_split_moves_rows_and_chunks_off_the_dear_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = uneven(d);
+    // Dense: by pair count rank 0 holds about the first 29 % of the rows, most of them the
+    // dear plates' rows; measured, it holds about half of the plates' cost and fewer rows.
+    let estimated = dense_rows(&scene, &d.join("e.csv"), 2, "estimated");
+    let measured = dense_rows(&scene, &d.join("m.csv"), 2, "measured");
+    assert_eq!(estimated.len(), 2, "{estimated:?}");
+    assert_eq!(estimated, dense_rows(&scene, &d.join("e2.csv"), 2, "estimated"), "the estimate is fixed");
+    assert_eq!((measured[0].0, measured[1].1), (0, 408), "{measured:?}");
+    assert_eq!(measured[0].1, measured[1].0, "{measured:?}");
+    assert!(measured[0].1 + 20 < estimated[0].1, "measured {measured:?} against estimated {estimated:?}");
+    assert!(std::fs::read(d.join("e.csv")).unwrap() == std::fs::read(d.join("m.csv")).unwrap());
+    // Hierarchy: on the room the estimate gives the middle rank 1.22 × the mean of the
+    // refined entries; the measured split (entries the probe tasks refined) moves chunks
+    // and evens them, the same on every run (counts, not times), with the same output.
+    let room = room_2k(d);
+    let est = chunk_runs(&room, &d.join("he.csv"), 3, "estimated");
+    let meas = chunk_runs(&room, &d.join("hm.csv"), 3, "measured");
+    assert_ne!(est, meas, "the measured split moved no chunk");
+    assert_eq!(est.iter().map(|r| r.1).sum::<usize>(), meas.iter().map(|r| r.1).sum::<usize>());
+    assert!(spread(&meas) < spread(&est) - 0.05, "measured {meas:?} against estimated {est:?}");
+    assert_eq!(meas, chunk_runs(&room, &d.join("hm2.csv"), 3, "measured"));
+    assert!(std::fs::read(d.join("he.csv")).unwrap() == std::fs::read(d.join("hm.csv")).unwrap());
+}
+
+#[test]
+fn the_dense_memory_check_uses_each_ranks_final_share() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = uneven(d);
+    // 408 patches: 83,436 cells, 834 kB with the headroom; by pair count about 417 kB a
+    // rank at np 2. Measured, rank 1 takes the cheap rows, over 480 kB of them: the early
+    // check (estimated split) passes, the final one refuses, naming rank 1 and its rows.
+    let solve = |split: &str, out: &str| {
+        let out = d.join(out);
+        let args = ["solve", &scene, "-o", out.to_str().unwrap(), "--patches", "--exchange", "dense"];
+        run_env(2, &args, &[("LAMBERT_MPI_BALANCE", split), ("LAMBERT_MEM_AVAILABLE", "480000")])
+    };
+    let o = solve("estimated", "e.csv");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = solve("measured", "m.csv");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.matches("per MPI rank").count(), 1, "{err}");
+    assert!(err.contains("shared by 2 ranks (rank 1 holds rows "), "{err}");
+    assert!(err.contains("of probe rows in passing") && err.contains("run on more ranks"), "{err}");
+    assert!(!d.join("m.csv").exists(), "a refused run wrote its output");
 }

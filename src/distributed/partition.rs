@@ -63,16 +63,48 @@ pub fn probe_rows(n: usize, parts: usize, part: usize) -> Vec<usize> {
 /// probes pooled on each side). Without probes the estimate alone decides.
 pub fn rebalanced(estimated: &[f64], probes: &[(usize, f64)], parts: usize) -> Vec<Vec<usize>> {
     let rest: Vec<usize> = (0..estimated.len()).filter(|i| i % PROBE_STRIDE != 0).collect();
-    let rates = probe_rates(estimated, probes);
-    let costs: Vec<f64> = rest
+    let measured = measured_costs(estimated, probes);
+    let costs: Vec<f64> = rest.iter().map(|&i| measured[i]).collect();
+    balanced(&costs, parts).into_iter().map(|r| rest[r].to_vec()).collect()
+}
+
+/// Splits `groups` (contiguous ranges of the items `0..estimated.len()`, in order: the fixed
+/// blocks whose sums must stay whole on one rank) into `parts` contiguous runs of groups of
+/// nearly equal measured cost: each item's estimated cost times the measured cost per
+/// estimated unit of the probes around it, as [`rebalanced`]. With `probes_kept` the probe
+/// items (every [`PROBE_STRIDE`]-th) count nothing: their results travel to the group's
+/// owner, so only the other items are computed after the split. A function of its
+/// arguments alone: ranks that gathered the same probes compute the same split.
+pub fn grouped(
+    estimated: &[f64],
+    probes: &[(usize, f64)],
+    groups: &[Range<usize>],
+    parts: usize,
+    probes_kept: bool,
+) -> Vec<Range<usize>> {
+    let measured = measured_costs(estimated, probes);
+    let costs: Vec<f64> = groups
         .iter()
-        .map(|&i| {
-            // The nearest probe at or before row i (the first probe for rows before it).
+        .map(|g| g.clone().filter(|i| !probes_kept || i % PROBE_STRIDE != 0).map(|i| measured[i]).sum())
+        .collect();
+    balanced(&costs, parts)
+}
+
+/// Each item's estimated cost times the measured cost per estimated unit of the nearest probe
+/// at or before it (the first probe for items before it); the estimate alone without probes.
+pub fn measured_costs(estimated: &[f64], probes: &[(usize, f64)]) -> Vec<f64> {
+    let rates = probe_rates(estimated, probes);
+    (0..estimated.len())
+        .map(|i| {
             let k = probes.partition_point(|p| p.0 <= i).saturating_sub(1);
             estimated[i] * rates.get(k).copied().unwrap_or(1.0)
         })
-        .collect();
-    balanced(&costs, parts).into_iter().map(|r| rest[r].to_vec()).collect()
+        .collect()
+}
+
+/// True unless [`BALANCE_VAR`] asks for the estimated split.
+pub fn measured() -> bool {
+    std::env::var(BALANCE_VAR).map_or(true, |v| v != "estimated")
 }
 
 /// Seconds per estimated unit around each probe (pooled over [`RATE_WINDOW`] neighbours).
@@ -124,6 +156,28 @@ mod tests {
         let (a, b) = (cost(&runs[0]), cost(&runs[1]));
         assert!((a / b - 1.0).abs() < 0.03, "measured halves cost {a} and {b}");
         assert!(runs[0].len().abs_diff(243) <= 3, "{} rows against {}", runs[0].len(), runs[1].len());
+    }
+
+    #[test]
+    fn grouped_runs_keep_groups_whole_and_follow_the_measured_cost() {
+        // 64 groups of 16 items, equal estimates; the first quarter's items cost 9 times as
+        // much: by the estimate two halves of 32 groups, measured the first rank takes fewer.
+        let n = 1024;
+        let est = vec![1.0; n];
+        let groups: Vec<Range<usize>> = (0..64).map(|g| 16 * g..16 * g + 16).collect();
+        let dear = |i: usize| if i < 256 { 9e-3 } else { 1e-3 };
+        let probes: Vec<(usize, f64)> = (0..n).step_by(PROBE_STRIDE).map(|i| (i, dear(i))).collect();
+        assert_eq!(grouped(&est, &[], &groups, 2, false), vec![0..32, 32..64]);
+        for kept in [false, true] {
+            let runs = grouped(&est, &probes, &groups, 2, kept);
+            assert_eq!((runs[0].start, runs[0].end, runs[1].end), (0, runs[1].start, 64), "{runs:?}");
+            // Cost 9·256 + 768 = 3072 in all: the first run ends near item 171 (group 10 or 11).
+            assert!((10..=11).contains(&runs[0].end), "kept {kept}: {runs:?}");
+            let cost = |r: &Range<usize>| -> f64 {
+                groups[r.clone()].iter().flat_map(|g| g.clone()).map(dear).sum()
+            };
+            assert!((cost(&runs[0]) / cost(&runs[1]) - 1.0).abs() < 0.1, "kept {kept}: {runs:?}");
+        }
     }
 
     #[test]

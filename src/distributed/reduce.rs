@@ -5,6 +5,8 @@
 //!   adds its own terms in their order, and passes it on; the last rank broadcasts the total.
 //!   The additions happen in exactly the order of one process adding every term in rank order.
 //! - [`all_gather_bytes`], [`all_gather_u64`]: every rank's data, in rank order, on every rank.
+//! - [`all_to_all_bytes`]: each rank's bytes for each other rank, delivered (in rounds of at
+//!   most [`ROUND_BYTES`] per rank, below MPI's 2 GiB counts).
 //! - [`bytes_sent`]: what this rank has sent through these functions (for the scaling notes).
 //!
 //! Every function is collective when [`active`] is true (MPI up with several ranks, called from
@@ -55,6 +57,24 @@ pub fn all_gather_bytes(mine: &[u8]) -> Vec<Vec<u8>> {
     #[cfg(feature = "mpi")]
     {
         mpi_impl::all_gather_bytes(mine)
+    }
+    #[cfg(not(feature = "mpi"))]
+    unreachable!("active() is false without MPI")
+}
+
+/// Bytes a rank sends in one round of [`all_to_all_bytes`] (MPI counts are C ints).
+pub const ROUND_BYTES: usize = 1 << 30;
+
+/// `to[d]` goes to rank d; returns what each rank sent to this one, in rank order (`to`
+/// itself in a single process). Large exchanges travel in rounds of at most [`ROUND_BYTES`]
+/// sent by each rank.
+pub fn all_to_all_bytes(to: Vec<Vec<u8>>) -> Vec<Vec<u8>> {
+    if !active() {
+        return to;
+    }
+    #[cfg(feature = "mpi")]
+    {
+        mpi_impl::all_to_all_bytes(&to)
     }
     #[cfg(not(feature = "mpi"))]
     unreachable!("active() is false without MPI")
@@ -124,6 +144,45 @@ mod mpi_impl {
             // A broadcast tree sends about one copy per other rank in all.
             sent(std::mem::size_of_val(y) * (size - 1));
         }
+    }
+
+    /// [`super::all_to_all_bytes`]: the lengths all-gathered first, so every rank knows the
+    /// rounds, then one `Alltoallv` per round.
+    pub fn all_to_all_bytes(to: &[Vec<u8>]) -> Vec<Vec<u8>> {
+        let world = SimpleCommunicator::world();
+        let size = world.size() as usize;
+        assert_eq!(to.len(), size, "one buffer for each rank");
+        let lens: Vec<u8> = to.iter().flat_map(|b| (b.len() as u64).to_le_bytes()).collect();
+        let all: Vec<Vec<u64>> = all_gather_bytes(&lens)
+            .iter()
+            .map(|b| b.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().expect("8"))).collect())
+            .collect();
+        let rank = world.rank() as usize;
+        let piece = (super::ROUND_BYTES / size).max(1) as u64;
+        let rounds = all.iter().flatten().map(|&l| l.div_ceil(piece)).max().unwrap_or(0);
+        let mut got: Vec<Vec<u8>> = (0..size).map(|s| Vec::with_capacity(all[s][rank] as usize)).collect();
+        let displs = |c: &[i32]| -> Vec<i32> {
+            c.iter().scan(0i32, |acc, &c| Some(std::mem::replace(acc, *acc + c))).collect()
+        };
+        for k in 0..rounds {
+            let cut = |len: u64| (k * piece).min(len) as usize..((k + 1) * piece).min(len) as usize;
+            let send: Vec<u8> = to.iter().flat_map(|b| b[cut(b.len() as u64)].iter().copied()).collect();
+            let sc: Vec<i32> = to.iter().map(|b| cut(b.len() as u64).len() as i32).collect();
+            let rc: Vec<i32> = (0..size).map(|s| cut(all[s][rank]).len() as i32).collect();
+            let (sd, rd) = (displs(&sc), displs(&rc));
+            let mut recv = vec![0u8; rc.iter().map(|&c| c as usize).sum()];
+            {
+                let part = mpi::datatype::Partition::new(&send[..], &sc[..], &sd[..]);
+                let mut into = PartitionMut::new(&mut recv[..], &rc[..], &rd[..]);
+                super::super::comm::quiet_barrier(&world);
+                world.all_to_all_varcount_into(&part, &mut into);
+            }
+            sent(send.len() - sc[rank] as usize);
+            for s in 0..size {
+                got[s].extend_from_slice(&recv[rd[s] as usize..(rd[s] + rc[s]) as usize]);
+            }
+        }
+        got
     }
 
     /// Every rank's bytes, in rank order; ranks that arrive early wait without spinning.

@@ -11,7 +11,9 @@
 //! - the coupled groups for the anchoring check (`super::ranks::couplings`: each rank's group labels,
 //!   all-gathered), and the leaking rows named in a refusal (`super::ranks::merge_leak_rows`);
 //! - [`check_fits`]: the memory refusal rule per rank (each rank's block against its own
-//!   available memory, agreed across the ranks: a refusal ends every rank with one message);
+//!   available memory, agreed across the ranks: a refusal ends every rank with one message),
+//!   on the estimated split first, then on the final (measured) split before the block is
+//!   allocated;
 //! - [`build`] (view factors into the block), [`total_bytes`] and [`report`] (per-rank rows,
 //!   store bytes and bytes sent, printed by rank 0 under `LAMBERT_MPI_STATS`).
 //!
@@ -23,19 +25,22 @@ use crate::distributed::reduce;
 use crate::error::InputError;
 use crate::scene::Scene;
 use crate::viewfactor::packed::PackedTriangular;
-use crate::viewfactor::row_block;
+use crate::viewfactor::row_block::{self, RowSplit};
 use crate::Result;
 use std::hash::Hasher;
 
 /// Computes the patch-level lean store of `scene` for the `solve` route (after the memory
-/// check): under MPI each rank keeps its row block; `None` when the method needs the sparse
-/// store (Monte Carlo).
+/// check): under MPI each rank keeps its row block, its final share checked again once the
+/// measured split is known; `None` when the method needs the sparse store (Monte Carlo).
 pub fn build(scene: &Scene, params: &crate::viewfactor::Params) -> Result<Option<DenseExchange>> {
     if params.method.is_monte_carlo() {
         return Ok(None);
     }
     check_fits(scene, 8.0, params.method.is_symmetric())?;
-    let Some(t) = crate::viewfactor::compute_triangle_with(scene, params, true)? else { return Ok(None) };
+    let check = |split: &RowSplit| check_share(scene, 8.0, split);
+    let Some(t) = crate::viewfactor::compute_triangle_with(scene, params, Some(&check))? else {
+        return Ok(None);
+    };
     let names = (0..scene.patches.len()).map(|p| scene.patch_name(p)).collect();
     Ok(Some(DenseExchange::new(t, names)))
 }
@@ -44,20 +49,31 @@ pub fn build(scene: &Scene, params: &crate::viewfactor::Params) -> Result<Option
 const BOUNDS: [Bound; 5] = [Bound::Override, Bound::Free, Bound::AddressSpace, Bound::Data, Bound::Cgroup];
 
 /// [`dense::check_fits`] for the store of the `solve` route: under MPI with a `symmetric`
-/// kernel each rank checks its own row block (`bytes_per_pair` × its pairs, plus headroom)
-/// against its own available memory, and the ranks agree: when one does not fit, every rank
-/// returns the same error (exit code 2) naming it. Otherwise the single-process check.
+/// kernel each rank checks its own row block under the estimated split (`bytes_per_pair` ×
+/// its pairs, plus headroom) against its own available memory, and the ranks agree: when one
+/// does not fit, every rank returns the same error (exit code 2) naming it. Otherwise the
+/// single-process check. This early check (the route's choice, before any row) is repeated on
+/// the final, measured split before the block is allocated ([`build`]).
 pub fn check_fits(scene: &Scene, bytes_per_pair: f64, symmetric: bool) -> Result<()> {
     let (n, source) = (scene.patches.len(), scene.source.as_path());
-    let Some(held) = row_block::keeps_rows(n, symmetric) else {
+    if row_block::keeps_rows(n, symmetric).is_none() {
         return dense::check_fits(n, bytes_per_pair, source);
-    };
+    }
     crate::distributed::agree_store(
         conditions_hash(scene, bytes_per_pair),
         "patch count, surface conditions and dense store",
     );
-    let pairs: f64 = held.clone().map(|i| (n - i) as f64).sum();
-    let need = pairs * bytes_per_pair * DENSE_PEAK_FACTOR;
+    check_share(scene, bytes_per_pair, &RowSplit::estimated(n, crate::distributed::rank_size().1))
+}
+
+/// The per-rank check of [`check_fits`] on the split `split` (every rank calling): each
+/// rank's rows (`bytes_per_pair` × its pairs, plus headroom) and the probe rows it holds in
+/// passing, against its own available memory.
+fn check_share(scene: &Scene, bytes_per_pair: f64, split: &RowSplit) -> Result<()> {
+    let (n, source) = (scene.patches.len(), scene.source.as_path());
+    let rank = crate::distributed::rank_size().0;
+    let pairs_of = |r: usize| split.held[r].clone().map(|i| (n - i) as f64).sum::<f64>();
+    let need = pairs_of(rank) * bytes_per_pair * DENSE_PEAK_FACTOR + split.transit[rank] as f64;
     let avail = memory::available();
     let mut mine = Vec::with_capacity(17);
     mine.extend_from_slice(&need.to_bits().to_le_bytes());
@@ -72,21 +88,25 @@ pub fn check_fits(scene: &Scene, bytes_per_pair: f64, symmetric: bool) -> Result
         if need <= avail.bytes as f64 {
             continue;
         }
-        let rows = row_block::held_rows(n, r, size);
+        let rows = &split.held[r];
+        let passing = match split.transit[r] {
+            0 => String::new(),
+            t => format!(", plus {:.3} MB of probe rows in passing", t as f64 / 1e6),
+        };
         return Err(InputError::file(
             source,
             format!(
                 "{n} patches need about {:.1} GB per MPI rank for the dense exchange matrix shared by {size} \
-                 ranks (rank {r} holds rows {}..{}: {pairs:.0} pairs × {bytes_per_pair} bytes) but only {:.1} GB \
-                 is available to rank {r} ({}); run on more ranks, or use `{} hierarchical`, or coarser \
-                 `subdivide`",
+                 ranks (rank {r} holds rows {}..{}: {:.0} pairs × {bytes_per_pair} bytes{passing}) but only \
+                 {:.1} GB is available to rank {r} ({}); run on more ranks, or use `{} hierarchical`, or \
+                 coarser `subdivide`",
                 need / 1e9,
                 rows.start,
                 rows.end,
+                pairs_of(r),
                 avail.bytes as f64 / 1e9,
                 avail.bound,
                 crate::error::opt("exchange"),
-                pairs = rows.clone().map(|i| (n - i) as f64).sum::<f64>(),
             ),
         )
         .into());

@@ -212,7 +212,7 @@ impl Listed {
 /// CPU seconds of the calling thread: a row's cost without the time other processes took
 /// the core from it (wall time on a loaded machine measures the neighbours, not the row).
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-fn thread_cpu_seconds() -> f64 {
+pub(super) fn thread_cpu_seconds() -> f64 {
     let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
     // SAFETY: clock_gettime writes one timespec that we own; the clock id is a constant.
     let ok = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0;
@@ -285,7 +285,7 @@ pub fn rows<'k>(scene: &Scene, kernel: &'k dyn RowKernel, options: &str) -> Resu
         let (rank, size) = comm::rank_size();
         let n = scene.patches.len();
         let est = row_costs(n, kernel.symmetric());
-        let measured = std::env::var(partition::BALANCE_VAR).map_or(true, |v| v != "estimated");
+        let measured = partition::measured();
         let start = std::time::Instant::now();
         let mut mine = if measured {
             // Estimated first: the probe wave, timed row by row, its timings shared.

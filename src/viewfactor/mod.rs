@@ -185,16 +185,16 @@ pub fn compute(scene: &Scene, params: &Params, level: Level) -> Result<ViewFacto
 /// averaged s̄ = ½(s_ij + s_ji) as they are folded. `None` for the Monte Carlo methods, whose
 /// per-entry variances and hit counts need the sparse store.
 pub fn compute_triangle(scene: &Scene, params: &Params) -> Result<Option<packed::PackedTriangular>> {
-    compute_triangle_with(scene, params, false)
+    compute_triangle_with(scene, params, None)
 }
 
 /// As [`compute_triangle`]; with `keep_rows`, under MPI each rank computes and keeps its own
 /// row block of a symmetric kernel's triangle (`row_block`, the `solve` route) instead of
-/// gathering every row to rank 0.
+/// gathering every row to rank 0, after `keep_rows` checked that every rank's final share fits.
 pub fn compute_triangle_with(
     scene: &Scene,
     params: &Params,
-    keep_rows: bool,
+    keep_rows: Option<row_block::CheckShare>,
 ) -> Result<Option<packed::PackedTriangular>> {
     let Some(kernel) = row_kernel(scene, params)? else { return Ok(None) };
     progress::enter(progress::Phase::ViewFactors);
@@ -210,13 +210,9 @@ pub fn compute_triangle_with(
     });
     let mode = progress::Mode::for_stderr(params.progress);
     let options = format!("packed {}", params.agreement());
-    if let Some(held) = keep_rows.then(|| row_block::keeps_rows(n as usize, symmetric)).flatten() {
-        // This rank's rows only: the progress counts its share.
-        let pairs = held.clone().map(|i| n - i as u64).sum();
-        let cost = costs[held.clone()].iter().sum();
-        let progress = progress::Progress::start_costed(pairs, "pairs", mode, cost);
-        let t = row_block::fill(scene, kernel.as_ref(), &options, held, &progress, &costs)?;
-        progress.finish();
+    if let Some(check) = keep_rows.filter(|_| row_block::keeps_rows(n as usize, symmetric).is_some()) {
+        // This rank's rows only (the progress counts its share).
+        let t = row_block::fill(scene, kernel.as_ref(), &options, mode, &costs, check)?;
         return Ok(Some(t));
     }
     let progress = progress::Progress::start_costed(total, "pairs", mode, costs.iter().sum());

@@ -138,6 +138,13 @@ impl PackedTriangular {
         &self.s[o..o + self.n - i]
     }
 
+    /// Held row i (columns i..n), to write.
+    pub fn row_mut(&mut self, i: usize) -> &mut [f64] {
+        let o = self.offset(i);
+        let len = self.n - i;
+        &mut self.s[o..o + len]
+    }
+
     /// s̄_ij for any i, j.
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let (a, b) = if i <= j { (i, j) } else { (j, i) };
@@ -372,7 +379,7 @@ pub fn fill(
 
 /// Per-row outcome of the parallel fill: (default method, exceptions, Σ s, Σ var, methods,
 /// pairs).
-type RowOut = (MethodSet, Vec<Exception>, f64, f64, MethodSet, u64);
+pub(super) type RowOut = (MethodSet, Vec<Exception>, f64, f64, MethodSet, u64);
 
 fn fill_symmetric(
     t: &mut PackedTriangular,
@@ -380,62 +387,80 @@ fn fill_symmetric(
     progress: &Progress,
     costs: &[u64],
 ) -> Result<()> {
-    if let Some((_, e)) = fill_held(t, kernel, progress, costs) {
+    if let Some((_, e)) = fill_held(t, kernel, progress, costs, &|_| false) {
         return Err(e);
     }
     mirror(t);
     Ok(())
 }
 
-/// Fills the held rows of `t` with a symmetric kernel and sets their raw row sums, variances,
-/// methods and pairs; returns the first held row that failed (later rows are left unset).
+/// Computes row i of order `n` with a symmetric kernel into `slot` (its packed slice, s̄_ij
+/// for j = i..n), returning its metadata.
+pub(super) fn fill_row(kernel: &dyn RowKernel, n: usize, i: usize, slot: &mut [f64]) -> Result<RowOut> {
+    // The store is fresh from the kernel: writing first maps each page once, where
+    // `+=` would map the shared zero page and fault again (a TLB flush on every core).
+    slot.fill(0.0);
+    let mut row = Row::default();
+    kernel.row(i, &mut row)?;
+    let (mut sum, mut var, mut methods) = (0.0, 0.0, MethodSet::default());
+    for e in &row.entries {
+        let j = e.j as usize;
+        if j < i || j >= n {
+            return Err(Error::Compute(format!("symmetric kernel returned column {j} in row {i}")));
+        }
+        slot[j - i] += e.s;
+        sum += e.s;
+        var += e.var;
+        methods = methods.union(e.method);
+    }
+    let (def, ex) = row_meta(&row.entries, i);
+    Ok((def, ex, sum, var, methods, row.pairs))
+}
+
+/// Sets the metadata of held row i from [`fill_row`]'s outcome.
+pub(super) fn set_row_meta(t: &mut PackedTriangular, i: usize, out: RowOut) {
+    let (def, ex, sum, var, methods, pairs) = out;
+    t.row_method[i] = def;
+    t.exceptions[i] = ex;
+    t.raw_row_sums[i] = sum;
+    t.raw_row_vars[i] = var;
+    t.raw_row_methods[i] = methods;
+    t.pairs += pairs;
+}
+
+/// Fills the held rows of `t` with a symmetric kernel, but those `skip` names (filled
+/// elsewhere), and sets their raw row sums, variances, methods and pairs; returns the first
+/// held row that failed (later rows are left unset).
 pub(super) fn fill_held(
     t: &mut PackedTriangular,
     kernel: &dyn RowKernel,
     progress: &Progress,
     costs: &[u64],
+    skip: &(dyn Fn(usize) -> bool + Sync),
 ) -> Option<(usize, Error)> {
     let (n, lo) = (t.n, t.held.start);
     let rows = t.rows_mut();
-    let outs: Vec<Result<RowOut>> = rows
+    let outs: Vec<Option<Result<RowOut>>> = rows
         .into_par_iter()
         .with_max_len(1)
         .enumerate()
         .map(|(k, slot)| {
             let i = lo + k;
-            // The store is fresh from the kernel: writing first maps each page once, where
-            // `+=` would map the shared zero page and fault again (a TLB flush on every core).
-            slot.fill(0.0);
-            let mut row = Row::default();
-            kernel.row(i, &mut row)?;
-            let (mut sum, mut var, mut methods) = (0.0, 0.0, MethodSet::default());
-            for e in &row.entries {
-                let j = e.j as usize;
-                if j < i || j >= n {
-                    return Err(Error::Compute(format!("symmetric kernel returned column {j} in row {i}")));
-                }
-                slot[j - i] += e.s;
-                sum += e.s;
-                var += e.var;
-                methods = methods.union(e.method);
+            if skip(i) {
+                return None;
             }
-            let (def, ex) = row_meta(&row.entries, i);
-            progress.add_costed((n - i) as u64, costs.get(i).copied().unwrap_or(0));
-            Ok((def, ex, sum, var, methods, row.pairs))
+            let out = fill_row(kernel, n, i, slot);
+            if out.is_ok() {
+                progress.add_costed((n - i) as u64, costs.get(i).copied().unwrap_or(0));
+            }
+            Some(out)
         })
         .collect();
     for (k, o) in outs.into_iter().enumerate() {
-        let i = lo + k;
         match o {
-            Ok((def, ex, sum, var, methods, pairs)) => {
-                t.row_method[i] = def;
-                t.exceptions[i] = ex;
-                t.raw_row_sums[i] = sum;
-                t.raw_row_vars[i] = var;
-                t.raw_row_methods[i] = methods;
-                t.pairs += pairs;
-            }
-            Err(e) => return Some((i, e)),
+            None => {}
+            Some(Ok(out)) => set_row_meta(t, lo + k, out),
+            Some(Err(e)) => return Some((lo + k, e)),
         }
     }
     None

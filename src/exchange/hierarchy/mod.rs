@@ -208,9 +208,17 @@ impl Hierarchy {
         if size > 1 {
             agree(scene, vf, tol, &tree, kernel.tree_hash());
         }
+        let mut probe_seconds = None;
         let split = match known.as_ref() {
             Some(k) if k.split.ranks.len() == size => k.split.clone(),
-            _ => Split::new(&ctx, size),
+            _ => {
+                let mut split = Split::new(&ctx, size);
+                // Estimated first, then measured: a probe of the tasks re-splits the chunks.
+                if size > 1 && crate::distributed::partition::measured() {
+                    probe_seconds = Some(split.measure(&ctx, rank, size));
+                }
+                split
+            }
         };
         let chunks = split.ranks[rank].clone();
         // Refine this rank's chunks only, chunk by chunk: each chunk's links sorted by node
@@ -318,7 +326,14 @@ impl Hierarchy {
         let shares = held.shares(Share { links: links.len(), pairs: pairs.len(), bytes, refined });
         let (total_links, rays) = (held.total(links.len()), held.total(rays as usize) as u64);
         let leaf_pairs = held.total(leaf_bounds[leaf_bounds.len() - 1]);
-        if crate::distributed::writes_outputs() && std::env::var_os(crate::distributed::STATS_VAR).is_some() {
+        let stats_asked = std::env::var_os(crate::distributed::STATS_VAR).is_some();
+        // Each rank's seconds of probing (a collective, so on every rank).
+        let probes = if stats_asked {
+            held.all_gather(&probe_seconds.unwrap_or(0.0).to_le_bytes())
+        } else {
+            Vec::new()
+        };
+        if crate::distributed::writes_outputs() && stats_asked {
             let spans: u64 = split.touched.iter().flatten().map(|s| u64::from(s.end - s.start)).sum();
             eprintln!(
                 "lambert: mpi: hierarchy: {} tasks in {} chunks touching {:.2} × the {n_nodes} nodes",
@@ -326,6 +341,16 @@ impl Hierarchy {
                 split.chunks.len(),
                 spans as f64 / n_nodes as f64
             );
+            if let Some(m) = &split.measured {
+                let whole = m.iter().sum::<f64>().max(1.0);
+                for (r, p) in probes.iter().enumerate() {
+                    eprintln!(
+                        "lambert: mpi: hierarchy rank {r}: measured split, measured cost {:.3} of the whole, probe {:.3} s",
+                        m[split.ranks[r].clone()].iter().sum::<f64>() / whole,
+                        f64::from_le_bytes(p[..8].try_into().expect("8 bytes"))
+                    );
+                }
+            }
             for (r, s) in shares.iter().enumerate() {
                 let cost: f64 = split.costs[split.ranks[r].clone()].iter().sum();
                 eprintln!(

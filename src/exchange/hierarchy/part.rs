@@ -9,7 +9,15 @@
 //!   (a function of the patch count, never of the rank count). Each rank holds a contiguous run
 //!   of chunks balanced by their estimated cost ([`Split`]); it refines only its chunks' tasks
 //!   and keeps the links and patch pairs it refined, so no rank ever holds the whole lists and
-//!   their memory falls as 1/ranks. Within a chunk the links are sorted by node pair and the
+//!   their memory falls as 1/ranks.
+//! - The split is estimated, then measured ([`Split::measure`]): every
+//!   [`partition::PROBE_STRIDE`]-th task, dealt round-robin, is refined as a probe and its
+//!   links and patch pairs counted (the estimate cannot see the budget, which refines pairs
+//!   between surfaces of different radiosity much further); the counts are all-gathered and
+//!   the chunks re-split by each task's estimate times the measured entries per estimated
+//!   unit around it ([`partition::grouped`]). Only the split moves: the chunks and their
+//!   sums stay as they were, so outputs do not change. `LAMBERT_MPI_BALANCE=estimated` keeps
+//!   the estimated split. Within a chunk the links are sorted by node pair and the
 //!   patch pairs by patch pair, rows evaluated per chunk, so every chunk holds the same entries
 //!   in the same order on any rank count. A two-pass solve keeps the first pass's split, so its
 //!   cached pairs are on the rank that refines them again.
@@ -51,6 +59,10 @@ pub struct Split {
     pub chunks: Vec<Range<usize>>,
     /// Estimated cost of each chunk.
     pub costs: Vec<f64>,
+    /// Estimated cost of each task.
+    pub estimates: Vec<f64>,
+    /// Measured cost (links and patch pairs refined) of each chunk, when measured.
+    pub measured: Option<Vec<f64>>,
     /// Tree nodes each chunk's links and pairs touch: sorted, disjoint runs of node ids.
     pub touched: Vec<Vec<Range<u32>>>,
     /// Chunks held by each rank: contiguous, in rank order.
@@ -97,7 +109,48 @@ impl Split {
             })
             .collect();
         let ranks = partition::balanced(&costs, size);
-        Split { tasks, chunks, costs, touched, ranks }
+        Split { tasks, chunks, costs, estimates: estimates.to_vec(), measured: None, touched, ranks }
+    }
+
+    /// Re-splits the chunks among `size` ranks by measured cost (every rank calling, a
+    /// collective): this rank (`rank`) refines its probe tasks, counting each one's links and
+    /// patch pairs, the counts are all-gathered, and every rank computes the same split from
+    /// them. Returns this rank's seconds of probing.
+    pub fn measure(&mut self, ctx: &refine::Context, rank: usize, size: usize) -> f64 {
+        let start = std::time::Instant::now();
+        let mine: Vec<u8> = partition::probe_rows(self.tasks.len(), size, rank)
+            .par_iter()
+            .map(|&k| {
+                let r = refine::refine_tasks(ctx, &self.tasks[k..k + 1]);
+                (k, (r.links.len() + r.leaves.len()) as f64)
+            })
+            .collect::<Vec<_>>()
+            .iter()
+            .flat_map(|&(k, c)| [(k as u64).to_le_bytes(), c.to_bits().to_le_bytes()].concat())
+            .collect();
+        let seconds = start.elapsed().as_secs_f64();
+        let mut probes: Vec<(usize, f64)> = reduce::all_gather_bytes(&mine)
+            .iter()
+            .flat_map(|b| {
+                b.chunks_exact(16)
+                    .map(|c| {
+                        let w = |o: usize| u64::from_le_bytes(c[o..o + 8].try_into().expect("8 bytes"));
+                        (w(0) as usize, f64::from_bits(w(8)))
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        probes.sort_by_key(|p| p.0);
+        self.rebalance(&probes, size);
+        seconds
+    }
+
+    /// Splits the chunks among `size` ranks by the measured costs `probes` (task, cost; sorted
+    /// by task) of some tasks ([`partition::grouped`]).
+    pub fn rebalance(&mut self, probes: &[(usize, f64)], size: usize) {
+        self.ranks = partition::grouped(&self.estimates, probes, &self.chunks, size, false);
+        let cost = partition::measured_costs(&self.estimates, probes);
+        self.measured = Some(self.chunks.iter().map(|c| cost[c.clone()].iter().sum()).collect());
     }
 
     /// The tasks of chunk `c`.
@@ -216,6 +269,36 @@ mod tests {
         assert_eq!(chunk_count(100_000), 48);
         assert!(chunk_count(131_072) >= 64);
         assert_eq!(chunk_count(1 << 30), MAX_CHUNKS);
+    }
+
+    #[test]
+    fn measured_counts_move_chunks_and_keep_them_whole() {
+        // 16 chunks of 8 tasks of equal estimates; the tasks of chunks 0..4 refine ten times
+        // as many entries as the estimate says (pairs between hot and cold surfaces).
+        let chunks: Vec<Range<usize>> = (0..16).map(|c| 8 * c..8 * c + 8).collect();
+        let mut split = Split {
+            tasks: Vec::new(),
+            chunks: chunks.clone(),
+            costs: vec![8.0; 16],
+            estimates: vec![1.0; 128],
+            measured: None,
+            touched: Vec::new(),
+            ranks: partition::balanced(&[8.0; 16], 2),
+        };
+        assert_eq!(split.ranks, vec![0..8, 8..16]);
+        let count = |k: usize| if k < 32 { 10.0 } else { 1.0 };
+        let probes: Vec<(usize, f64)> =
+            (0..128).step_by(partition::PROBE_STRIDE).map(|k| (k, count(k))).collect();
+        split.rebalance(&probes, 2);
+        // The rates pool 5 probes (one a chunk), so chunks 2..6 blend: measured cost 416 in
+        // all (80, 80, 65.6, 51.2, 36.8, 22.4, then 8 a chunk); the first rank's half ends
+        // after chunk 2 or 3.
+        assert_eq!((split.ranks[0].start, split.ranks[1].end), (0, 16));
+        assert_eq!(split.ranks[0].end, split.ranks[1].start);
+        assert!((2..=3).contains(&split.ranks[0].end), "{:?}", split.ranks);
+        let m = split.measured.as_ref().expect("measured costs");
+        assert!((m.iter().sum::<f64>() - 416.0).abs() < 1e-9, "{m:?}");
+        assert_eq!((m[0], m[15]), (80.0, 8.0));
     }
 
     #[test]
