@@ -15,7 +15,7 @@
 //! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
 //! integrated as the facet sum ([`super::solid`]) instead of the shadow.
 use super::adaptive::{AdaptParams, Integrator};
-use super::blockers::Blockers;
+use super::blockers::{BlockerSource, Blockers};
 use super::classify::{classify_row, RowShadows};
 use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
@@ -75,6 +75,8 @@ pub struct Shadows<'s> {
     model: CostModel,
     /// Entries that missed their goal.
     misses: MissLog,
+    /// Per patch: it is a face of a non-convex solid (`super::pair`'s choice of emitter).
+    on_solid: Vec<bool>,
 }
 
 impl<'s> Shadows<'s> {
@@ -95,6 +97,13 @@ impl<'s> Shadows<'s> {
             Policy::Exact { .. } => integrator,
             Policy::Auto { .. } => integrator.with_cuts(AUTO_CUTS),
         };
+        let mut on_solid = vec![false; scene.patches.len()];
+        for b in 0..blockers.len() {
+            let bl = blockers.get(b);
+            if let (BlockerSource::Patch(p), 1, None) = (bl.source, bl.closed, bl.body) {
+                on_solid[p] = true;
+            }
+        }
         let pad = blockers.pad();
         let (samplers, segments) = match policy {
             Policy::Auto { .. } => (
@@ -112,6 +121,7 @@ impl<'s> Shadows<'s> {
             segments,
             model: CostModel::default(),
             misses: MissLog::default(),
+            on_solid,
         })
     }
 
@@ -237,7 +247,8 @@ impl<'s> Shadows<'s> {
         s: &mut PairWork,
     ) -> Shadowed {
         let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
-        shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, max_work, &mut s.pair)
+        let on_solid = self.on_solid[i];
+        shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, max_work, on_solid, &mut s.pair)
     }
 
     /// The Monte Carlo ratio estimate of pair (i, j) from `n` samples first, doubling until its

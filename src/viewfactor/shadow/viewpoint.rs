@@ -114,6 +114,8 @@ pub struct ShadowGeometry {
     /// Per kept blocker: a face of a solid with a neighbour across some edge, whose shadow
     /// enters the boolean by the outline it shares with its neighbours.
     outline: Vec<bool>,
+    /// Active blockers above which the shadows are united by one boolean.
+    union_min: usize,
     snap: f64,
 }
 
@@ -253,6 +255,7 @@ impl ShadowGeometry {
             facing: Vec::new(),
             body: Vec::new(),
             outline: Vec::new(),
+            union_min: UNION_MIN_ACTIVE,
             snap,
         })
     }
@@ -296,6 +299,12 @@ impl ShadowGeometry {
         self.outline = (0..self.blockers.len())
             .map(|k| self.facing[k].is_some() && self.neighbours[k].iter().any(Option::is_some))
             .collect();
+    }
+
+    /// Unites the shadows by one polygon boolean from more than `min` active blockers on
+    /// (default [`UNION_MIN_ACTIVE`]).
+    pub fn set_union_min(&mut self, min: usize) {
+        self.union_min = min;
     }
 
     /// The kept blocker folding across edge `e` of kept blocker `k`, if any.
@@ -365,7 +374,7 @@ impl ShadowGeometry {
     /// g(p) = F(dA_p → shaded part of the receiver) with the blockers `active` (indices into
     /// [`Self::blockers`]); p in the frame with p.z > 0.
     pub fn shaded(&self, p: DVec3, active: &[u32], s: &mut Scratch) -> (f64, Coverage) {
-        self.shaded_by(p, active, s, active.len() > UNION_MIN_ACTIVE)
+        self.shaded_by(p, active, s, active.len() > self.union_min)
     }
 
     /// [`Self::shaded`], the shadows united by one polygon boolean (`unite`) or subtracted one

@@ -1,0 +1,46 @@
+//! Per-pair shadow-integration statistics of one row under `auto`'s goal (validation/cad.md,
+//! the channel's wall rows): `wall_probe SCENE ROW [EVERY]` integrates every EVERY-th partly
+//! obstructed pair of row ROW and prints its value, error estimate, viewpoints, cells and
+//! time; `GOALX=0.01` tightens the goal 100× for a reference.
+use lambert::viewfactor::exact::pair::polygon_polygon;
+use lambert::viewfactor::shadow::classify::Status;
+use lambert::viewfactor::shadow::policy::pair_goal;
+use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let scene = lambert::scene::load(std::path::Path::new(&args[1])).expect("scene loads");
+    let i: usize = args[2].parse().unwrap();
+    let every: usize = args.get(3).map_or(1, |s| s.parse().unwrap());
+    let shadows = Shadows::new(&scene, Policy::Auto { tol: 1e-4, seed: 1 }).expect("blockers");
+    let mut s = ShadowScratch::default();
+    let n = scene.patches.len();
+    let t = Instant::now();
+    shadows.classify_row(i, &mut s.row);
+    println!("classify {:.3} ms", t.elapsed().as_secs_f64() * 1e3);
+    let mut k = 0;
+    let mut tot = 0.0;
+    for j in i + 1..n {
+        let Status::Partial(partial) = s.row.status(j) else { continue };
+        k += 1;
+        if k % every != 0 {
+            continue;
+        }
+        let partial = partial.to_vec();
+        let (pi, pj) = (&scene.patches[i].polygon, &scene.patches[j].polygon);
+        let u = polygon_polygon(pi, pj);
+        let goal = pair_goal(1e-4, pi.area(), pj.area())
+            * std::env::var("GOALX").map_or(1.0, |v| v.parse::<f64>().unwrap());
+        let t = Instant::now();
+        let r = shadows.integrate(i, j, u, &partial, goal, u64::MAX, &mut s.work);
+        let dt = t.elapsed().as_secs_f64();
+        tot += dt;
+        let f = &r.info;
+        println!(
+            "{i} {j} s {:.10e} nb {} u/goal {:.1} s/u {:.4} err/goal {:.2} evals {} work {} cells {} roots {} maxd {} stalled {} swapped {} ms {:.2}",
+            r.s, partial.len(), u / goal, r.s / u, r.error / goal, f.evals, f.work, f.cells, f.roots, f.at_max_depth, f.stalled, r.swapped, dt * 1e3
+        );
+    }
+    println!("pairs {k} total {tot:.2} s");
+}
