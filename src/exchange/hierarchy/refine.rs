@@ -19,11 +19,12 @@
 //! The budget of a link (single-surface clusters on surfaces s_A, s_B, ΔJ the range of the
 //! radiosity bounds of the patches of A ∪ B) is tol · Q_ref · S_AB ΔJ / (2 max(W_sA, W_sB)) in
 //! heat rate, W_s a bound on Σ S·ΔJ over the links of s ([`crate::solve::apriori`]: view caps
-//! of bounding spheres): summed over the links of any surface it stays under tol · Q_ref / 2,
-//! and a link carries its share of the surface's radiosity differences, so a small hot part's
-//! links to a room wall are not held to the accuracy that the wall's area at the part's ΔJ
-//! would ask. Without weights (scenes of many surfaces) it is tol · Q_ref · S_AB /
-//! (2 max(A_sA, A_sB)): each link the same relative accuracy, loosened where ΔJ is small.
+//! of bounding spheres), or tol · Q_ref · S_AB / (2 max(A_sA, A_sB)) (each link the same
+//! relative accuracy, loosened where ΔJ is small), whichever is larger. Each rule alone sums to
+//! at most tol · Q_ref / 2 over the links of any surface, so the larger stays under
+//! tol · Q_ref. The first lets a link carry its share of the surface's radiosity differences:
+//! a small hot part's links to a room wall are not held to the accuracy that the wall's area
+//! at the part's ΔJ would ask. Scenes of many surfaces have no weights (the second rule).
 use super::tree::{Node, Tree, NONE};
 use crate::viewfactor::shadow::blockers::Blockers;
 use crate::visibility::Visibility;
@@ -491,14 +492,13 @@ fn budgeted(ctx: &Context, a: u32, b: u32, far: Far) -> Decision {
         let (ra, rb) = (ctx.radiosity[a as usize], ctx.radiosity[b as usize]);
         ra.1.max(rb.1) - ra.0.min(rb.0)
     };
-    // Each surface's links share tol·Q_ref/2: by S·ΔJ against the surface's weight (the bound on
-    // its links' Σ S·ΔJ), else by S against its area at the link's ΔJ.
+    // Two shares of tol·Q_ref/2 each over a surface's links: by S against its area, and by S·ΔJ
+    // against the surface's weight (the bound on its links' Σ S·ΔJ). The larger of the two
+    // keeps the sum within tol·Q_ref.
+    let by_area = ctx.tol * ctx.q_ref * two / (2.0 * na.min_surface_area.max(nb.min_surface_area));
     let weight = ctx.weight.as_ref().map_or(0.0, |w| w[na.surface as usize].max(w[nb.surface as usize]));
-    let budget = if weight > 0.0 {
-        ctx.tol * ctx.q_ref * two * dj / (2.0 * weight)
-    } else {
-        ctx.tol * ctx.q_ref * two / (2.0 * na.min_surface_area.max(nb.min_surface_area))
-    };
+    let budget =
+        if weight > 0.0 { by_area.max(ctx.tol * ctx.q_ref * two * dj / (2.0 * weight)) } else { by_area };
     if geo * dj > budget {
         return split(ctx, a, b);
     }
