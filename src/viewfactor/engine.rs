@@ -9,17 +9,7 @@ use crate::Result;
 use rayon::prelude::*;
 use std::time::Instant;
 
-pub use super::row::{RawEntry, Row, RowKernel};
-
-/// The estimated cost of each of the `n` rows for the progress report: the kernel's when a
-/// report is drawn, else (and when it has none) the pairs of the row.
-pub fn row_costs(kernel: &dyn RowKernel, shown: bool, n: usize, pairs: impl Fn(usize) -> u64) -> Vec<u64> {
-    shown
-        .then(|| kernel.row_costs())
-        .flatten()
-        .filter(|c| c.len() == n)
-        .unwrap_or_else(|| (0..n).map(pairs).collect())
-}
+pub use super::row::{row_costs, RawEntry, Row, RowKernel};
 
 /// Entries buffered per wave, bounding memory while keeping every core busy.
 pub(super) const WAVE_ENTRY_BUDGET: usize = 2_000_000;

@@ -65,3 +65,13 @@ pub trait RowKernel: Sync {
         let _ = (flags, misses);
     }
 }
+
+/// The estimated cost of each of the `n` rows for the progress report: the kernel's when a
+/// report is drawn, else (and when it has none) the pairs of the row.
+pub fn row_costs(kernel: &dyn RowKernel, shown: bool, n: usize, pairs: impl Fn(usize) -> u64) -> Vec<u64> {
+    shown
+        .then(|| kernel.row_costs())
+        .flatten()
+        .filter(|c| c.len() == n)
+        .unwrap_or_else(|| (0..n).map(pairs).collect())
+}

@@ -140,7 +140,7 @@ pub(super) fn rows<'k>(
             // weighed by the kernel's estimated cost of each row when it has one and a display
             // draws them (`--quiet` skips the estimate).
             let pairs = |i: usize| if symmetric { (n - i) as u64 } else { n as u64 };
-            let costs = super::engine::row_costs(kernel, progress::displayed(), n, pairs);
+            let costs = super::row::row_costs(kernel, progress::displayed(), n, pairs);
             let progress = Progress::start_costed(
                 block.clone().map(pairs).sum(),
                 "pairs",
