@@ -40,6 +40,8 @@ pub(crate) mod mc_pair;
 pub(crate) mod misses;
 pub(crate) mod pair;
 pub mod policy;
+#[cfg(test)]
+mod prism;
 pub(crate) mod segtree;
 pub(crate) mod solid;
 pub mod viewpoint;

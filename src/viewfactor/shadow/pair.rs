@@ -355,13 +355,11 @@ fn hull_planes(a: &[DVec3], b: &[DVec3], snap: f64) -> Vec<Plane> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::convex::ear_indices;
     use crate::scene::Scene;
     use crate::viewfactor::exact::pair::polygon_polygon;
     use crate::viewfactor::shadow::adaptive::AdaptParams;
     use crate::viewfactor::shadow::classify::{classify_row, RowShadows, Status};
     use crate::viewfactor::shadow::policy::{AUTO_CUTS, AUTO_MIN_DEPTH, MAX_DEPTH};
-    use glam::DVec2;
 
     /// A U profile (a slot open at the top), counter-clockwise in (x, z).
     const U: &[[f64; 2]] =
@@ -369,21 +367,7 @@ mod tests {
 
     /// The U profile extruded over y ∈ [−1, 0] as a closed triangle mesh with outward normals.
     fn channel() -> Vec<Polygon> {
-        let p: Vec<DVec2> = U.iter().map(|&[x, z]| DVec2::new(x, z)).collect();
-        let at = |q: DVec2, w: f64| DVec3::new(q.x, -w, q.y);
-        let tri = |a, b, c| Polygon::new(vec![a, b, c]).unwrap();
-        let m = p.len();
-        let mut out = Vec::new();
-        for k in 0..m {
-            let (a, b) = (p[k], p[(k + 1) % m]);
-            out.push(tri(at(a, 0.0), at(b, 0.0), at(b, 1.0)));
-            out.push(tri(at(a, 0.0), at(b, 1.0), at(a, 1.0)));
-        }
-        for [i, j, k] in ear_indices(&p) {
-            out.push(tri(at(p[i], 1.0), at(p[j], 1.0), at(p[k], 1.0)));
-            out.push(tri(at(p[k], 0.0), at(p[j], 0.0), at(p[i], 0.0)));
-        }
-        out
+        super::super::prism::extrude(U, |q, w| DVec3::new(q.x, -w, q.y))
     }
 
     /// A wall at x = 3 facing −x (patch 0), the channel's triangles as patches, and the index

@@ -681,7 +681,6 @@ fn intersect(piece: &[DVec2], edges: &[HalfPlane], snap: f64, out: &mut Vec<DVec
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::convex::ear_indices;
     use crate::geometry::Polygon;
     use crate::scene::Scene;
     use crate::viewfactor::shadow::blockers::Blockers;
@@ -708,21 +707,9 @@ mod tests {
     /// The closed, outward triangle mesh of FINS extruded along y, standing between the
     /// planes z = 0 and z = 1.5.
     fn fins() -> Vec<Polygon> {
-        let p: Vec<DVec2> = FINS.iter().map(|&[u, v]| DVec2::new(u, v)).collect();
-        let at = |q: DVec2, w: f64| DVec3::new(0.2 + 0.6 * q.x, 0.8 - 0.6 * w, 0.45 + 0.6 * q.y);
-        let tri = |a, b, c| Polygon::new(vec![a, b, c]).unwrap();
-        let m = p.len();
-        let mut out = Vec::new();
-        for k in 0..m {
-            let (a, b) = (p[k], p[(k + 1) % m]);
-            out.push(tri(at(a, 0.0), at(b, 0.0), at(b, 1.0)));
-            out.push(tri(at(a, 0.0), at(b, 1.0), at(a, 1.0)));
-        }
-        for [i, j, k] in ear_indices(&p) {
-            out.push(tri(at(p[i], 1.0), at(p[j], 1.0), at(p[k], 1.0)));
-            out.push(tri(at(p[k], 0.0), at(p[j], 0.0), at(p[i], 0.0)));
-        }
-        out
+        super::super::prism::extrude(FINS, |q, w| {
+            DVec3::new(0.2 + 0.6 * q.x, 0.8 - 0.6 * w, 0.45 + 0.6 * q.y)
+        })
     }
 
     /// Largest |united − subtracted| over a grid of viewpoints on the emitter, relative to the
