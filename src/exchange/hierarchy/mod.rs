@@ -29,6 +29,7 @@ use crate::error::InputError;
 use crate::scene::Scene;
 use crate::viewfactor::analytic::kernel::{AnalyticKernel, GAUSS_REL_TOL};
 use crate::viewfactor::engine::{RawEntry, RowKernel};
+use crate::viewfactor::progress::{self, Progress};
 use crate::viewfactor::{auto, Method, MethodSet};
 use crate::visibility::Visibility;
 use crate::{Error, Result};
@@ -225,8 +226,16 @@ impl Hierarchy {
         // pair, its patch pairs by patch pair.
         let (mut links, mut pairs, mut rays) = (Vec::new(), Vec::new(), 0u64);
         let (mut link_bounds, mut leaf_bounds) = (vec![0], vec![0]);
+        let mode = progress::Mode::for_stderr(vf.progress);
+        let my_tasks = split.chunks[chunks.clone()].iter().map(|c| c.len() as u64).sum();
+        let units = |e: f64| e.max(1.0).round() as u64;
+        let my_cost =
+            split.chunks[chunks.clone()].iter().flat_map(|c| &split.estimates[c.clone()]).map(|&e| units(e));
+        let refining = Progress::start_costed(my_tasks, "refinement tasks", mode, my_cost.sum());
         for c in chunks.clone() {
-            let mut r = refine::refine_tasks(&ctx, split.tasks_of(c));
+            let estimates = &split.estimates[split.chunks[c].clone()];
+            let done = |k: usize| refining.add_costed(1, units(estimates[k]));
+            let mut r = refine::refine_tasks_counted(&ctx, split.tasks_of(c), &done);
             // Exact growth: large blocks grow in place (no doubling of the rank's lists).
             links.reserve_exact(r.links.len());
             pairs.reserve_exact(r.leaves.len());
@@ -236,6 +245,7 @@ impl Hierarchy {
             link_bounds.push(links.len());
             leaf_bounds.push(pairs.len());
         }
+        refining.finish();
         let refined = links.len() + pairs.len();
         let t_refine = start.elapsed();
         let start = Instant::now();
@@ -254,11 +264,27 @@ impl Hierarchy {
                 chunk = more;
             }
         }
+        // Each row's pairs weighed by the kernel's estimate for one of them (drawn runs only).
+        let row_cost: Vec<u64> = if vf.progress {
+            rows.par_iter()
+                .map_init(Vec::new, |ids, row| {
+                    (row.len() as f64 * kernel.facing_pair_cost(row[0].0 as usize, ids)).round() as u64
+                })
+                .collect()
+        } else {
+            rows.iter().map(|row| row.len() as u64).collect()
+        };
+        let n_pairs = rows.iter().map(|r| r.len() as u64).sum();
+        let pairing = Progress::start_costed(n_pairs, "patch pairs", mode, row_cost.iter().sum());
         let mut sampled: Vec<(u32, u32, f64)> = Vec::new();
+        let mut first = 0;
         for wave in rows.chunks_mut(PAIR_WAVE) {
+            let costs = &row_cost[first..first + wave.len()];
+            first += wave.len();
             let vars: Vec<Vec<(u32, u32, f64)>> = wave
                 .par_iter_mut()
-                .map(|row| {
+                .zip(costs)
+                .map(|(row, &cost)| {
                     let i = row[0].0;
                     let mut out = Vec::with_capacity(row.len());
                     let mut js: Vec<u32> = Vec::with_capacity(row.len());
@@ -283,11 +309,13 @@ impl Hierarchy {
                             }
                         }
                     }
+                    pairing.add_costed(row.len() as u64, cost);
                     var
                 })
                 .collect();
             sampled.extend(vars.into_iter().flatten());
         }
+        pairing.finish();
         drop((rows, known));
         // Chunk by chunk: pairs that exchange nothing are dropped, patch order goes to leaf
         // nodes, and each chunk is sorted.
@@ -841,6 +869,24 @@ mod tests {
             })
             .collect();
         (scene, j)
+    }
+
+    #[test]
+    fn the_build_reports_its_refinement_tasks_then_its_patch_pairs_to_the_end() {
+        use crate::viewfactor::progress::{watching, Watch};
+        let (scene, _) = long_box();
+        let vf = crate::viewfactor::Params { method: Method::Analytic, ..Default::default() };
+        let watch = std::sync::Arc::new(Watch::default());
+        let h = watching(&watch, || {
+            Hierarchy::build(&scene, &vf, 3e-2, &crate::solve::clustered::budget(&scene))
+        })
+        .unwrap();
+        let r = watch.read();
+        // Two stages: the refinement's tasks, then the patch pairs, counted to their total.
+        assert_eq!(r.stages, 2, "{r:?}");
+        assert_eq!(r.what, "patch pairs", "{r:?}");
+        assert!(h.stats.leaf_pairs > 0);
+        assert_eq!((r.done, r.total), (h.stats.leaf_pairs as u64, h.stats.leaf_pairs as u64), "{r:?}");
     }
 
     #[test]

@@ -273,10 +273,19 @@ pub fn estimate(ctx: &Context, t: Task) -> f64 {
 /// Refines `tasks` (in parallel): their links sorted by (a, b), patch pairs by (i, j), so the
 /// result does not depend on the order the parallel tasks finished in.
 pub fn refine_tasks(ctx: &Context, tasks: &[Task]) -> Refined {
+    refine_tasks_counted(ctx, tasks, &|_| {})
+}
+
+/// As [`refine_tasks`], calling `done(k)` as task `tasks[k]` finishes (for the progress
+/// report; the result does not depend on it).
+pub fn refine_tasks_counted(ctx: &Context, tasks: &[Task], done: &(dyn Fn(usize) + Sync)) -> Refined {
     let sink = Sink::default();
-    tasks.par_iter().for_each(|t| match *t {
-        Task::Within(k) => self_pair(ctx, k, &sink),
-        Task::Between(a, b) => pair(ctx, a, b, &sink),
+    tasks.par_iter().enumerate().for_each(|(k, t)| {
+        match *t {
+            Task::Within(k) => self_pair(ctx, k, &sink),
+            Task::Between(a, b) => pair(ctx, a, b, &sink),
+        }
+        done(k);
     });
     let mut out = sink.0.into_inner().unwrap_or_else(|e| e.into_inner());
     out.links.par_sort_unstable_by_key(|l| (l.a, l.b));
@@ -589,22 +598,18 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     let (p, q, r) = (na.centroid, nb.centroid, na.radius.max(nb.radius));
     let seg = q - p;
     let len2 = seg.length_squared();
-    let mut hits = Vec::new();
     let (ulo, uhi) = (na.lo_box.min(nb.lo_box), na.hi_box.max(nb.hi_box));
-    blockers.blockers_where(
-        |lo, hi| {
-            // Both the union box and the capsule hold the hull of A ∪ B.
-            if !(lo.cmple(uhi).all() && hi.cmpge(ulo).all()) {
-                return false;
-            }
-            let c = 0.5 * (lo + hi);
-            let h = 0.5 * (hi - lo).length();
-            let t = ((c - p).dot(seg) / len2).clamp(0.0, 1.0);
-            (p + t * seg).distance(c) <= r + h
-        },
-        &mut hits,
-    );
-    if hits.is_empty() {
+    let met = blockers.any_blocker_where(|lo, hi| {
+        // Both the union box and the capsule hold the hull of A ∪ B.
+        if !(lo.cmple(uhi).all() && hi.cmpge(ulo).all()) {
+            return false;
+        }
+        let c = 0.5 * (lo + hi);
+        let h = 0.5 * (hi - lo).length();
+        let t = ((c - p).dot(seg) / len2).clamp(0.0, 1.0);
+        (p + t * seg).distance(c) <= r + h
+    });
+    if !met {
         return Some((1.0, 0.0, 0));
     }
     let mut rng =

@@ -194,6 +194,25 @@ impl<'s> AnalyticKernel<'s> {
         self.shadows.as_ref()
     }
 
+    /// Progress estimate only: the cost (ns) of one front-facing pair of row `i`, a clear
+    /// pair plus [`COST_PARTIAL_SHARE`] of the shadow price at the count of blockers in front
+    /// of patch i's plane (the classification's first filter); `ids` is scratch.
+    pub fn facing_pair_cost(&self, i: usize, ids: &mut Vec<u32>) -> f64 {
+        let Some(shadows) = self.shadows.as_ref() else { return COST_CLEAR_PAIR_NS };
+        let (model, snap) = (shadows.model(), shadows.blockers().snap());
+        let p = &self.info[i];
+        ids.clear();
+        shadows.blockers().blockers_where(
+            |lo, hi| p.normal.dot(0.5 * (lo + hi)) + p.normal.abs().dot(0.5 * (hi - lo)) - p.offset > snap,
+            ids,
+        );
+        let partial = match ids.len() {
+            0 => 0.0,
+            b => COST_PARTIAL_SHARE * model.shadow.at(b) * SHADOW_UNIT_NS,
+        };
+        COST_CLEAR_PAIR_NS + partial
+    }
+
     /// Lowest and highest signed distance of patch `q`'s vertices from the plane of patch
     /// `p`, from the bounding sphere when it decides the sign.
     #[inline]
@@ -448,28 +467,16 @@ impl RowKernel for AnalyticKernel<'_> {
 
     fn row_costs(&self) -> Option<Vec<u64>> {
         use rayon::prelude::*;
-        let shadows = self.shadows.as_ref()?;
-        let (n, model, snap) = (self.info.len(), *shadows.model(), shadows.blockers().snap());
+        self.shadows.as_ref()?;
+        let n = self.info.len();
         let costs = (0..n)
             .into_par_iter()
             .map_init(Vec::new, |ids, i| {
-                // Blockers in front of patch i's plane (the classification's first filter).
-                let p = &self.info[i];
-                ids.clear();
-                shadows.blockers().blockers_where(
-                    |lo, hi| {
-                        p.normal.dot(0.5 * (lo + hi)) + p.normal.abs().dot(0.5 * (hi - lo)) - p.offset > snap
-                    },
-                    ids,
-                );
                 let front = (i + 1..n).filter(|&j| self.may_face(i, j)).count() as f64;
                 let back = (n - i - 1) as f64 - front;
-                let partial = match ids.len() {
-                    0 => 0.0,
-                    b => COST_PARTIAL_SHARE * model.shadow.at(b) * SHADOW_UNIT_NS,
-                };
-                (back * COST_ZERO_PAIR_NS + front * (COST_CLEAR_PAIR_NS + partial)).round() as u64
+                back * COST_ZERO_PAIR_NS + front * self.facing_pair_cost(i, ids)
             })
+            .map(|c| c.round() as u64)
             .collect();
         Some(costs)
     }

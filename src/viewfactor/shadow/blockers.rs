@@ -166,6 +166,16 @@ impl Blockers {
     pub fn blockers_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.blocker_tree.collect(keep, out);
     }
+    /// True when some blocker's padded box passes `keep(lo, hi)` at every level: the walk of
+    /// [`Blockers::blockers_where`], stopped at the first such blocker.
+    pub fn any_blocker_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool) -> bool {
+        let mut found = false;
+        self.blocker_tree.walk(keep, |_| {
+            found = true;
+            false
+        });
+        found
+    }
     /// The hierarchy over patch boxes (index = patch).
     pub fn patch_tree(&self) -> &BoxTree {
         &self.patch_tree
