@@ -16,6 +16,7 @@
 //!
 //! Integration:
 //! - [`viewpoint`]: shadow clipping from one viewpoint (the shaded integrand g);
+//! - `silhouette`: a closed body's outline loops from one viewpoint, chained on the mesh;
 //! - `adaptive`: adaptive emitter integration of g with per-cell re-classification;
 //! - `solid`: pairs behind one convex solid: the blocked exchange summed over its faces
 //!   (exact contour integrals, or small integrals over the faces);
@@ -43,6 +44,7 @@ pub mod policy;
 #[cfg(test)]
 mod prism;
 pub(crate) mod segtree;
+pub(crate) mod silhouette;
 pub(crate) mod solid;
 pub mod viewpoint;
 pub(crate) mod volume;

@@ -26,12 +26,19 @@
 //!   same; the boolean then splits crossings of silhouette edges only, not of every facet's
 //!   edges over the layers behind (thousands per viewpoint on a meshed part). If the edges do
 //!   not close, the whole faces are united instead;
+//! - in fact the outline edges are found and chained on the mesh, before any projection
+//!   ([`super::silhouette`]), and each loop is clipped by the hull's planes and projected as
+//!   one ring: the same region, no front face clipped. Each front face is still tested
+//!   against the hull's planes (its corners all inside, or all outside one) for the counted
+//!   work and the seen mask, which are those of the face-by-face outline (kept for the
+//!   loops that do not close, and for comparison: [`ShadowGeometry::set_silhouette`]);
 //! - Lambert's formula over those pieces (or the union's oriented contours, holes clockwise)
 //!   gives g(p) = F(dA_p → shaded part).
 //!
 //! The pair's exchange area is then A·F = (A·F)_unobstructed − ∫_E g dA, which never exceeds
 //! the unobstructed value since g ≥ 0.
-use crate::geometry::clip::{clip_homogeneous_labelled, clip_ring};
+use super::silhouette::{Silhouette, Vertices};
+use crate::geometry::clip::{clip_homogeneous, clip_homogeneous_labelled, clip_ring};
 use crate::geometry::convex::{
     clip_convex, ear_indices, is_convex, subtract_convex, twice_area, HalfPlane, PieceSet,
     Scratch as OpsScratch,
@@ -114,8 +121,12 @@ pub struct ShadowGeometry {
     /// Per kept blocker: a face of a solid with a neighbour across some edge, whose shadow
     /// enters the boolean by the outline it shares with its neighbours.
     outline: Vec<bool>,
+    /// Corner numbers of the outline faces.
+    corners: Vertices,
     /// Active blockers above which the shadows are united by one boolean.
     union_min: usize,
+    /// Closed bodies enter the union by their silhouette loops (else face by face).
+    by_silhouette: bool,
     snap: f64,
 }
 
@@ -142,6 +153,10 @@ pub struct Scratch {
     hull_pts: Vec<DVec2>,
     union: Union,
     outline: Outline,
+    silhouette: Silhouette,
+    /// A silhouette loop in homogeneous coordinates while it is clipped.
+    loop_hom: Vec<DVec3>,
+    loop_hom2: Vec<DVec3>,
 }
 
 /// Buffers of one viewpoint's closed-body outline (the shadows of front faces with their edge
@@ -162,7 +177,7 @@ struct Outline {
 impl Scratch {
     /// Viewpoints whose closed-body outline did not close, so that whole faces were united.
     pub fn outline_fallbacks(&self) -> u64 {
-        self.outline.fallbacks
+        self.outline.fallbacks + self.silhouette.fallbacks
     }
 }
 
@@ -255,7 +270,9 @@ impl ShadowGeometry {
             facing: Vec::new(),
             body: Vec::new(),
             outline: Vec::new(),
+            corners: Vertices::default(),
             union_min: UNION_MIN_ACTIVE,
+            by_silhouette: true,
             snap,
         })
     }
@@ -299,12 +316,19 @@ impl ShadowGeometry {
         self.outline = (0..self.blockers.len())
             .map(|k| self.facing[k].is_some() && self.neighbours[k].iter().any(Option::is_some))
             .collect();
+        self.corners = Vertices::new(&self.blockers, &self.outline);
     }
 
     /// Unites the shadows by one polygon boolean from more than `min` active blockers on
     /// (default [`UNION_MIN_ACTIVE`]).
     pub fn set_union_min(&mut self, min: usize) {
         self.union_min = min;
+    }
+
+    /// Takes closed bodies into the union by their silhouette loops (the default), or by
+    /// their front faces' projected outline (`false`).
+    pub fn set_silhouette(&mut self, on: bool) {
+        self.by_silhouette = on;
     }
 
     /// The kept blocker folding across edge `e` of kept blocker `k`, if any.
@@ -393,6 +417,10 @@ impl ShadowGeometry {
         if unite && s.outline.included.len() < self.blockers.len() {
             s.outline.included.resize(self.blockers.len(), false);
         }
+        let by_silhouette = unite && self.by_silhouette;
+        if by_silhouette && s.silhouette.front.len() < self.blockers.len() {
+            s.silhouette.front.resize(self.blockers.len(), false);
+        }
         for (bit, &k) in active.iter().enumerate() {
             if let Some(Some((n, d))) = self.facing.get(k as usize) {
                 // Turned away: no sight line enters the body through it (and nothing of it is
@@ -405,6 +433,18 @@ impl ShadowGeometry {
                 }
             }
             let convex_body = hull_bodies && self.body.get(k as usize).is_some_and(Option::is_some);
+            if by_silhouette && !convex_body && self.outline.get(k as usize) == Some(&true) {
+                // A front face: its edges shared with other front faces never reach the
+                // outline, so it is not projected; the work and the mask are the face's own.
+                if self.casts(&self.blockers[k as usize], p, s) {
+                    if bit < 64 {
+                        cov.seen |= 1 << bit;
+                    }
+                    cov.work += u64::from(!s.reversed);
+                }
+                s.silhouette.add(k);
+                continue;
+            }
             if !self.project(&self.blockers[k as usize], p, s) {
                 continue;
             }
@@ -446,6 +486,9 @@ impl ShadowGeometry {
         if unite {
             if !s.outline.faces.is_empty() {
                 self.unite_outline(s);
+            }
+            if !s.silhouette.faces.is_empty() {
+                self.unite_silhouette(p, s);
             }
             if !self.convex {
                 for piece in self.receiver.iter() {
@@ -495,6 +538,65 @@ impl ShadowGeometry {
         }
         o.faces.clear();
         o.points.clear();
+    }
+
+    /// Puts this viewpoint's front outline faces into the union by their silhouette loops,
+    /// each clipped by the receiver hull and projected; or by the faces' projected outline
+    /// ([`Self::unite_outline`]) when the loops do not close.
+    fn unite_silhouette(&self, p: DVec3, s: &mut Scratch) {
+        let closed = s.silhouette.chain(&self.blockers, &self.corners, |k, e| self.neighbour(k, e));
+        if closed {
+            let sil = std::mem::take(&mut s.silhouette);
+            for ring in sil.rings() {
+                if self.project_loop(ring, p, s) {
+                    s.union.push(&s.shadow);
+                }
+            }
+            s.silhouette = sil;
+        } else {
+            s.silhouette.fallbacks += 1;
+            for f in 0..s.silhouette.faces.len() {
+                let k = s.silhouette.faces[f];
+                if self.project(&self.blockers[k as usize], p, s) && !s.reversed {
+                    s.outline.push(k, &s.shadow, &s.labels);
+                }
+            }
+            if !s.outline.faces.is_empty() {
+                self.unite_outline(s);
+            }
+        }
+        s.silhouette.clear();
+    }
+
+    /// Clips the closed loop `ring` (frame points, any shape) by the planes through p and the
+    /// receiver hull's edges in homogeneous coordinates and projects it from p onto z = 0,
+    /// into `s.shadow`. The winding number of what is left is the loop's inside the hull and
+    /// 0 outside (see [`super::silhouette`]). False when fewer than three points remain.
+    fn project_loop(&self, ring: &[DVec3], p: DVec3, s: &mut Scratch) -> bool {
+        let h = p.z;
+        s.loop_hom.clear();
+        s.loop_hom.extend(ring.iter().map(|x| DVec3::new(h * x.x - x.z * p.x, h * x.y - x.z * p.y, h - x.z)));
+        for e in &self.hull {
+            clip_homogeneous(&s.loop_hom, DVec3::new(e.n.x, e.n.y, e.c), &mut s.loop_hom2);
+            std::mem::swap(&mut s.loop_hom, &mut s.loop_hom2);
+            if s.loop_hom.len() < 3 {
+                return false;
+            }
+        }
+        let w_min = 1e-12 * h;
+        let snap2 = self.snap * self.snap;
+        s.shadow.clear();
+        for v in &s.loop_hom {
+            let w = v.z.max(w_min);
+            let q = DVec2::new(v.x / w, v.y / w);
+            if s.shadow.last().is_none_or(|l| l.distance_squared(q) > snap2) {
+                s.shadow.push(q);
+            }
+        }
+        while s.shadow.len() > 1 && s.shadow[0].distance_squared(*s.shadow.last().unwrap()) <= snap2 {
+            s.shadow.pop();
+        }
+        s.shadow.len() >= 3
     }
 
     /// The shadow in `s.shadow` joins the union to be taken (`unite`, one work unit), or is
@@ -565,6 +667,29 @@ impl ShadowGeometry {
     /// each point's leaving edge in `s.labels` (its index in `b`, or [`ALONG_HULL`]). False
     /// when nothing remains.
     fn project(&self, b: &[DVec3], p: DVec3, s: &mut Scratch) -> bool {
+        Self::lift(b, p, s);
+        self.clip_hull(s) && self.divide(p.z, s)
+    }
+
+    /// [`Self::project`]'s answer (and `s.reversed`), the face's corners tested first: all
+    /// inside the hull's planes, the clip would keep them as they are and is skipped; all
+    /// outside one plane, nothing is left.
+    fn casts(&self, b: &[DVec3], p: DVec3, s: &mut Scratch) -> bool {
+        Self::lift(b, p, s);
+        let mut inside = true;
+        for e in &self.hull {
+            let l = DVec3::new(e.n.x, e.n.y, e.c);
+            let kept = s.hom.iter().filter(|v| l.dot(v.0) >= 0.0).count();
+            if kept == 0 {
+                return false;
+            }
+            inside &= kept == s.hom.len();
+        }
+        (inside || self.clip_hull(s)) && self.divide(p.z, s)
+    }
+
+    /// Blocker `b` in homogeneous coordinates from p, each corner labelled by its index.
+    fn lift(b: &[DVec3], p: DVec3, s: &mut Scratch) {
         let h = p.z;
         s.hom.clear();
         s.hom.extend(
@@ -572,6 +697,11 @@ impl ShadowGeometry {
                 .enumerate()
                 .map(|(e, x)| (DVec3::new(h * x.x - x.z * p.x, h * x.y - x.z * p.y, h - x.z), e as u32)),
         );
+    }
+
+    /// Clips `s.hom` by the planes through p and the receiver hull's edges; false when fewer
+    /// than three points remain.
+    fn clip_hull(&self, s: &mut Scratch) -> bool {
         for e in &self.hull {
             clip_homogeneous_labelled(&s.hom, DVec3::new(e.n.x, e.n.y, e.c), ALONG_HULL, &mut s.hom2);
             std::mem::swap(&mut s.hom, &mut s.hom2);
@@ -579,6 +709,13 @@ impl ShadowGeometry {
                 return false;
             }
         }
+        true
+    }
+
+    /// Divides the clipped `s.hom` (viewpoint height `h`) into `s.shadow` and `s.labels`,
+    /// merging points within the snap length and turning the ring counter-clockwise; false
+    /// when no area is left.
+    fn divide(&self, h: f64, s: &mut Scratch) -> bool {
         let w_min = 1e-12 * h;
         let snap2 = self.snap * self.snap;
         s.shadow.clear();
@@ -780,6 +917,85 @@ mod tests {
             out.push(tri(at(i0, 0.0), at(i1, 0.0), at(o0, 0.0)));
         }
         out
+    }
+
+    /// Largest |silhouette − face-by-face| over a grid of viewpoints, relative to the unshaded
+    /// value (both united by one boolean, the same work and mask), the largest shaded fraction,
+    /// and how many distinct sets of front faces the grid saw.
+    fn by_silhouette(emitter: Vec<DVec3>, receiver: Vec<DVec3>, body: Vec<Polygon>) -> (f64, f64, usize) {
+        let (e, r) = (Polygon::new(emitter).unwrap(), Polygon::new(receiver).unwrap());
+        let scene = Scene::builder()
+            .surface("emitter", vec![e.clone()], 1.0, None)
+            .surface("receiver", vec![r.clone()], 1.0, None)
+            .obstruction("body", body)
+            .ambient(0.0)
+            .build();
+        let blockers = Blockers::new(&scene);
+        let rings: Vec<&[DVec3]> = (0..blockers.len()).map(|k| blockers.get(k).ring.as_slice()).collect();
+        let mut geo =
+            ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings).unwrap();
+        let across: Vec<Vec<Option<u32>>> =
+            (0..blockers.len()).map(|k| blockers.get(k).across.clone()).collect();
+        let closed: Vec<(i8, Option<u32>)> =
+            (0..blockers.len()).map(|k| (blockers.get(k).closed, blockers.get(k).body)).collect();
+        geo.set_neighbours(&across, &closed);
+        let mut faces = geo.clone();
+        faces.set_silhouette(false);
+        let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
+        let (mut worst, mut most) = (0.0f64, 0.0f64);
+        let mut fronts = std::collections::BTreeSet::new();
+        let (mut s1, mut s0) = (Scratch::default(), Scratch::default());
+        let ring = geo.emitter().to_vec();
+        for a in 1..16 {
+            for b in 1..16 {
+                let (u, v) = (a as f64 / 16.0, b as f64 / 16.0);
+                let p = ring[0] + u * (ring[1] - ring[0]) + v * (1.0 - u) * (ring[2] - ring[0]);
+                let whole = geo.unshaded(p);
+                let (g1, c1) = geo.shaded_by(p, &active, &mut s1, true);
+                let (g0, c0) = faces.shaded_by(p, &active, &mut s0, true);
+                worst = worst.max((g1 - g0).abs() / whole);
+                most = most.max(g0 / whole);
+                assert_eq!((c1.work, c1.seen), (c0.work, c0.seen), "the face-by-face work and mask");
+                assert!((c1.area - c0.area).abs() <= AGREE_REL * geo.receiver_area(), "{c1:?} vs {c0:?}");
+                let front: Vec<usize> = (0..geo.blockers().len())
+                    .filter(|&k| geo.facing[k].is_some_and(|(n, d)| n.dot(p) + d > 0.0))
+                    .collect();
+                fronts.insert(front);
+            }
+        }
+        assert_eq!(s1.outline_fallbacks(), 0, "every silhouette closed");
+        (worst, most, fronts.len())
+    }
+
+    #[test]
+    fn a_concave_body_s_silhouette_loops_give_its_front_faces_region() {
+        let d = DVec3::new;
+        let (bottom, top) = (
+            vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(-0.2, 1.4, 0.0)],
+            vec![d(1.2, 1.2, 1.5), d(1.2, -0.2, 1.5), d(-0.2, 1.2, 1.5)],
+        );
+        // The fins' side planes cross the emitter: faces turn front and back across it.
+        let (worst, most, fronts) = by_silhouette(bottom.clone(), top.clone(), fins());
+        assert!(
+            worst <= AGREE_REL && most > 0.3 && fronts > 3,
+            "worst {worst}, shaded {most}, {fronts} fronts"
+        );
+        // A receiver smaller than the shadow: the loops are cut by its hull.
+        let small = vec![d(0.7, 0.6, 1.5), d(0.7, 0.3, 1.5), d(0.4, 0.6, 1.5)];
+        let (worst, most, _) = by_silhouette(bottom.clone(), small, fins());
+        assert!(worst <= AGREE_REL && most > 0.5, "small receiver: worst {worst}, shaded {most}");
+        // A wall beside the body looking at the floor: from its low viewpoints the body's top
+        // lies above the viewpoint (W < 0 before the clip).
+        let wall = vec![d(-0.3, -0.2, 0.1), d(-0.3, 1.4, 0.1), d(-0.3, 1.4, 2.0), d(-0.3, -0.2, 2.0)];
+        let floor = vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(1.4, 1.4, 0.0), d(-0.2, 1.4, 0.0)];
+        let (worst, most, fronts) = by_silhouette(wall, floor, fins());
+        assert!(
+            worst <= AGREE_REL && most > 0.1 && fronts > 1,
+            "wall: worst {worst}, shaded {most}, {fronts}"
+        );
+        // A body with a through hole: a loop turning clockwise.
+        let (worst, most, _) = by_silhouette(bottom, top, frame());
+        assert!(worst <= AGREE_REL && most > 0.2, "frame: worst {worst}, shaded {most}");
     }
 
     #[test]
