@@ -20,7 +20,7 @@
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
 
 use super::segtree::{SegmentBlocker, SegmentTree, LEAF};
-use crate::geometry::sampling::PolygonSampler;
+use crate::geometry::sampling::{sample_triangle, PolygonSampler};
 use crate::geometry::tolerance::PARALLELOGRAM_REL;
 use crate::geometry::Polygon;
 use crate::viewfactor::monte_carlo::{mix64, stream_key};
@@ -34,7 +34,7 @@ const SALT: u64 = 0x6175_746F;
 const NO_SIGHT_RATIO: f64 = 0.5;
 
 /// Uniform points on a patch: the bilinear map for a parallelogram (keeps the Sobol
-/// stratification), else the triangle-table sampler.
+/// stratification), the triangle map for a triangle, else the triangle-table sampler.
 #[derive(Debug, Clone)]
 pub enum PatchSampler {
     /// o + s·u + t·v.
@@ -46,6 +46,8 @@ pub enum PatchSampler {
         /// Second edge.
         v: DVec3,
     },
+    /// One triangle: the same points as its one-entry table, without the table look-up.
+    Tri([DVec3; 3]),
     /// Any planar polygon.
     Poly(PolygonSampler),
 }
@@ -60,13 +62,21 @@ impl PatchSampler {
                 return PatchSampler::Para { o: v[0], u: v[1] - v[0], v: v[3] - v[0] };
             }
         }
-        PatchSampler::Poly(PolygonSampler::new(p))
+        let table = PolygonSampler::new(p);
+        match table.triangle(0) {
+            Some(t) if table.triangles() == 1 => PatchSampler::Tri(t),
+            _ => PatchSampler::Poly(table),
+        }
     }
     /// Area-uniform point for u ∈ [0, 1)².
     #[inline]
     pub fn sample(&self, s: f64, t: f64) -> DVec3 {
         match self {
             PatchSampler::Para { o, u, v } => *o + s * *u + t * *v,
+            // The table's rescaling of s for its one triangle (cumulative fractions [1]).
+            PatchSampler::Tri([a, b, c]) => {
+                sample_triangle(*a, *b, *c, DVec2::new(s.clamp(0.0, 1.0 - f64::EPSILON), t))
+            }
             PatchSampler::Poly(p) => p.sample(DVec2::new(s, t)),
         }
     }
