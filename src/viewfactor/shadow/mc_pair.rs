@@ -194,6 +194,22 @@ mod tests {
     }
 
     #[test]
+    fn a_triangle_samples_the_points_of_its_table() {
+        let t = Polygon::new(vec![
+            DVec3::new(0.1, 0.2, 0.3),
+            DVec3::new(1.3, -0.4, 0.5),
+            DVec3::new(0.2, 0.9, -0.7),
+        ])
+        .unwrap();
+        let (fast, table) = (PatchSampler::new(&t), PolygonSampler::new(&t));
+        assert!(matches!(fast, PatchSampler::Tri(_)));
+        for k in 0..=64 {
+            let (s, u) = (k as f64 / 64.0, (k * 37 % 65) as f64 / 64.0);
+            assert_eq!(fast.sample(s, u), table.sample(DVec2::new(s, u)), "({s}, {u})");
+        }
+    }
+
+    #[test]
     fn segment_test_hits_the_interior_only() {
         let b = SegmentBlocker::new(sq(0.5, 0.25, 0.25, 0.5, true).vertices(), 0.0);
         assert!(b.cuts(DVec3::new(0.5, 0.5, 0.0), DVec3::new(0.5, 0.5, 1.0)));
