@@ -155,6 +155,10 @@ impl PolygonSampler {
             b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0
         })
     }
+    /// Triangle `k` of the table.
+    pub fn triangle(&self, k: usize) -> Option<[DVec3; 3]> {
+        self.tris.get(k).copied()
+    }
     /// Number of triangles.
     pub fn triangles(&self) -> usize {
         self.tris.len()

@@ -12,7 +12,7 @@
 //! A receiver absent from the result is unobstructed. The cost follows the receivers near each
 //! blocker's shadow boundary, not N × blockers.
 use super::blockers::Blockers;
-use super::volume::{Build, Class, Region, ShadowVolume};
+use super::volume::{centre_half, Build, Class, Region, ShadowVolume};
 use crate::geometry::clip::clip_ring;
 use crate::scene::Scene;
 use glam::DVec3;
@@ -153,10 +153,11 @@ pub fn classify_row_in(
             }
             let mut keep = 0u64;
             let mut m = mask;
+            let (c, h) = centre_half(lo, hi);
             while m != 0 {
                 let k = m.trailing_zeros() as usize;
                 m &= m - 1;
-                match vols[k].box_region(lo, hi) {
+                match vols[k].box_region_ch(c, h) {
                     Region::Out => {}
                     Region::In => return Some((0, true)),
                     Region::Cross => keep |= 1 << k,
@@ -205,18 +206,34 @@ pub fn classify_row_in(
             }
         });
     }
-    // Group the partial blockers of receivers not blocked outright.
-    out.partial.retain(|&(j, _)| out.mark[j as usize] == PARTIAL);
-    out.partial.sort_unstable();
-    let mut k = 0;
-    while k < out.partial.len() {
-        let j = out.partial[k].0;
-        let start = out.blockers.len() as u32;
-        while k < out.partial.len() && out.partial[k].0 == j {
-            out.blockers.push(out.partial[k].1);
-            k += 1;
+    // Group the partial blockers of receivers not blocked outright: counted per receiver,
+    // then placed in the order they came, which is ascending per receiver (one walk per chunk
+    // of ascending blockers, each receiver visited once per walk).
+    let RowShadows { mark, span, touched, blockers, partial, .. } = out;
+    let mut end = 0u32;
+    for &j in touched.iter() {
+        span[j as usize] = (0, 0);
+    }
+    for &(j, _) in partial.iter() {
+        if mark[j as usize] == PARTIAL {
+            span[j as usize].1 += 1;
         }
-        out.span[j as usize] = (start, out.blockers.len() as u32 - start);
+    }
+    for &j in touched.iter() {
+        if mark[j as usize] == PARTIAL {
+            let len = span[j as usize].1;
+            span[j as usize] = (end, 0);
+            end += len;
+        }
+    }
+    blockers.resize(end as usize, 0);
+    for &(j, b) in partial.iter() {
+        if mark[j as usize] == PARTIAL {
+            let (start, len) = &mut span[j as usize];
+            debug_assert!(*len == 0 || blockers[(*start + *len - 1) as usize] < b, "ascending per receiver");
+            blockers[(*start + *len) as usize] = b;
+            *len += 1;
+        }
     }
 }
 

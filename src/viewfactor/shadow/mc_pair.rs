@@ -20,7 +20,7 @@
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
 
 use super::segtree::{SegmentBlocker, SegmentTree, LEAF};
-use crate::geometry::sampling::PolygonSampler;
+use crate::geometry::sampling::{sample_triangle, PolygonSampler};
 use crate::geometry::tolerance::PARALLELOGRAM_REL;
 use crate::geometry::Polygon;
 use crate::viewfactor::monte_carlo::{mix64, stream_key};
@@ -34,7 +34,7 @@ const SALT: u64 = 0x6175_746F;
 const NO_SIGHT_RATIO: f64 = 0.5;
 
 /// Uniform points on a patch: the bilinear map for a parallelogram (keeps the Sobol
-/// stratification), else the triangle-table sampler.
+/// stratification), the triangle map for a triangle, else the triangle-table sampler.
 #[derive(Debug, Clone)]
 pub enum PatchSampler {
     /// o + s·u + t·v.
@@ -46,6 +46,8 @@ pub enum PatchSampler {
         /// Second edge.
         v: DVec3,
     },
+    /// One triangle: the same points as its one-entry table, without the table look-up.
+    Tri([DVec3; 3]),
     /// Any planar polygon.
     Poly(PolygonSampler),
 }
@@ -60,13 +62,21 @@ impl PatchSampler {
                 return PatchSampler::Para { o: v[0], u: v[1] - v[0], v: v[3] - v[0] };
             }
         }
-        PatchSampler::Poly(PolygonSampler::new(p))
+        let table = PolygonSampler::new(p);
+        match table.triangle(0) {
+            Some(t) if table.triangles() == 1 => PatchSampler::Tri(t),
+            _ => PatchSampler::Poly(table),
+        }
     }
     /// Area-uniform point for u ∈ [0, 1)².
     #[inline]
     pub fn sample(&self, s: f64, t: f64) -> DVec3 {
         match self {
             PatchSampler::Para { o, u, v } => *o + s * *u + t * *v,
+            // The table's rescaling of s for its one triangle (cumulative fractions [1]).
+            PatchSampler::Tri([a, b, c]) => {
+                sample_triangle(*a, *b, *c, DVec2::new(s.clamp(0.0, 1.0 - f64::EPSILON), t))
+            }
             PatchSampler::Poly(p) => p.sample(DVec2::new(s, t)),
         }
     }
@@ -181,6 +191,22 @@ mod tests {
 
     fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
         Polygon::new(crate::geometry::fixtures::square(z, x0, y0, s, up)).unwrap()
+    }
+
+    #[test]
+    fn a_triangle_samples_the_points_of_its_table() {
+        let t = Polygon::new(vec![
+            DVec3::new(0.1, 0.2, 0.3),
+            DVec3::new(1.3, -0.4, 0.5),
+            DVec3::new(0.2, 0.9, -0.7),
+        ])
+        .unwrap();
+        let (fast, table) = (PatchSampler::new(&t), PolygonSampler::new(&t));
+        assert!(matches!(fast, PatchSampler::Tri(_)));
+        for k in 0..=64 {
+            let (s, u) = (k as f64 / 64.0, (k * 37 % 65) as f64 / 64.0);
+            assert_eq!(fast.sample(s, u), table.sample(DVec2::new(s, u)), "({s}, {u})");
+        }
     }
 
     #[test]

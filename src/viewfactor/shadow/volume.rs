@@ -153,17 +153,21 @@ impl ShadowVolume {
     }
 
     /// True when the box [lo, hi] lies wholly outside the penumbra.
+    #[cfg(test)]
     pub fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
-        self.parts[..self.count].iter().all(|p| p.box_clear(lo, hi))
+        let (c, h) = centre_half(lo, hi);
+        self.parts[..self.count].iter().all(|p| p.box_clear(c, h))
     }
 
-    /// The box [lo, hi] against the volume: `Out` clear of the penumbra, `In` inside the umbra
-    /// (everything in it is blocked), else `Cross`.
-    pub fn box_region(&self, lo: DVec3, hi: DVec3) -> Region {
+    /// The box of centre `c` and half-extents `h` ([`centre_half`]) against the volume: `Out`
+    /// clear of the penumbra, `In` inside the umbra (everything in it is blocked), else
+    /// `Cross`. One box tested against many volumes computes `c` and `h` once.
+    #[inline]
+    pub fn box_region_ch(&self, c: DVec3, h: DVec3) -> Region {
         match self.count {
             0 => Region::Out,
-            1 => self.parts[0].box_region(lo, hi),
-            _ if self.box_clear(lo, hi) => Region::Out,
+            1 => self.parts[0].box_region(c, h),
+            _ if self.parts[..self.count].iter().all(|p| p.box_clear(c, h)) => Region::Out,
             _ => Region::Cross,
         }
     }
@@ -302,22 +306,32 @@ impl Part {
         convex_disjoint(&hull, &self.b2, snap)
     }
 
-    fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
-        !self.unbounded && self.penumbra.iter().any(|p| p.box_max(lo, hi) <= self.snap)
+    /// The box of centre `c`, half-extents `h` is outside a penumbra plane (as
+    /// [`Plane::box_max`], term for term).
+    #[inline]
+    fn box_clear(&self, c: DVec3, h: DVec3) -> bool {
+        !self.unbounded && self.penumbra.iter().any(|p| p.distance(c) + p.n.abs().dot(h) <= self.snap)
     }
 
-    fn box_region(&self, lo: DVec3, hi: DVec3) -> Region {
-        if self.box_clear(lo, hi) {
+    #[inline]
+    fn box_region(&self, c: DVec3, h: DVec3) -> Region {
+        if self.box_clear(c, h) {
             Region::Out
         } else if self.umbra_valid
             && !self.unbounded
-            && self.umbra.iter().all(|p| p.box_min(lo, hi) >= self.snap)
+            && self.umbra.iter().all(|p| p.distance(c) - p.n.abs().dot(h) >= self.snap)
         {
             Region::In
         } else {
             Region::Cross
         }
     }
+}
+
+/// Centre and half-extents of the box [lo, hi], as [`Plane::box_max`] computes them.
+#[inline]
+pub fn centre_half(lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
+    (0.5 * (lo + hi), 0.5 * (hi - lo))
 }
 
 /// The part of a convex ring with p(x) ≥ 0, vertices within `snap` of the plane kept on it
