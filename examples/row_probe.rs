@@ -39,7 +39,7 @@ fn main() {
             };
             let (pi, pj) = (&scene.patches[i].polygon, &scene.patches[j].polygon);
             let u = polygon_polygon(pi, pj);
-            if !(u > 0.0) {
+            if u.is_nan() || u <= 0.0 {
                 continue;
             }
             let goal = pair_goal(1e-4, pi.area(), pj.area());
