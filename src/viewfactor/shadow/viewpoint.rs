@@ -849,9 +849,13 @@ mod tests {
         })
     }
 
-    /// Largest |united − subtracted| over a grid of viewpoints on the emitter, relative to the
-    /// unshaded value, and the largest shaded fraction seen.
-    fn compare(emitter: Vec<DVec3>, receiver: Vec<DVec3>, body: Vec<Polygon>) -> (f64, f64) {
+    /// The shadow geometry of an emitter and a receiver around one meshed body (its faces'
+    /// neighbours set, as a row sets them), and each face's (closed, body) labels.
+    fn body_geometry(
+        emitter: Vec<DVec3>,
+        receiver: Vec<DVec3>,
+        body: Vec<Polygon>,
+    ) -> (ShadowGeometry, Vec<(i8, Option<u32>)>) {
         let (e, r) = (Polygon::new(emitter).unwrap(), Polygon::new(receiver).unwrap());
         let scene = Scene::builder()
             .surface("emitter", vec![e.clone()], 1.0, None)
@@ -868,6 +872,13 @@ mod tests {
         let closed: Vec<(i8, Option<u32>)> =
             (0..blockers.len()).map(|k| (blockers.get(k).closed, blockers.get(k).body)).collect();
         geo.set_neighbours(&across, &closed);
+        (geo, closed)
+    }
+
+    /// Largest |united − subtracted| over a grid of viewpoints on the emitter, relative to the
+    /// unshaded value, and the largest shaded fraction seen.
+    fn compare(emitter: Vec<DVec3>, receiver: Vec<DVec3>, body: Vec<Polygon>) -> (f64, f64) {
+        let (geo, closed) = body_geometry(emitter, receiver, body);
         let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
         assert!(active.len() > 30, "a meshed body: {} blockers", active.len());
         let solid = closed.iter().all(|c| c.0 == 1);
@@ -923,22 +934,7 @@ mod tests {
     /// value (both united by one boolean, the same work and mask), the largest shaded fraction,
     /// and how many distinct sets of front faces the grid saw.
     fn by_silhouette(emitter: Vec<DVec3>, receiver: Vec<DVec3>, body: Vec<Polygon>) -> (f64, f64, usize) {
-        let (e, r) = (Polygon::new(emitter).unwrap(), Polygon::new(receiver).unwrap());
-        let scene = Scene::builder()
-            .surface("emitter", vec![e.clone()], 1.0, None)
-            .surface("receiver", vec![r.clone()], 1.0, None)
-            .obstruction("body", body)
-            .ambient(0.0)
-            .build();
-        let blockers = Blockers::new(&scene);
-        let rings: Vec<&[DVec3]> = (0..blockers.len()).map(|k| blockers.get(k).ring.as_slice()).collect();
-        let mut geo =
-            ShadowGeometry::new(e.vertices(), e.normal(), r.vertices(), r.normal(), &rings).unwrap();
-        let across: Vec<Vec<Option<u32>>> =
-            (0..blockers.len()).map(|k| blockers.get(k).across.clone()).collect();
-        let closed: Vec<(i8, Option<u32>)> =
-            (0..blockers.len()).map(|k| (blockers.get(k).closed, blockers.get(k).body)).collect();
-        geo.set_neighbours(&across, &closed);
+        let (geo, _) = body_geometry(emitter, receiver, body);
         let mut faces = geo.clone();
         faces.set_silhouette(false);
         let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
