@@ -539,8 +539,18 @@ impl RowKernel for AnalyticKernel<'_> {
             .into_par_iter()
             .map_init(Vec::new, |ids, i| {
                 let b = self.row_blockers(i, ids);
-                let pairs: f64 = (i + 1..n).map(|j| self.pair_cost(i, j, b > 0)).sum();
-                Self::classify_cost(b) + pairs
+                let (mut pairs, mut facing) = (0.0, false);
+                for j in i + 1..n {
+                    let c = self.pair_cost(i, j, b > 0);
+                    facing |= c > COST_ZERO_PAIR_NS;
+                    pairs += c;
+                }
+                // A row whose receivers all face away walks none of them in its classification.
+                if facing {
+                    Self::classify_cost(b) + pairs
+                } else {
+                    pairs
+                }
             })
             .map(|c| c.round() as u64)
             .collect();
