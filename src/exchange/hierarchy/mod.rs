@@ -264,11 +264,14 @@ impl Hierarchy {
                 chunk = more;
             }
         }
-        // Each row's pairs weighed by the kernel's estimate for one of them (drawn runs only).
+        // Each row's pairs weighed by the kernel's estimate for each (drawn runs only).
         let row_cost: Vec<u64> = if vf.progress {
             rows.par_iter()
                 .map_init(Vec::new, |ids, row| {
-                    (row.len() as f64 * kernel.facing_pair_cost(row[0].0 as usize, ids)).round() as u64
+                    let i = row[0].0 as usize;
+                    let b = kernel.row_blockers(i, ids);
+                    let pairs: f64 = row.iter().map(|p| kernel.pair_cost(i, p.1 as usize, b > 0)).sum();
+                    (AnalyticKernel::classify_cost(b) + pairs).round() as u64
                 })
                 .collect()
         } else {

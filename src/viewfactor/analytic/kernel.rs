@@ -29,7 +29,7 @@ use crate::viewfactor::flags::{Flag, FlagLog};
 use crate::viewfactor::shadow::branch::PairWork;
 use crate::viewfactor::shadow::classify::Status;
 use crate::viewfactor::shadow::detect::Occlusion;
-use crate::viewfactor::shadow::policy::{Policy, EXACT_REL_TOL, SHADOW_UNIT_NS};
+use crate::viewfactor::shadow::policy::{pair_goal, CostModel, Policy, EXACT_REL_TOL, MC_MAX_SAMPLES};
 use crate::viewfactor::shadow::{ShadowScratch, Shadows};
 use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::Result;
@@ -69,11 +69,24 @@ const COST_ZERO_PAIR_NS: f64 = 10.0;
 const COST_CLEAR_PAIR_NS: f64 = 500.0;
 /// Progress estimate only: the share of a row's front-facing receivers taken as partly hidden
 /// when blockers stand in front of the emitter (a guess; which ones are is known only once
-/// the row is classified), each priced by the scene's shadow [`CostModel`] at the row's
-/// blocker count.
-///
-/// [`CostModel`]: crate::viewfactor::shadow::policy::CostModel
+/// the row is classified), each priced by the scene's [`CostModel`] at its own u/goal.
 const COST_PARTIAL_SHARE: f64 = 0.5;
+
+/// Progress estimate only: the classification of a row per blocker it shadows from (a shadow
+/// volume built, the patch tree walked near its boundary), ns: 2–7 µs measured on the
+/// channel's rows (validation/cad.md); the last rows of a meshed part hold few pairs but
+/// classify against thousands of the part's faces.
+const COST_ROW_BLOCKER_NS: f64 = 4000.0;
+
+/// Progress estimate only: the obstructed branch's prices at the scene's typical count of
+/// partial blockers ([`Shadows::typical_blockers`]).
+#[derive(Debug, Clone, Copy)]
+struct PairPrices {
+    /// One Monte Carlo sample, ns.
+    sample_ns: f64,
+    /// A shadow integration at u ≤ goal, ns.
+    shadow_ns: f64,
+}
 
 /// Per-patch data the pair loop reads, packed for locality.
 #[derive(Debug, Clone, Copy)]
@@ -89,6 +102,8 @@ struct PatchInfo {
     inv_len: f64,
     /// Gauss rules on Duffy triangles (not one parallelogram).
     triangles: bool,
+    /// Area (progress estimate only).
+    area: f64,
 }
 
 /// Exact exchange areas for unobstructed planar patches.
@@ -100,6 +115,8 @@ pub struct AnalyticKernel<'s> {
     occlusion: OnceLock<Occlusion>,
     /// Blockers and the policy for partly blocked pairs; `None` when nothing can block.
     shadows: Option<Shadows<'s>>,
+    /// The progress estimate's prices of a partly blocked pair, when something can block.
+    prices: Option<PairPrices>,
     /// Unobstructed values shared by translated pairs of gridded surfaces.
     reuse: Reuse,
     /// Exact entries whose round-off bound exceeds the method's promise.
@@ -160,16 +177,23 @@ impl<'s> AnalyticKernel<'s> {
                     plane: planes.id[p],
                     inv_len: 1.0 / rules.param_len(p),
                     triangles: rules.triangulated(p),
+                    area: poly.area(),
                 }
             })
             .collect();
+        let shadows = Shadows::new(scene, policy);
+        let prices = shadows.as_ref().map(|s| {
+            let (model, b) = (s.model(), s.typical_blockers());
+            PairPrices { sample_ns: model.mc_ns(1.0, b), shadow_ns: model.shadow_ns(1.0, 1.0, b) }
+        });
         AnalyticKernel {
             scene,
             info,
             rules,
             model: ErrorModel::new(rel_tol),
             occlusion: OnceLock::new(),
-            shadows: Shadows::new(scene, policy),
+            shadows,
+            prices,
             reuse: Reuse::default(),
             flags: FlagLog::default(),
             abs_goal: match policy {
@@ -194,23 +218,65 @@ impl<'s> AnalyticKernel<'s> {
         self.shadows.as_ref()
     }
 
-    /// Progress estimate only: the cost (ns) of one front-facing pair of row `i`, a clear
-    /// pair plus [`COST_PARTIAL_SHARE`] of the shadow price at the count of blockers in front
-    /// of patch i's plane (the classification's first filter); `ids` is scratch.
-    pub fn facing_pair_cost(&self, i: usize, ids: &mut Vec<u32>) -> f64 {
-        let Some(shadows) = self.shadows.as_ref() else { return COST_CLEAR_PAIR_NS };
-        let (model, snap) = (shadows.model(), shadows.blockers().snap());
-        let p = &self.info[i];
+    /// Progress estimate only: the blockers the classification of row i shadows from (those
+    /// in front of patch i's plane, less a solid's faces turned away from it); `ids` is scratch.
+    pub fn row_blockers(&self, i: usize, ids: &mut Vec<u32>) -> usize {
+        let Some(shadows) = self.shadows.as_ref() else { return 0 };
+        let (p, blockers) = (&self.info[i], shadows.blockers());
+        let snap = blockers.snap();
         ids.clear();
-        shadows.blockers().blockers_where(
+        blockers.blockers_where(
             |lo, hi| p.normal.dot(0.5 * (lo + hi)) + p.normal.abs().dot(0.5 * (hi - lo)) - p.offset > snap,
             ids,
         );
-        let partial = match ids.len() {
-            0 => 0.0,
-            b => COST_PARTIAL_SHARE * model.shadow.at(b) * SHADOW_UNIT_NS,
-        };
-        COST_CLEAR_PAIR_NS + partial
+        let vertices = self.scene.patches[i].polygon.vertices();
+        ids.iter().filter(|&&b| !blockers.turned_from(b as usize, vertices)).count()
+    }
+
+    /// Progress estimate only: the cost (ns) of row i besides its pairs, the classification of
+    /// its receivers against `blockers` ([`Self::row_blockers`]) shadow volumes.
+    pub fn classify_cost(blockers: usize) -> f64 {
+        blockers as f64 * COST_ROW_BLOCKER_NS
+    }
+
+    /// Progress estimate only: the cost (ns) of pair (i, j) in row i, `shaded` when blockers
+    /// stand in front of patch i ([`Self::row_blockers`] > 0). A pair behind a plane costs
+    /// [`COST_ZERO_PAIR_NS`]; a front-facing one a clear pair plus, in a shaded row,
+    /// [`COST_PARTIAL_SHARE`] of its price if partly obstructed ([`Self::partial_price`]).
+    pub fn pair_cost(&self, i: usize, j: usize, shaded: bool) -> f64 {
+        if !self.may_face(i, j) {
+            return COST_ZERO_PAIR_NS;
+        }
+        match self.prices.filter(|_| shaded) {
+            Some(prices) => COST_CLEAR_PAIR_NS + COST_PARTIAL_SHARE * self.partial_price(prices, i, j),
+            None => COST_CLEAR_PAIR_NS,
+        }
+    }
+
+    /// Progress estimate only: the price (ns) of pair (i, j) if partly obstructed. Under `auto`
+    /// its unobstructed value u comes from the centroids (the point-to-point kernel, at most
+    /// the smaller area): the pair costs the sampling that meets its goal (an integration tried
+    /// first stops within that price), or the integration where sampling would need more than
+    /// [`MC_MAX_SAMPLES`]. A wall patch facing a small facet has u far above the facet's goal
+    /// (thousands of samples), a facet facing a far facet a few samples: u/goal sets most of
+    /// the difference between rows. Under `analytic` the goal is relative: every partial pair
+    /// costs alike.
+    fn partial_price(&self, prices: PairPrices, i: usize, j: usize) -> f64 {
+        if self.abs_goal <= 0.0 {
+            return prices.shadow_ns;
+        }
+        let (p, q) = (&self.info[i], &self.info[j]);
+        let d = q.centroid - p.centroid;
+        let d2 = d.length_squared().max(f64::MIN_POSITIVE);
+        let cos2 = p.normal.dot(d).max(0.0) * (-q.normal.dot(d)).max(0.0) / d2;
+        let u = (p.area * q.area * cos2 / (std::f64::consts::PI * d2)).min(p.area.min(q.area));
+        let goal = pair_goal(self.abs_goal, p.area, q.area);
+        let n = CostModel::samples(u, goal);
+        if n > MC_MAX_SAMPLES as f64 {
+            (u / goal).max(1.0).sqrt() * prices.shadow_ns
+        } else {
+            n * prices.sample_ns
+        }
     }
 
     /// Lowest and highest signed distance of patch `q`'s vertices from the plane of patch
@@ -472,9 +538,19 @@ impl RowKernel for AnalyticKernel<'_> {
         let costs = (0..n)
             .into_par_iter()
             .map_init(Vec::new, |ids, i| {
-                let front = (i + 1..n).filter(|&j| self.may_face(i, j)).count() as f64;
-                let back = (n - i - 1) as f64 - front;
-                back * COST_ZERO_PAIR_NS + front * self.facing_pair_cost(i, ids)
+                let b = self.row_blockers(i, ids);
+                let (mut pairs, mut facing) = (0.0, false);
+                for j in i + 1..n {
+                    let c = self.pair_cost(i, j, b > 0);
+                    facing |= c > COST_ZERO_PAIR_NS;
+                    pairs += c;
+                }
+                // A row whose receivers all face away walks none of them in its classification.
+                if facing {
+                    Self::classify_cost(b) + pairs
+                } else {
+                    pairs
+                }
             })
             .map(|c| c.round() as u64)
             .collect();
@@ -526,5 +602,82 @@ mod tests {
         // A convex enclosure has no blockers: every pair is priced alike (the pair count).
         let furnace = case("e3_cube_furnace");
         assert!(AnalyticKernel::new(&furnace, GAUSS_REL_TOL).row_costs().is_none());
+    }
+
+    /// A closed U channel 0.6 × 0.6 × 0.4 m (32 triangles, outward normals) as ASCII STL.
+    fn u_channel_stl() -> String {
+        let u = [
+            (-0.3, -0.3),
+            (0.3, -0.3),
+            (0.3, 0.3),
+            (0.2, 0.3),
+            (0.2, -0.2),
+            (-0.2, -0.2),
+            (-0.2, 0.3),
+            (-0.3, 0.3),
+        ];
+        let (z0, z1) = (-0.2, 0.2);
+        let mut tris: Vec<[(f64, f64, f64); 3]> = Vec::new();
+        for k in 0..u.len() {
+            let (a, b) = (u[k], u[(k + 1) % u.len()]);
+            let (a0, b0, b1, a1) = ((a.0, a.1, z0), (b.0, b.1, z0), (b.0, b.1, z1), (a.0, a.1, z1));
+            tris.extend([[a0, b0, b1], [a0, b1, a1]]);
+        }
+        // The caps as three convex pieces sharing the channel's vertices (no T-junctions).
+        let caps: [&[(f64, f64)]; 3] = [
+            &[(-0.3, -0.3), (0.3, -0.3), (0.3, -0.2), (0.2, -0.2), (-0.2, -0.2), (-0.3, -0.2)],
+            &[(-0.3, -0.2), (-0.2, -0.2), (-0.2, 0.3), (-0.3, 0.3)],
+            &[(0.2, -0.2), (0.3, -0.2), (0.3, 0.3), (0.2, 0.3)],
+        ];
+        for c in caps {
+            for k in 1..c.len() - 1 {
+                let (p, q, r) = (c[0], c[k], c[k + 1]);
+                tris.push([(p.0, p.1, z1), (q.0, q.1, z1), (r.0, r.1, z1)]);
+                tris.push([(p.0, p.1, z0), (r.0, r.1, z0), (q.0, q.1, z0)]);
+            }
+        }
+        let mut s = String::from("solid part\n");
+        for t in tris {
+            s.push_str(" facet normal 0 0 0\n  outer loop\n");
+            for v in t {
+                s.push_str(&format!("   vertex {} {} {}\n", v.0, v.1, v.2));
+            }
+            s.push_str("  endloop\n endfacet\n");
+        }
+        s + "endsolid part\n"
+    }
+
+    #[test]
+    fn wall_rows_facing_a_concave_part_are_estimated_far_dearer_than_the_parts_rows() {
+        // The channel case at small scale: a U channel in a 2 m room of 4×4 patches per wall.
+        // A wall patch's pairs with the facets hold u far above a facet's goal (thousands of
+        // samples or an integration each); measured one thread: 67 ms per wall row, 6–170 µs
+        // per part row (validation/cad.md). Pricing every front pair at the row's blocker
+        // count alone put the two within a factor of 10.
+        let dir = tempfile::tempdir().expect("temp dir");
+        std::fs::write(dir.path().join("part.stl"), u_channel_stl()).expect("stl written");
+        let mut toml = String::from("[[model]]\nfile = \"part.stl\"\n");
+        let walls = [
+            ("floor", [-1.0, -1.0, -1.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+            ("ceiling", [-1.0, -1.0, 1.0], [0.0, 2.0, 0.0], [2.0, 0.0, 0.0]),
+            ("wall_x0", [-1.0, -1.0, -1.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]),
+            ("wall_x1", [1.0, -1.0, -1.0], [0.0, 0.0, 2.0], [0.0, 2.0, 0.0]),
+            ("wall_y0", [-1.0, -1.0, -1.0], [0.0, 0.0, 2.0], [2.0, 0.0, 0.0]),
+            ("wall_y1", [-1.0, 1.0, -1.0], [2.0, 0.0, 0.0], [0.0, 0.0, 2.0]),
+        ];
+        for (name, o, u, v) in walls {
+            toml.push_str(&format!(
+                "[[surface]]\nname = \"{name}\"\nrectangle = {{ origin = {o:?}, u = {u:?}, v = {v:?} }}\nsubdivide = [4, 4]\n"
+            ));
+        }
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, toml).expect("scene written");
+        let scene = crate::scene::load(&path).expect("the scene loads");
+        assert_eq!(scene.patches.len(), 96 + 32);
+        let kernel = AnalyticKernel::with_policy(&scene, 1e-5, Policy::Auto { tol: 1e-4, seed: 0 });
+        let costs = kernel.row_costs().expect("the part blocks");
+        let mean = |r: &[u64]| r.iter().sum::<u64>() as f64 / r.len() as f64;
+        let (wall, part) = (mean(&costs[..96]), mean(&costs[96..]));
+        assert!(wall > 30.0 * part, "wall rows {wall:.3e}, part rows {part:.3e}");
     }
 }

@@ -77,6 +77,9 @@ pub struct Shadows<'s> {
     misses: MissLog,
     /// Per patch: it is a face of a non-convex solid (`super::pair`'s choice of emitter).
     on_solid: Vec<bool>,
+    /// Partial blockers of a typical partly obstructed pair (the calibration pairs' median; 1
+    /// without them): the progress estimate prices unclassified pairs at this count.
+    typical_blockers: usize,
 }
 
 impl<'s> Shadows<'s> {
@@ -122,12 +125,23 @@ impl<'s> Shadows<'s> {
             model: CostModel::default(),
             misses: MissLog::default(),
             on_solid,
+            typical_blockers: 1,
         })
     }
 
     /// Replaces the prices `auto` chooses by (the calibration's fit).
     pub(super) fn set_model(&mut self, model: CostModel) {
         self.model = model;
+    }
+
+    /// Sets the typical count of partial blockers per pair (the calibration's median).
+    pub(super) fn set_typical_blockers(&mut self, b: usize) {
+        self.typical_blockers = b;
+    }
+
+    /// Partial blockers of a typical partly obstructed pair (progress estimate only).
+    pub fn typical_blockers(&self) -> usize {
+        self.typical_blockers
     }
 
     /// The scene.

@@ -84,8 +84,14 @@ impl<'s> Shadows<'s> {
     pub fn new(scene: &'s Scene, policy: Policy) -> Option<Self> {
         let mut me = Self::uncalibrated(scene, policy)?;
         if let Policy::Auto { tol, seed } = policy {
-            let model = fit(&measure(&me, tol, seed), *me.model());
+            let measured = measure(&me, tol, seed);
+            let model = fit(&measured, *me.model());
             me.set_model(model);
+            let mut b: Vec<usize> = measured.iter().map(|m| m.blockers).collect();
+            b.sort_unstable();
+            if let Some(&median) = b.get(b.len() / 2) {
+                me.set_typical_blockers(median.max(1));
+            }
         }
         Some(me)
     }
