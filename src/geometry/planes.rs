@@ -60,16 +60,31 @@ impl Plane {
     }
     /// Largest signed distance over the axis-aligned box [lo, hi].
     pub fn box_max(&self, lo: DVec3, hi: DVec3) -> f64 {
-        let c = 0.5 * (lo + hi);
-        let h = 0.5 * (hi - lo);
-        self.distance(c) + self.n.abs().dot(h)
+        let (c, h) = centre_half(lo, hi);
+        self.box_max_ch(c, h)
     }
     /// Smallest signed distance over the axis-aligned box [lo, hi].
     pub fn box_min(&self, lo: DVec3, hi: DVec3) -> f64 {
-        let c = 0.5 * (lo + hi);
-        let h = 0.5 * (hi - lo);
+        let (c, h) = centre_half(lo, hi);
+        self.box_min_ch(c, h)
+    }
+    /// [`Self::box_max`] of the box of centre `c` and half-extents `h` ([`centre_half`]): one
+    /// box tested against many planes computes them once.
+    #[inline]
+    pub fn box_max_ch(&self, c: DVec3, h: DVec3) -> f64 {
+        self.distance(c) + self.n.abs().dot(h)
+    }
+    /// [`Self::box_min`] of the box of centre `c` and half-extents `h`.
+    #[inline]
+    pub fn box_min_ch(&self, c: DVec3, h: DVec3) -> f64 {
         self.distance(c) - self.n.abs().dot(h)
     }
+}
+
+/// Centre and half-extents of the axis-aligned box [lo, hi].
+#[inline]
+pub fn centre_half(lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
+    (0.5 * (lo + hi), 0.5 * (hi - lo))
 }
 
 /// The oriented plane of a ring (any vertex count, possibly not quite planar): Newell's normal

@@ -268,10 +268,8 @@ impl Hierarchy {
         let row_cost: Vec<u64> = if vf.progress {
             rows.par_iter()
                 .map_init(Vec::new, |ids, row| {
-                    let i = row[0].0 as usize;
-                    let b = kernel.row_blockers(i, ids);
-                    let pairs: f64 = row.iter().map(|p| kernel.pair_cost(i, p.1 as usize, b > 0)).sum();
-                    (AnalyticKernel::classify_cost(b) + pairs).round() as u64
+                    let js = row.iter().map(|p| p.1 as usize);
+                    kernel.row_cost(row[0].0 as usize, js, ids, true).round() as u64
                 })
                 .collect()
         } else {

@@ -222,28 +222,46 @@ impl<'s> AnalyticKernel<'s> {
     /// in front of patch i's plane, less a solid's faces turned away from it); `ids` is scratch.
     pub fn row_blockers(&self, i: usize, ids: &mut Vec<u32>) -> usize {
         let Some(shadows) = self.shadows.as_ref() else { return 0 };
-        let (p, blockers) = (&self.info[i], shadows.blockers());
-        let snap = blockers.snap();
-        ids.clear();
-        blockers.blockers_where(
-            |lo, hi| p.normal.dot(0.5 * (lo + hi)) + p.normal.abs().dot(0.5 * (hi - lo)) - p.offset > snap,
+        crate::viewfactor::shadow::classify::row_blockers(
+            shadows.blockers(),
+            &self.scene.patches[i].polygon,
+            None,
             ids,
         );
-        let vertices = self.scene.patches[i].polygon.vertices();
-        ids.iter().filter(|&&b| !blockers.turned_from(b as usize, vertices)).count()
+        ids.len()
     }
 
-    /// Progress estimate only: the cost (ns) of row i besides its pairs, the classification of
-    /// its receivers against `blockers` ([`Self::row_blockers`]) shadow volumes.
-    pub fn classify_cost(blockers: usize) -> f64 {
-        blockers as f64 * COST_ROW_BLOCKER_NS
+    /// Progress estimate only: the cost (ns) of row i over the receivers `js`, each pair's
+    /// [`Self::pair_cost`] plus the row's classification against its [`Self::row_blockers`]
+    /// shadow volumes, which a row whose receivers all face away skips unless it is
+    /// `always_classified` (the hierarchy classifies every row of patch pairs it hands over);
+    /// `ids` is scratch.
+    pub fn row_cost(
+        &self,
+        i: usize,
+        js: impl IntoIterator<Item = usize>,
+        ids: &mut Vec<u32>,
+        always_classified: bool,
+    ) -> f64 {
+        let b = self.row_blockers(i, ids);
+        let (mut pairs, mut facing) = (0.0, always_classified);
+        for j in js {
+            let c = self.pair_cost(i, j, b > 0);
+            facing |= c > COST_ZERO_PAIR_NS;
+            pairs += c;
+        }
+        if facing {
+            b as f64 * COST_ROW_BLOCKER_NS + pairs
+        } else {
+            pairs
+        }
     }
 
     /// Progress estimate only: the cost (ns) of pair (i, j) in row i, `shaded` when blockers
     /// stand in front of patch i ([`Self::row_blockers`] > 0). A pair behind a plane costs
     /// [`COST_ZERO_PAIR_NS`]; a front-facing one a clear pair plus, in a shaded row,
     /// [`COST_PARTIAL_SHARE`] of its price if partly obstructed ([`Self::partial_price`]).
-    pub fn pair_cost(&self, i: usize, j: usize, shaded: bool) -> f64 {
+    fn pair_cost(&self, i: usize, j: usize, shaded: bool) -> f64 {
         if !self.may_face(i, j) {
             return COST_ZERO_PAIR_NS;
         }
@@ -537,22 +555,7 @@ impl RowKernel for AnalyticKernel<'_> {
         let n = self.info.len();
         let costs = (0..n)
             .into_par_iter()
-            .map_init(Vec::new, |ids, i| {
-                let b = self.row_blockers(i, ids);
-                let (mut pairs, mut facing) = (0.0, false);
-                for j in i + 1..n {
-                    let c = self.pair_cost(i, j, b > 0);
-                    facing |= c > COST_ZERO_PAIR_NS;
-                    pairs += c;
-                }
-                // A row whose receivers all face away walks none of them in its classification.
-                if facing {
-                    Self::classify_cost(b) + pairs
-                } else {
-                    pairs
-                }
-            })
-            .map(|c| c.round() as u64)
+            .map_init(Vec::new, |ids, i| self.row_cost(i, i + 1..n, ids, false).round() as u64)
             .collect();
         Some(costs)
     }

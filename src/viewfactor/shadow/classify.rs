@@ -12,8 +12,10 @@
 //! A receiver absent from the result is unobstructed. The cost follows the receivers near each
 //! blocker's shadow boundary, not N × blockers.
 use super::blockers::Blockers;
-use super::volume::{centre_half, Build, Class, Region, ShadowVolume};
+use super::volume::{Build, Class, Region, ShadowVolume};
 use crate::geometry::clip::clip_ring;
+use crate::geometry::planes::centre_half;
+use crate::geometry::Polygon;
 use crate::scene::Scene;
 use glam::DVec3;
 
@@ -85,6 +87,23 @@ pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, 
     classify_row_in(scene, blockers, i, first, None, out);
 }
 
+/// The blockers a row of emitter `pi` is classified against, into `out` (in the blocker
+/// tree's order): those whose box reaches in front of the emitter's plane and meets `hull`
+/// when given, less a solid's faces turned away from all of the emitter (never crossed first).
+pub fn row_blockers(blockers: &Blockers, pi: &Polygon, hull: Option<(DVec3, DVec3)>, out: &mut Vec<u32>) {
+    let snap = blockers.snap();
+    let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
+    out.clear();
+    blockers.blockers_where(
+        |lo, hi| {
+            ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
+                && hull.is_none_or(|(rl, rh)| lo.cmple(rh).all() && hi.cmpge(rl).all())
+        },
+        out,
+    );
+    out.retain(|&b| !blockers.turned_from(b as usize, pi.vertices()));
+}
+
 /// As [`classify_row`] for the receivers whose boxes meet `region` (lo, hi) only: blockers
 /// outside the box of patch i and the region are never considered.
 pub fn classify_row_in(
@@ -111,16 +130,7 @@ pub fn classify_row_in(
         ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
             && region.is_none_or(|r| meets(r, lo, hi))
     };
-    out.row_blockers.clear();
-    blockers.blockers_where(
-        |lo, hi| {
-            ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
-                && hull.is_none_or(|r| meets(r, lo, hi))
-        },
-        &mut out.row_blockers,
-    );
-    // Faces of a solid part turned away from all of patch i are never crossed first.
-    out.row_blockers.retain(|&b| !blockers.turned_from(b as usize, pi.vertices()));
+    row_blockers(blockers, pi, hull, &mut out.row_blockers);
     out.row_blockers.sort_unstable();
     // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
     let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, .. } = out;

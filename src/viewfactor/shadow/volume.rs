@@ -17,6 +17,8 @@
 //! blocked. Anything else is partial and goes to the shadow integrator.
 use crate::geometry::clip::clip_ring_keep;
 use crate::geometry::convex::{convex_disjoint, convex_hull, twice_area};
+#[cfg(test)]
+use crate::geometry::planes::centre_half;
 pub(super) use crate::geometry::planes::plane_of;
 use crate::geometry::planes::Plane;
 pub use crate::visibility::boxes::Region;
@@ -156,10 +158,16 @@ impl ShadowVolume {
     #[cfg(test)]
     pub fn box_clear(&self, lo: DVec3, hi: DVec3) -> bool {
         let (c, h) = centre_half(lo, hi);
+        self.box_clear_ch(c, h)
+    }
+
+    /// True when the box of centre `c` and half-extents `h` lies wholly outside the penumbra.
+    #[inline]
+    fn box_clear_ch(&self, c: DVec3, h: DVec3) -> bool {
         self.parts[..self.count].iter().all(|p| p.box_clear(c, h))
     }
 
-    /// The box of centre `c` and half-extents `h` ([`centre_half`]) against the volume: `Out`
+    /// The box of centre `c` and half-extents `h` ([`crate::geometry::planes::centre_half`]) against the volume: `Out`
     /// clear of the penumbra, `In` inside the umbra (everything in it is blocked), else
     /// `Cross`. One box tested against many volumes computes `c` and `h` once.
     #[inline]
@@ -167,7 +175,7 @@ impl ShadowVolume {
         match self.count {
             0 => Region::Out,
             1 => self.parts[0].box_region(c, h),
-            _ if self.parts[..self.count].iter().all(|p| p.box_clear(c, h)) => Region::Out,
+            _ if self.box_clear_ch(c, h) => Region::Out,
             _ => Region::Cross,
         }
     }
@@ -306,11 +314,10 @@ impl Part {
         convex_disjoint(&hull, &self.b2, snap)
     }
 
-    /// The box of centre `c`, half-extents `h` is outside a penumbra plane (as
-    /// [`Plane::box_max`], term for term).
+    /// The box of centre `c`, half-extents `h` is outside a penumbra plane.
     #[inline]
     fn box_clear(&self, c: DVec3, h: DVec3) -> bool {
-        !self.unbounded && self.penumbra.iter().any(|p| p.distance(c) + p.n.abs().dot(h) <= self.snap)
+        !self.unbounded && self.penumbra.iter().any(|p| p.box_max_ch(c, h) <= self.snap)
     }
 
     #[inline]
@@ -319,19 +326,13 @@ impl Part {
             Region::Out
         } else if self.umbra_valid
             && !self.unbounded
-            && self.umbra.iter().all(|p| p.distance(c) - p.n.abs().dot(h) >= self.snap)
+            && self.umbra.iter().all(|p| p.box_min_ch(c, h) >= self.snap)
         {
             Region::In
         } else {
             Region::Cross
         }
     }
-}
-
-/// Centre and half-extents of the box [lo, hi], as [`Plane::box_max`] computes them.
-#[inline]
-pub fn centre_half(lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
-    (0.5 * (lo + hi), 0.5 * (hi - lo))
 }
 
 /// The part of a convex ring with p(x) ≥ 0, vertices within `snap` of the plane kept on it
