@@ -21,7 +21,9 @@ fn main() {
     println!("classify {:.3} ms", t.elapsed().as_secs_f64() * 1e3);
     let mut k = 0;
     let mut tot = 0.0;
-    for j in i + 1..n {
+    // `JMAX=K` probes only the receivers below K (the wall patches when they come first).
+    let jmax: usize = std::env::var("JMAX").map_or(n, |v| v.parse().unwrap());
+    for j in i + 1..n.min(jmax) {
         let Status::Partial(partial) = s.row.status(j) else { continue };
         k += 1;
         if k % every != 0 {
@@ -33,6 +35,42 @@ fn main() {
         let goal = pair_goal(1e-4, pi.area(), pj.area())
             * std::env::var("GOALX").map_or(1.0, |v| v.parse::<f64>().unwrap());
         let t = Instant::now();
+        if std::env::var_os("MC").is_some() {
+            // `MC=1`: the Monte Carlo estimate alone (up to its sample cap).
+            let n = lambert::viewfactor::shadow::policy::CostModel::samples(u, goal).min(65536.0) as u32;
+            let m = shadows.sample(i, j, u, &partial, (n, goal), 1, &mut s.work);
+            let dt = t.elapsed().as_secs_f64();
+            tot += dt;
+            println!(
+                "{i} {j} s {:.10e} nb {} u/goal {:.1} s/u {:.4} sd/goal {:.2} samples {} ms {:.3}",
+                m.s,
+                partial.len(),
+                u / goal,
+                m.s / u,
+                m.var.sqrt() / goal,
+                m.samples,
+                dt * 1e3
+            );
+            continue;
+        }
+        if std::env::var_os("AUTO").is_some() {
+            // `AUTO=1`: the entry as `auto` makes it (its own choice of estimator).
+            let r = shadows.pair(i, j, u, &partial, &mut s.work);
+            let dt = t.elapsed().as_secs_f64();
+            tot += dt;
+            println!(
+                "{i} {j} s {:.10e} nb {} u/goal {:.1} s/u {:.4} sd/goal {:.2} method {:?} work {} ms {:.3}",
+                r.s,
+                partial.len(),
+                u / goal,
+                r.s / u,
+                r.var.sqrt() / goal,
+                r.method,
+                r.work,
+                dt * 1e3
+            );
+            continue;
+        }
         let r = shadows.integrate(i, j, u, &partial, goal, u64::MAX, &mut s.work);
         let dt = t.elapsed().as_secs_f64();
         tot += dt;

@@ -84,6 +84,11 @@ pub const MC_SIGMAS: f64 = 2.0;
 /// Fewest Monte Carlo samples per pair: the half-count prior keeps the reported error honest,
 /// and eight Sobol points stratify both patches at least in halves.
 pub const MC_MIN_SAMPLES: u32 = 8;
+/// A sample starts at this share of the worst-case count ¼(Z·u/goal)² (the count a ratio of ½
+/// needs) and doubles until its standard error meets the goal: a pair mostly hidden or mostly
+/// seen needs r(1 − r)/¼ of it (a channel wall pair at r = 0.08 a third, at r = 0.99 a
+/// twenty-fifth), and the doubling stops there instead of drawing the worst case.
+pub const MC_PILOT_SHARE: f64 = 1.0 / 16.0;
 /// Most Monte Carlo samples per pair; above this the shadow integration is always cheaper.
 pub const MC_MAX_SAMPLES: u32 = 1 << 16;
 /// Cost of one Monte Carlo sample besides its segment tests (two Sobol points, the kernel, the
