@@ -39,6 +39,24 @@ fn main() {
             // `MC=1`: the Monte Carlo estimate alone (up to its sample cap).
             let n = lambert::viewfactor::shadow::policy::CostModel::samples(u, goal).min(65536.0) as u32;
             let m = shadows.sample(i, j, u, &partial, (n, goal), 1, &mut s.work);
+            let seeds: u64 = std::env::var("SEEDS").map_or(0, |v| v.parse().unwrap());
+            if seeds > 0 {
+                // `SEEDS=K`: the spread of K seeds' estimates against their reported errors.
+                let runs: Vec<_> = (0..seeds)
+                    .map(|seed| shadows.sample(i, j, u, &partial, (n, goal), seed, &mut s.work))
+                    .collect();
+                let mean = runs.iter().map(|m| m.s).sum::<f64>() / seeds as f64;
+                let sd = (runs.iter().map(|m| (m.s - mean).powi(2)).sum::<f64>() / (seeds - 1) as f64).sqrt();
+                let rep = (runs.iter().map(|m| m.var).sum::<f64>() / seeds as f64).sqrt();
+                let samples = runs.iter().map(|m| u64::from(m.samples)).sum::<u64>() / seeds;
+                // Against REF (an exact value of this pair's exchange area, when given).
+                let truth = std::env::var("REF").map_or(mean, |v| v.parse().unwrap());
+                let far = runs.iter().filter(|m| (m.s - truth).abs() > 3.0 * m.var.sqrt()).count();
+                let over = runs.iter().filter(|m| (m.s - truth).abs() > goal).count();
+                println!(
+                    "{i} {j} seeds {seeds} mean {mean:.6e} spread {sd:.3e} reported {rep:.3e} goal {goal:.3e} samples {samples} beyond3sd {far} beyond_goal {over}"
+                );
+            }
             let dt = t.elapsed().as_secs_f64();
             tot += dt;
             println!(
