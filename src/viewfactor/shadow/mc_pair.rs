@@ -20,7 +20,13 @@
 //!   plug-in variance looked small, does not claim a tighter error than the binomial interval
 //!   (a boards wall pair at 5.8 standard errors from `analytic` before, validation/cad.md);
 //!   a sample in which no point pair faced each other (ΣK = 0) reports the ratio ½ ± ½.
-//! - **Budget.** The sample doubles until the standard error meets the goal.
+//! - **Replicates.** A sample of 512 points or more is drawn as 16 independently scrambled
+//!   Sobol sequences ([`replicated`]); its error is their spread at its upper 95 % bound, which
+//!   sees the stratification the binomial count ignores (a shadow edge sampled by a net errs
+//!   far less than n^−1/2), while fewer than 64 point pairs on the minority side keep the
+//!   binomial error above.
+//! - **Budget.** The sample doubles until the standard error meets the goal; `auto` starts it
+//!   at a sixteenth of the worst case (`policy::MC_PILOT_SHARE`).
 //! - **Streams.** Seeded from (seed, i, j): the same numbers on any thread count.
 
 use super::policy::MC_SIGMAS;
