@@ -11,7 +11,11 @@
 //!   homogeneous coordinates. Sutherland–Hodgman keeps a closed chain's winding number on the
 //!   kept side of each plane (the replaced excursions and the plane's pieces that close them
 //!   lie in the plane, which projects to a line), so the loops' clipped region is the union of
-//!   the faces clipped one by one: no face is projected, only the outline.
+//!   the faces clipped one by one: no face is projected, only the outline. That holds where
+//!   every loop point lies below the viewpoint's height (W = h − z > 0, where central
+//!   projection is one-to-one); a face reaching that height is left out of the loops and
+//!   projected on its own (a channel pair lost 0.87 of its unshaded value's shadow at some
+//!   viewpoints before, validation/cad.md).
 //! - Edges that do not close (corners equal only up to round-off, a mesh open at a slab cut)
 //!   make `chain` say so; the viewpoint then takes the faces whole.
 use glam::DVec3;

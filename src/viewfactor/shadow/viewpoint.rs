@@ -433,7 +433,15 @@ impl ShadowGeometry {
                 }
             }
             let convex_body = hull_bodies && self.body.get(k as usize).is_some_and(Option::is_some);
-            if by_silhouette && !convex_body && self.outline.get(k as usize) == Some(&true) {
+            // A face reaching the viewpoint's height (z ≥ h) leaves the region where central
+            // projection keeps a loop's winding number (W = h − z > 0): it is projected on its
+            // own instead (clipped by the hull's planes like any face), and its neighbours' loops
+            // close along its edges.
+            if by_silhouette
+                && !convex_body
+                && self.outline.get(k as usize) == Some(&true)
+                && self.blockers[k as usize].iter().all(|x| x.z < h)
+            {
                 // A front face: its edges shared with other front faces never reach the
                 // outline, so it is not projected; the work and the mask are the face's own.
                 if self.casts(&self.blockers[k as usize], p, s) {
@@ -992,6 +1000,93 @@ mod tests {
         // A body with a through hole: a loop turning clockwise.
         let (worst, most, _) = by_silhouette(bottom, top, frame());
         assert!(worst <= AGREE_REL && most > 0.2, "frame: worst {worst}, shaded {most}");
+    }
+
+    #[test]
+    fn a_concave_body_reaching_past_the_viewpoint_s_height_keeps_its_silhouette_region() {
+        let d = DVec3::new;
+        // The floor under the fins emits towards the walls around them: from a viewpoint under
+        // the body, the body's parts farther from the wall than the viewpoint lie past it
+        // (W = h − z ≤ 0 in the wall's frame); those faces are projected on their own and the
+        // loops of the others must still give the front faces' region.
+        let floor = vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(1.4, 1.4, 0.0), d(-0.2, 1.4, 0.0)];
+        let walls = [
+            vec![d(1.4, -0.2, 0.05), d(1.4, -0.2, 1.6), d(1.4, 1.4, 1.6), d(1.4, 1.4, 0.05)],
+            vec![d(-0.4, 1.4, 0.05), d(-0.4, 1.4, 1.6), d(-0.4, -0.2, 1.6), d(-0.4, -0.2, 0.05)],
+            vec![d(-0.2, -0.3, 0.05), d(-0.2, -0.3, 1.6), d(1.4, -0.3, 1.6), d(1.4, -0.3, 0.05)],
+            vec![d(1.4, 0.3, 0.6), d(1.4, 0.3, 1.2), d(1.4, 0.7, 1.2), d(1.4, 0.7, 0.6)],
+        ];
+        for (k, wall) in walls.into_iter().enumerate() {
+            let (worst, most, fronts) = by_silhouette(floor.clone(), wall, fins());
+            assert!(
+                worst <= AGREE_REL && most > 0.05 && fronts > 1,
+                "wall {k}: worst {worst}, shaded {most}, {fronts} fronts"
+            );
+        }
+    }
+
+    /// A pair of the 7,582-triangle channel (`validation/cad.md`, 2026-11-28): triangle 337
+    /// emitting to triangle 3383 past 159 of the part's faces, as `shadow::pair` handed them to
+    /// the shadow geometry (`e`/`r` rings, then per blocker: closed, body, the blocker across
+    /// each edge, its ring; frame-free world coordinates, exact in their shortest decimals).
+    const CHANNEL_PAIR: &str = include_str!("testdata/channel_pair.txt");
+
+    #[test]
+    fn a_channel_pair_whose_faces_reach_past_the_viewpoint_keeps_its_silhouette_region() {
+        let points = |t: &str| -> Vec<DVec3> {
+            let v: Vec<f64> = t.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            v.chunks(3).map(|c| DVec3::new(c[0], c[1], c[2])).collect()
+        };
+        let (mut e, mut r, mut rings, mut across, mut closed) = (vec![], vec![], vec![], vec![], vec![]);
+        for line in CHANNEL_PAIR.lines() {
+            let (tag, rest) = line.split_once(' ').unwrap();
+            match tag {
+                "e" => e = points(rest),
+                "r" => r = points(rest),
+                _ => {
+                    let (head, ring) = rest.split_once(" | ").unwrap();
+                    let f: Vec<&str> = head.split(' ').collect();
+                    closed.push((
+                        f[0].parse::<i8>().unwrap(),
+                        f[1].parse::<i64>().ok().and_then(|b| u32::try_from(b).ok()),
+                    ));
+                    across.push(if f[2] == "none" {
+                        Vec::new()
+                    } else {
+                        f[2].split(',').map(|c| c.parse::<u32>().ok()).collect()
+                    });
+                    rings.push(points(ring));
+                }
+            }
+        }
+        assert_eq!(rings.len(), 159);
+        let (pe, pr) = (Polygon::new(e).unwrap(), Polygon::new(r).unwrap());
+        let refs: Vec<&[DVec3]> = rings.iter().map(Vec::as_slice).collect();
+        let mut geo =
+            ShadowGeometry::new(pe.vertices(), pe.normal(), pr.vertices(), pr.normal(), &refs).unwrap();
+        geo.set_neighbours(&across, &closed);
+        let mut faces = geo.clone();
+        faces.set_silhouette(false);
+        let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
+        let (mut s1, mut s0) = (Scratch::default(), Scratch::default());
+        let ring = geo.emitter().to_vec();
+        let (mut worst, mut most, mut past) = (0.0f64, 0.0f64, 0);
+        for a in 1..16 {
+            for b in 1..16 {
+                let (u, v) = (a as f64 / 16.0, b as f64 / 16.0);
+                let p = ring[0] + u * (ring[1] - ring[0]) + v * (1.0 - u) * (ring[2] - ring[0]);
+                let whole = geo.unshaded(p);
+                let (g1, _) = geo.shaded_by(p, &active, &mut s1, true);
+                let (g0, _) = faces.shaded_by(p, &active, &mut s0, true);
+                worst = worst.max((g1 - g0).abs() / whole);
+                most = most.max(g0 / whole);
+                past += usize::from(geo.blockers().iter().any(|f| f.iter().any(|x| x.z >= p.z)));
+            }
+        }
+        // Faces reach past the viewpoints' height, and the shadow is large: before the loops
+        // left those faces out, they gave up to 0.4 of the unshaded value too little.
+        assert!(past > 100 && most > 0.5, "{past} viewpoints with faces past them, shaded {most}");
+        assert!(worst <= AGREE_REL, "silhouette against face by face: {worst}");
     }
 
     #[test]
