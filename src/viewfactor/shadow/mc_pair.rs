@@ -249,11 +249,9 @@ fn replicated(
     draw: &mut impl FnMut(u32, u32, &mut u64) -> Option<(f64, bool)>,
     mut tests: u64,
 ) -> McPair {
-    let reps = REPLICATES as usize;
-    let scrambles: Vec<u32> = (0..REPLICATES)
-        .map(|r| mix64(key ^ u64::from(r + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)) as u32)
-        .collect();
-    let mut sums = vec![Sums::default(); reps];
+    let scrambles: [u32; REPLICATES as usize] =
+        std::array::from_fn(|r| mix64(key ^ (r as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)) as u32);
+    let mut sums = [Sums::default(); REPLICATES as usize];
     let per_max = max / REPLICATES;
     let (mut k, mut end) = (0, (budget.first / REPLICATES).next_power_of_two().clamp(REPLICATE_MIN, per_max));
     loop {
@@ -265,20 +263,20 @@ fn replicated(
             }
         }
         k = end;
-        let mut all = Sums::default();
-        for r in &sums {
+        let all = sums.iter().fold(Sums::default(), |mut all, r| {
             all.merge(r);
-        }
+            all
+        });
         let (s, binomial) = all.ratio(s_unobs);
         let minority = all.seen.min(all.faced - all.seen);
         let var = if minority < MINORITY_MIN || !(all.sk > 0.0) {
             binomial
         } else {
-            let ratio = all.skv / all.sk;
-            let mean_b = all.sk / f64::from(REPLICATES);
-            let spread: f64 = sums.iter().map(|r| (r.skv - ratio * r.sk).powi(2)).sum();
-            let k = f64::from(REPLICATES);
-            s_unobs * s_unobs * spread / (k * (k - 1.0) * mean_b * mean_b) * REPLICATE_VAR_UPPER
+            let pooled = all.skv / all.sk;
+            let reps = f64::from(REPLICATES);
+            let mean_b = all.sk / reps;
+            let spread: f64 = sums.iter().map(|r| (r.skv - pooled * r.sk).powi(2)).sum();
+            s_unobs * s_unobs * spread / (reps * (reps - 1.0) * mean_b * mean_b) * REPLICATE_VAR_UPPER
         };
         if var.sqrt() <= budget.sigma || end >= per_max {
             return McPair { s, var, samples: end * REPLICATES, tests };
