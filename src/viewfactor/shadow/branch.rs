@@ -315,23 +315,28 @@ mod tests {
     /// A_0 F_01 through classification and the obstructed branch, as a kernel would.
     fn exchange(scene: &Scene, policy: Policy) -> (f64, MethodSet) {
         let shadows = Shadows::new(scene, policy).expect("the blocker is found");
-        let mut s = ShadowScratch::default();
-        shadows.classify_row(0, &mut s.row);
-        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
-        let Status::Partial(partial) = s.row.status(1) else { panic!("pair 0-1 is partly obstructed") };
-        let r = shadows.pair(0, 1, u, partial, &mut s.work);
+        let (mut s, partial, u) = pair_01(&shadows);
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
         assert!(r.s <= u);
         (r.s, r.method)
     }
 
     /// Pair 0–1 classified as a row does and integrated to `EXACT_REL_TOL`: (result, u).
     fn integrate_01(shadows: &Shadows) -> (Shadowed, f64) {
+        let (mut s, partial, u) = pair_01(shadows);
+        (shadows.integrate(0, 1, u, &partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work), u)
+    }
+
+    /// Row 0 classified as a row does: the buffers, pair 0–1's partial blockers and its
+    /// unobstructed A_0 F_01.
+    fn pair_01(shadows: &Shadows) -> (ShadowScratch, Vec<u32>, f64) {
         let scene = shadows.scene();
         let mut s = ShadowScratch::default();
         shadows.classify_row(0, &mut s.row);
         let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
         let Status::Partial(partial) = s.row.status(1) else { panic!("pair 0-1 is partly obstructed") };
-        (shadows.integrate(0, 1, u, partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work), u)
+        let partial = partial.to_vec();
+        (s, partial, u)
     }
 
     /// The blockers that are faces of obstructions (not patch outlines).
@@ -606,10 +611,7 @@ mod tests {
         let shadows = Shadows::new(&scene, Policy::Auto { tol: goal, seed: 0 }).expect("a blocker");
         let n = CostModel::samples(u, goal) as u32;
         assert_eq!(n, MC_MAX_SAMPLES);
-        let mut s = ShadowScratch::default();
-        shadows.classify_row(0, &mut s.row);
-        let Status::Partial(partial) = s.row.status(1) else { panic!("pair 0-1 is partly obstructed") };
-        let partial = partial.to_vec();
+        let (mut s, partial, _) = pair_01(&shadows);
         let (mut far, mut drawn) = (0, 0u64);
         for seed in 0..200 {
             let m = shadows.sample(0, 1, u, &partial, (n, goal), seed, &mut s.work);
