@@ -11,7 +11,7 @@
 //!
 //! Every ring is counter-clockwise. Nothing here allocates once the buffers have grown.
 use super::clip::clip_ring;
-use super::tolerance::CONVEX_TURN_REL;
+use super::tolerance::{AXIS_EDGE_MIN_REL, CONVEX_TURN_REL, HULL_MERGE_REL};
 use glam::DVec2;
 
 /// Kept side of a line: `n·q + c ≥ 0`, `n` a unit vector, so `eval` is a signed distance.
@@ -151,8 +151,8 @@ pub fn subtract_convex(
     true
 }
 
-/// Convex hull of `pts` (Andrew's monotone chain), counter-clockwise, collinear points dropped;
-/// `pts` is reordered.
+/// Convex hull of `pts` (Andrew's monotone chain), counter-clockwise, collinear points dropped
+/// and vertices within [`HULL_MERGE_REL`] of the previous one merged; `pts` is reordered.
 pub fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     hull.clear();
     pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
@@ -175,6 +175,27 @@ pub fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
         hull.push(p);
     }
     hull.pop();
+    merge_close(hull);
+}
+
+/// Drops each vertex of the ring `hull` within [`HULL_MERGE_REL`] of the last one kept (the
+/// last also against the first): round-off twins of one point, as a projection through a
+/// point on the plane makes, otherwise leave an edge of arbitrary direction.
+fn merge_close(hull: &mut Vec<DVec2>) {
+    let close = |a: DVec2, b: DVec2| {
+        (a - b).abs().max_element() <= HULL_MERGE_REL * a.abs().max(b.abs()).max_element()
+    };
+    let mut kept = 0;
+    for k in 0..hull.len() {
+        if kept == 0 || !close(hull[kept - 1], hull[k]) {
+            hull[kept] = hull[k];
+            kept += 1;
+        }
+    }
+    while kept > 1 && close(hull[kept - 1], hull[0]) {
+        kept -= 1;
+    }
+    hull.truncate(kept);
 }
 
 /// True when the convex counter-clockwise rings `a` and `b` are separated by a line through
@@ -185,12 +206,21 @@ pub fn convex_disjoint(a: &[DVec2], b: &[DVec2], snap: f64) -> bool {
     separated_by_edges(a, b, snap) || separated_by_edges(b, a, snap)
 }
 
+/// True when a line through an edge of `a` has every point of `b` on its outer side (within
+/// `snap`). Edges shorter than [`AXIS_EDGE_MIN_REL`] of their coordinates are skipped: their
+/// direction is round-off, and fewer axes only make the answer more conservative.
 fn separated_by_edges(a: &[DVec2], b: &[DVec2], snap: f64) -> bool {
     let m = a.len();
     m >= 3
-        && (0..m).any(|k| match HalfPlane::left_of(a[k], a[(k + 1) % m]) {
-            Some(h) => b.iter().all(|&v| h.eval(v) <= snap),
-            None => false,
+        && (0..m).any(|k| {
+            let (p, q) = (a[k], a[(k + 1) % m]);
+            if (q - p).length() <= AXIS_EDGE_MIN_REL * p.abs().max(q.abs()).max_element() {
+                return false;
+            }
+            match HalfPlane::left_of(p, q) {
+                Some(h) => b.iter().all(|&v| h.eval(v) <= snap),
+                None => false,
+            }
         })
 }
 
@@ -400,5 +430,38 @@ mod tests {
         assert!(!convex_overlap(&sq(0.0), &tri, 1e-9));
         let cw: Vec<DVec2> = sq(0.5).into_iter().rev().collect();
         assert!(convex_overlap(&sq(0.0), &cw, 1e-9));
+    }
+
+    /// The crossing points of a blocker classification (`shadow::volume`) whose emitter cell
+    /// touches the blocker's plane at the blocker's edge: two pairs of round-off twins, one of
+    /// them on that edge. The hull once kept both twins, and the line through the twins'
+    /// edge, pointing anywhere, "separated" the blocker that the hull overlaps.
+    #[test]
+    fn round_off_twins_neither_stay_in_a_hull_nor_separate_it() {
+        let d = DVec2::new;
+        let twins = vec![
+            d(-0.06828393510377129, 0.2637112590673876),
+            d(0.011638523756946004, -0.23628874093261243),
+            d(1.0529186377995177, -0.5821482582551125),
+            d(1.0577385925309113, -0.5820800663284191),
+            d(1.057738592530912, -0.5820800663284176),
+            d(1.0541539916580063, -0.5778468944628082),
+            d(-0.06828393510377127, 0.26371125906738757),
+        ];
+        let blocker = [
+            d(1.0573411797867398, -0.5844228224763632),
+            d(1.0581360052750919, -0.5797373101804779),
+            d(1.053561817874342, -0.5802977437901572),
+        ];
+        let snap = 3.5355339059327e-13;
+        // The ring with its twins: their edge offers no axis.
+        assert!(!convex_disjoint(&twins, &blocker, snap));
+        // The hull of the same points keeps one of each pair.
+        let (mut pts, mut hull) = (twins.clone(), Vec::new());
+        convex_hull(&mut pts, &mut hull);
+        assert_eq!(hull.len(), 5, "{hull:?}");
+        assert!(!convex_disjoint(&hull, &blocker, snap));
+        // A blocker corner inside the hull: they do overlap.
+        assert!(blocker.iter().any(|&q| convex_contains(&hull, &[q], 1e-6)), "{hull:?}");
     }
 }

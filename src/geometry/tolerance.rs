@@ -18,6 +18,16 @@ pub const DEGENERACY_TOL: f64 = 1e-12;
 /// counts as straight when testing convexity: round-off of collinear vertices.
 pub const CONVEX_TURN_REL: f64 = 1e-14;
 
+/// Distance, relative to the coordinates' magnitude, below which two convex-hull vertices are
+/// one point: the spread of one point computed along different paths (a few dozen ulps). Kept
+/// apart, the two make an edge whose direction is round-off.
+pub const HULL_MERGE_REL: f64 = 64.0 * f64::EPSILON;
+
+/// Edge length, relative to its coordinates' magnitude, below which a ring's edge offers no
+/// separating axis: its direction is then uncertain by more than 1e-7 rad, and a line through
+/// a point touching the other ring could be turned either way.
+pub const AXIS_EDGE_MIN_REL: f64 = 1e-9;
+
 /// The patches of one surface share one plane and one normal (normal cosine within this of 1,
 /// vertices within 1e3 × this × the largest patch radius of the plane): a test on the user's
 /// input, so looser than the kernels' [`PATCH_COPLANAR_REL`].

@@ -828,7 +828,10 @@ mod tests {
     use super::*;
     use crate::geometry::Polygon;
     use crate::scene::Scene;
+    use crate::viewfactor::shadow::adaptive::{AdaptParams, AdaptScratch, Cell, Cuts, Integrator};
     use crate::viewfactor::shadow::blockers::Blockers;
+    use crate::viewfactor::shadow::pair::OWN_FACES_CUTS;
+    use crate::viewfactor::shadow::policy::{AUTO_MIN_DEPTH, MAX_DEPTH};
 
     /// Two ways of taking the same union agree this closely, relative to the unshaded value.
     const AGREE_REL: f64 = 1e-9;
@@ -1053,14 +1056,16 @@ mod tests {
     /// each edge, its ring; frame-free world coordinates, exact in their shortest decimals).
     const CHANNEL_PAIR: &str = include_str!("testdata/channel_pair.txt");
 
-    #[test]
-    fn a_channel_pair_whose_faces_reach_past_the_viewpoint_keeps_its_silhouette_region() {
+    /// The shadow geometry of a pair dumped from `shadow::pair` (`e`/`r` rings, then per
+    /// blocker: closed, body, the blocker across each edge, its ring; frame-free world
+    /// coordinates, exact in their shortest decimals), and its blocker count.
+    fn dumped_pair(text: &str) -> (ShadowGeometry, usize) {
         let points = |t: &str| -> Vec<DVec3> {
             let v: Vec<f64> = t.split_whitespace().map(|x| x.parse().unwrap()).collect();
             v.chunks(3).map(|c| DVec3::new(c[0], c[1], c[2])).collect()
         };
         let (mut e, mut r, mut rings, mut across, mut closed) = (vec![], vec![], vec![], vec![], vec![]);
-        for line in CHANNEL_PAIR.lines() {
+        for line in text.lines() {
             let (tag, rest) = line.split_once(' ').unwrap();
             match tag {
                 "e" => e = points(rest),
@@ -1081,17 +1086,68 @@ mod tests {
                 }
             }
         }
-        assert_eq!(rings.len(), 159);
         let (pe, pr) = (Polygon::new(e).unwrap(), Polygon::new(r).unwrap());
         let refs: Vec<&[DVec3]> = rings.iter().map(Vec::as_slice).collect();
         let mut geo =
             ShadowGeometry::new(pe.vertices(), pe.normal(), pr.vertices(), pr.normal(), &refs).unwrap();
         geo.set_neighbours(&across, &closed);
+        (geo, rings.len())
+    }
+
+    #[test]
+    fn a_channel_pair_whose_faces_reach_past_the_viewpoint_keeps_its_silhouette_region() {
+        let (geo, given) = dumped_pair(CHANNEL_PAIR);
+        assert_eq!(given, 159);
         let Agreement { worst, most, past, .. } = silhouette_against_faces(&geo);
         // Faces reach past the viewpoints' height, and the shadow is large: before the loops
         // left those faces out, they gave up to 0.87 of the unshaded value too little shadow.
         assert!(past > 100 && most > 0.5, "{past} viewpoints with faces past them, shaded {most}");
         assert!(worst <= AGREE_REL, "silhouette against face by face: {worst}");
+    }
+
+    /// A pair of the channel (`validation/cad.md`): triangle 7449, a facet inside a bored hole,
+    /// emitting (the smaller patch, with its own faces) to a floor patch past six facets of
+    /// the hole, the nearest sharing an edge with it.
+    const HOLE_PAIR: &str = include_str!("testdata/hole_pair.txt");
+
+    #[test]
+    fn a_facet_beside_its_blocker_keeps_the_shadow_in_every_cell() {
+        let (geo, given) = dumped_pair(HOLE_PAIR);
+        assert_eq!((given, geo.blockers().len()), (6, 6));
+        // Reference: the midpoint rule on 4^6 congruent triangles, every blocker active at
+        // every point (no per-cell classification).
+        let active: Vec<u32> = (0..6).collect();
+        let mut s = Scratch::default();
+        let e = geo.emitter().to_vec();
+        let mut cells = vec![Cell::Tri([e[0], e[1], e[2]])];
+        for _ in 0..6 {
+            cells = cells.iter().flat_map(Cell::children).collect();
+        }
+        let (mut shaded, mut whole) = (0.0, 0.0);
+        for c in &cells {
+            let Cell::Tri([a, b, c3]) = *c else { unreachable!() };
+            let p = (a + b + c3) / 3.0;
+            shaded += c.area() * geo.shaded_by(p, &active, &mut s, false).0;
+            whole += c.area() * geo.unshaded(p);
+        }
+        // About half the view is shaded; the cells along the shared edge once lost 0.15 of it.
+        assert!((0.45..0.55).contains(&(shaded / whole)), "reference {}", shaded / whole);
+        let params = AdaptParams { low: 2, high: 3, min_depth: AUTO_MIN_DEPTH, max_depth: MAX_DEPTH };
+        for cuts in [OWN_FACES_CUTS, Cuts::ALL] {
+            let info = Integrator::new(params).with_cuts(cuts).shaded(
+                &geo,
+                1e-4 * whole,
+                &mut AdaptScratch::default(),
+            );
+            let off = (info.shaded - shaded).abs() / whole;
+            assert!(
+                off <= 1e-3,
+                "{cuts:?}: {} against {}, error estimate {:.1e}",
+                info.shaded / whole,
+                shaded / whole,
+                info.error / whole
+            );
+        }
     }
 
     #[test]

@@ -448,4 +448,42 @@ mod tests {
         }
         assert!(counts.iter().all(|&c| c >= 5), "every class exercised: {counts:?}");
     }
+
+    /// A cell of a hole's facet in the channel (validation/cad.md) whose corner lies on the
+    /// edge the facet shares with the blocker, the next facet of the hole: the crossing points
+    /// through that corner are round-off twins of it. Their hull's edge between the twins
+    /// pointed anywhere and "separated" the blocker, so every cell along the edge lost its
+    /// shadow (F to a floor patch 0.66 of the unshaded value instead of 0.51).
+    #[test]
+    fn a_cell_touching_the_blocker_s_plane_at_its_edge_keeps_the_blocker() {
+        let d = DVec3::new;
+        let cell = [
+            d(0.22708045291900636, 0.7148565483093261, 0.9524030818939209),
+            d(0.22556592750549315, 0.7148565483093261, 0.9541396141052245),
+            d(0.2257488031387329, 0.7171065483093262, 0.9533976573944092),
+        ];
+        let b = [
+            d(0.22582949829101562, 0.7126065483093261, 0.9486621284484863),
+            d(0.2268975772857666, 0.7126065483093261, 0.9531450386047363),
+            d(0.2272633285522461, 0.7171065483093262, 0.9516611251831054),
+        ];
+        let r = [d(-0.25, -0.25, 0.0), d(0.25, -0.25, 0.0), d(0.25, 0.25, 0.0), d(-0.25, 0.25, 0.0)];
+        // The corner lies on the blocker's plane (to round-off); segments from near it cross the
+        // blocker.
+        let on = plane_of(&b).unwrap().distance(cell[0]);
+        assert!(on.abs() < 1e-14, "{on:e}");
+        let mut crossing = 0;
+        for (a, c) in (0..=10).flat_map(|a| (0..=10 - a).map(move |c| (a, c))) {
+            let p =
+                cell[0] + (cell[1] - cell[0]) * (a as f64 / 10.0) + (cell[2] - cell[0]) * (c as f64 / 10.0);
+            for (x, y) in (0..=10).flat_map(|x| (0..=10).map(move |y| (x, y))) {
+                let q = d(-0.25 + 0.05 * x as f64, -0.25 + 0.05 * y as f64, 0.0);
+                crossing += usize::from(hits(p, q, &b));
+            }
+        }
+        assert!(crossing > 0);
+        let mut v = ShadowVolume::default();
+        assert_eq!(v.build(&cell, &b, 3.5355339059327e-13), Build::Casts);
+        assert_eq!(v.classify_exact(&r), Class::Partial, "{crossing} sampled segments cross the blocker");
+    }
 }
