@@ -152,10 +152,20 @@ pub fn subtract_convex(
 }
 
 /// Convex hull of `pts` (Andrew's monotone chain), counter-clockwise, collinear points dropped
-/// and vertices within [`HULL_MERGE_REL`] of the previous one merged; `pts` is reordered.
+/// and points within [`HULL_MERGE_REL`] of each other taken once; `pts` is reordered.
 pub fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     hull.clear();
     pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    // Round-off twins of one point make a chain step of arbitrary direction, after which the
+    // chain's local turn test keeps points inside the hull: take each point once.
+    let mut m = 0;
+    for k in 0..pts.len() {
+        if m == 0 || !close(pts[m - 1], pts[k]) {
+            pts[m] = pts[k];
+            m += 1;
+        }
+    }
+    let pts = &pts[..m];
     if pts.len() < 3 {
         hull.extend_from_slice(pts);
         return;
@@ -178,13 +188,15 @@ pub fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     merge_close(hull);
 }
 
+/// True when `a` and `b` lie within [`HULL_MERGE_REL`] of their coordinates' magnitude.
+fn close(a: DVec2, b: DVec2) -> bool {
+    (a - b).abs().max_element() <= HULL_MERGE_REL * a.abs().max(b.abs()).max_element()
+}
+
 /// Drops each vertex of the ring `hull` within [`HULL_MERGE_REL`] of the last one kept (the
 /// last also against the first): round-off twins of one point, as a projection through a
 /// point on the plane makes, otherwise leave an edge of arbitrary direction.
 fn merge_close(hull: &mut Vec<DVec2>) {
-    let close = |a: DVec2, b: DVec2| {
-        (a - b).abs().max_element() <= HULL_MERGE_REL * a.abs().max(b.abs()).max_element()
-    };
     let mut kept = 0;
     for k in 0..hull.len() {
         if kept == 0 || !close(hull[kept - 1], hull[k]) {
@@ -463,5 +475,50 @@ mod tests {
         assert!(!convex_disjoint(&hull, &blocker, snap));
         // A blocker corner inside the hull: they do overlap.
         assert!(blocker.iter().any(|&q| convex_contains(&hull, &[q], 1e-6)), "{hull:?}");
+    }
+
+    /// The crossing points of a blocker classification whose receiver has a corner on the
+    /// blocker's plane: every emitter corner projects through it onto one point, six round-off
+    /// twins of it. Chained one after the other, the twins turned the chain's test at random,
+    /// and the "hull" kept two interior points and a line that "separated" the blocker.
+    #[test]
+    fn a_hull_through_six_twins_of_one_point_stays_convex_and_holds_every_point() {
+        let d = DVec2::new;
+        let twin = [
+            d(-9.004677748541628e-5, -0.0013381168709545156),
+            d(-9.004677748541626e-5, -0.0013381168709545156),
+            d(-9.004677748541623e-5, -0.001338116870954519),
+            d(-9.004677748541623e-5, -0.001338116870954519),
+            d(-9.00467774854162e-5, -0.001338116870954519),
+            d(-9.00467774854162e-5, -0.001338116870954519),
+        ];
+        let mut pts = vec![
+            d(-0.00040648341809646914, 0.018602666366652143),
+            d(-0.0003895525764349174, 0.01753574111124779),
+        ];
+        pts.extend(twin);
+        pts.extend([
+            d(0.04991775705321141, -0.03535721777342271),
+            d(0.04994395118901568, -0.03700788497542802),
+            d(0.07041069228283796, -0.05148571631969664),
+            d(0.07042181822617334, -0.052186836215093464),
+        ]);
+        let all = pts.clone();
+        let mut hull = Vec::new();
+        convex_hull(&mut pts, &mut hull);
+        // The twins once (with a corner collinear within 1e-10 kept or not), every turn left
+        // or straight, every point inside.
+        assert_eq!(hull.iter().filter(|q| (**q - twin[0]).length() < 1e-12).count(), 1, "{hull:?}");
+        let m = hull.len();
+        let turns =
+            (0..m).map(|k| (hull[(k + 1) % m] - hull[k]).perp_dot(hull[(k + 2) % m] - hull[(k + 1) % m]));
+        assert!(turns.clone().all(|t| t > -1e-15), "{:?}", turns.collect::<Vec<_>>());
+        assert!(convex_contains(&hull, &all, -1e-15), "{hull:?}");
+        let blocker = [
+            d(0.016089431047620527, 0.001611578084757287),
+            d(0.004049495637397961, 0.012195666336118663),
+            d(0.0058387215550749294, 0.0029799560443099196),
+        ];
+        assert!(!convex_disjoint(&hull, &blocker, 3.286125287654079e-15));
     }
 }
