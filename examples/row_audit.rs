@@ -3,8 +3,9 @@
 //! (uniform origins), finds each ray's nearest hit by brute force over every patch polygon (no
 //! lambert code past the scene loader), and compares the hit shares with the CSV's row entry by
 //! entry: z = (F − share) / √(σ² + σ_rays²), with σ_rays the binomial error of the count (at
-//! least one ray's worth). Prints per row its sum, escaped rays and the worst |z|, then every
-//! entry beyond [`Z_FLAG`] and [`DIFF_FLAG`].
+//! least one ray's worth). A ray whose nearest hit is a polygon's back (an open mesh) counts for
+//! no patch, as a view factor takes none there. Prints per row its sum, escaped rays (none
+//! hit, or a back) and the worst |z|, then every entry beyond [`Z_FLAG`] and [`DIFF_FLAG`].
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -89,7 +90,9 @@ fn main() {
                         .filter(|(p, _)| *p != i)
                         .filter_map(|(p, t)| hit(o, d, *t).filter(|&s| s > 1e-12).map(|s| (s, *p)))
                         .min_by(|a, b| a.0.total_cmp(&b.0));
-                    c[nearest.map_or(n, |h| h.1)] += 1;
+                    // A back face takes no view factor: the ray counts as escaped.
+                    let front = nearest.filter(|h| scene.patches[h.1].polygon.normal().dot(d) < 0.0);
+                    c[front.map_or(n, |h| h.1)] += 1;
                     c
                 },
             )
