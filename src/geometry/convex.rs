@@ -159,13 +159,7 @@ pub fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     // Round-off twins of one point make a chain step of arbitrary direction, after which the
     // chain's local turn test keeps points inside the hull: take each point once.
-    let mut m = 0;
-    for k in 0..pts.len() {
-        if m == 0 || !close(pts[m - 1], pts[k]) {
-            pts[m] = pts[k];
-            m += 1;
-        }
-    }
+    let m = compact_close(pts);
     let pts = &pts[..m];
     if pts.len() < 3 {
         hull.extend_from_slice(pts);
@@ -194,17 +188,24 @@ fn close(a: DVec2, b: DVec2) -> bool {
     (a - b).abs().max_element() <= HULL_MERGE_REL * a.abs().max(b.abs()).max_element()
 }
 
+/// Moves forward each point of `pts` not [`close`] to the last one kept; returns how many were
+/// kept.
+fn compact_close(pts: &mut [DVec2]) -> usize {
+    let mut kept = 0;
+    for k in 0..pts.len() {
+        if kept == 0 || !close(pts[kept - 1], pts[k]) {
+            pts[kept] = pts[k];
+            kept += 1;
+        }
+    }
+    kept
+}
+
 /// Drops each vertex of the ring `hull` within [`HULL_MERGE_REL`] of the last one kept (the
 /// last also against the first): round-off twins of one point, as a projection through a
 /// point on the plane makes, otherwise leave an edge of arbitrary direction.
 fn merge_close(hull: &mut Vec<DVec2>) {
-    let mut kept = 0;
-    for k in 0..hull.len() {
-        if kept == 0 || !close(hull[kept - 1], hull[k]) {
-            hull[kept] = hull[k];
-            kept += 1;
-        }
-    }
+    let mut kept = compact_close(hull);
     while kept > 1 && close(hull[kept - 1], hull[0]) {
         kept -= 1;
     }

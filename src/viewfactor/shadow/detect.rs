@@ -265,11 +265,9 @@ fn bbox(pts: &[DVec2]) -> (DVec2, DVec2) {
 }
 
 /// Convex hull of the distinct points of `p`, counter-clockwise, collinear points dropped
-/// (the shared [`geometry::convex::convex_hull`](crate::geometry::convex::convex_hull) on the
-/// sorted, de-duplicated points).
+/// (the shared [`geometry::convex::convex_hull`](crate::geometry::convex::convex_hull), which
+/// sorts them and takes each once).
 fn convex_hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
-    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    pts.dedup();
     let mut hull = Vec::with_capacity(2 * pts.len());
     crate::geometry::convex::convex_hull(&mut pts, &mut hull);
     hull
