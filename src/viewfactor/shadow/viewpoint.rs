@@ -1052,8 +1052,7 @@ mod tests {
 
     /// A pair of the 7,582-triangle channel (`validation/cad.md`, 2026-11-28): triangle 337
     /// emitting to triangle 3383 past 159 of the part's faces, as `shadow::pair` handed them to
-    /// the shadow geometry (`e`/`r` rings, then per blocker: closed, body, the blocker across
-    /// each edge, its ring; frame-free world coordinates, exact in their shortest decimals).
+    /// the shadow geometry (read by [`dumped_pair`]).
     const CHANNEL_PAIR: &str = include_str!("testdata/channel_pair.txt");
 
     /// The shadow geometry of a pair dumped from `shadow::pair` (`e`/`r` rings, then per
@@ -1126,6 +1125,27 @@ mod tests {
         (shaded, whole)
     }
 
+    /// `auto`'s integration (its rules and depths) of the pair `geo` with each of `cuts`, to a
+    /// goal of 1e-4 of the unshaded value: within 1e-3 of it from the reference `shaded`.
+    fn integrates_to_reference(geo: &ShadowGeometry, cuts: &[Cuts], (shaded, whole): (f64, f64)) {
+        let params = AdaptParams { low: 2, high: 3, min_depth: AUTO_MIN_DEPTH, max_depth: MAX_DEPTH };
+        for &cuts in cuts {
+            let info = Integrator::new(params).with_cuts(cuts).shaded(
+                geo,
+                1e-4 * whole,
+                &mut AdaptScratch::default(),
+            );
+            let off = (info.shaded - shaded).abs() / whole;
+            assert!(
+                off <= 1e-3,
+                "{cuts:?}: shaded {} against {}, error estimate {:.1e}",
+                info.shaded / whole,
+                shaded / whole,
+                info.error / whole
+            );
+        }
+    }
+
     /// A pair of the channel (`validation/cad.md`): triangle 7449, a facet inside a bored hole,
     /// emitting (the smaller patch, with its own faces) to a floor patch past six facets of
     /// the hole, the nearest sharing an edge with it.
@@ -1138,22 +1158,7 @@ mod tests {
         let (shaded, whole) = midpoint_reference(&geo, 6);
         // About half the view is shaded; the cells along the shared edge once lost 0.15 of it.
         assert!((0.45..0.55).contains(&(shaded / whole)), "reference {}", shaded / whole);
-        let params = AdaptParams { low: 2, high: 3, min_depth: AUTO_MIN_DEPTH, max_depth: MAX_DEPTH };
-        for cuts in [OWN_FACES_CUTS, Cuts::ALL] {
-            let info = Integrator::new(params).with_cuts(cuts).shaded(
-                &geo,
-                1e-4 * whole,
-                &mut AdaptScratch::default(),
-            );
-            let off = (info.shaded - shaded).abs() / whole;
-            assert!(
-                off <= 1e-3,
-                "{cuts:?}: {} against {}, error estimate {:.1e}",
-                info.shaded / whole,
-                shaded / whole,
-                info.error / whole
-            );
-        }
+        integrates_to_reference(&geo, &[OWN_FACES_CUTS, Cuts::ALL], (shaded, whole));
     }
 
     /// A pair of the channel (`validation/cad.md`): triangle 4056, a sliver of the flange's
@@ -1167,19 +1172,10 @@ mod tests {
         assert_eq!((given, geo.blockers().len()), (162, 162));
         let (shaded, whole) = midpoint_reference(&geo, 6);
         assert!((0.005..0.02).contains(&(1.0 - shaded / whole)), "reference left {}", 1.0 - shaded / whole);
-        let params = AdaptParams { low: 2, high: 3, min_depth: AUTO_MIN_DEPTH, max_depth: MAX_DEPTH };
         // `auto`'s cuts leave kinks to the adaptivity: a root cell's classification, its
         // crossing points through the receiver's corner on the blocker's plane, once cleared a
         // blocker and left 0.093 of the view instead of 0.012.
-        for cuts in [AUTO_CUTS, Cuts::ALL] {
-            let info = Integrator::new(params).with_cuts(cuts).shaded(
-                &geo,
-                1e-4 * whole,
-                &mut AdaptScratch::default(),
-            );
-            let off = (info.shaded - shaded).abs() / whole;
-            assert!(off <= 1e-3, "{cuts:?}: {} against {}", 1.0 - info.shaded / whole, 1.0 - shaded / whole);
-        }
+        integrates_to_reference(&geo, &[AUTO_CUTS, Cuts::ALL], (shaded, whole));
     }
 
     #[test]
