@@ -26,7 +26,7 @@
 //!   tolerance (a sliver receiver) is not split for it.
 use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
-use super::volume::{Build, Class, ShadowVolume};
+use super::volume::{Class, ShadowVolume};
 use crate::geometry::convex::{ear_indices, is_convex_local};
 use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::quadrature::gauss_legendre;
@@ -467,19 +467,16 @@ impl Integrator {
                 // between them: clear, without building its volume.
                 continue;
             }
-            if s.volume.build(&s.ring, blocker, geo.snap()) == Build::Never {
-                continue;
-            }
-            match s.volume.classify_exact(geo.receiver_ring()) {
-                Class::Clear => {}
-                Class::Full => {
+            match s.volume.build_classify_exact(&s.ring, blocker, geo.snap(), geo.receiver_ring()) {
+                None | Some(Class::Clear) => {}
+                Some(Class::Full) => {
                     item.full = true;
                     s.pool.truncate(start);
                     item.start = start;
                     item.len = 0;
                     return;
                 }
-                Class::Partial => s.pool.push(b),
+                Some(Class::Partial) => s.pool.push(b),
             }
         }
         item.start = start;

@@ -145,6 +145,10 @@ pub struct Scratch {
     covered: PieceSet,
     /// Bounding box of each covered piece (same order as `covered`).
     cover_boxes: Vec<[DVec2; 2]>,
+    /// Per covered piece: the convex body whose front face cast it, if any.
+    cover_bodies: Vec<Option<u32>>,
+    /// The convex body whose front face cast the shadow being merged, if any.
+    casting_body: Option<u32>,
     frags: PieceSet,
     frags2: PieceSet,
     edges: Vec<HalfPlane>,
@@ -407,6 +411,7 @@ impl ShadowGeometry {
         let mut cov = Coverage { work: VIEWPOINT_WORK + active.len() as u64, ..Coverage::default() };
         s.covered.clear();
         s.cover_boxes.clear();
+        s.cover_bodies.clear();
         s.body_pts.clear();
         let h = p.z;
         if !(h > self.snap) {
@@ -472,6 +477,7 @@ impl ShadowGeometry {
                 s.body_pts.extend(s.shadow.iter().map(|&q| (*body, q)));
                 continue;
             }
+            s.casting_body = self.front_body(k as usize);
             self.add(s, &mut cov, unite);
         }
         // A convex body's shadow is the hull of its faces' shadows (each already cut to the
@@ -486,6 +492,7 @@ impl ShadowGeometry {
                 s.hull_pts.extend(s.body_pts[start..end].iter().map(|b| b.1));
                 crate::geometry::convex::convex_hull(&mut s.hull_pts, &mut s.shadow);
                 if s.shadow.len() >= 3 && twice_area(&s.shadow) > self.snap * self.snap {
+                    s.casting_body = None;
                     self.add(s, &mut cov, unite);
                 }
                 start = end;
@@ -511,6 +518,15 @@ impl ShadowGeometry {
         cov.area = s.covered.area();
         let g = s.covered.iter().map(|ring| lambert(p, self.n_e, ring)).sum::<f64>();
         (g.max(0.0), cov)
+    }
+
+    /// The convex body of kept blocker `k` when `k` is a face of it with outward normals (so
+    /// [`Self::shaded_by`] only projects it from viewpoints in front of it).
+    fn front_body(&self, k: usize) -> Option<u32> {
+        match (self.facing.get(k), self.body.get(k)) {
+            (Some(Some(_)), Some(Some(body))) => Some(*body),
+            _ => None,
+        }
     }
 
     /// Puts this viewpoint's closed-body faces into the union: their outline (the edges no
@@ -639,12 +655,16 @@ impl ShadowGeometry {
             // Minus what earlier shadows already cover. A covered piece whose box lies more
             // than `snap` away from the fragments' box cannot cut them (most pieces of a
             // meshed body's shadow lie elsewhere), so it is passed over unread.
+            // A sight line from outside a convex body enters it through one front face, so the
+            // shadows of one body's front faces do not overlap: no subtraction between them.
             let mut frag_box = bounds(s.frags.iter().flatten());
             for c in 0..s.covered.len() {
                 if s.frags.is_empty() {
                     break;
                 }
-                if boxes_apart(&frag_box, &s.cover_boxes[c], snap) {
+                if boxes_apart(&frag_box, &s.cover_boxes[c], snap)
+                    || s.casting_body.is_some() && s.cover_bodies[c] == s.casting_body
+                {
                     continue;
                 }
                 let cover = s.covered.piece(c);
@@ -665,6 +685,7 @@ impl ShadowGeometry {
             for f in 0..s.frags.len() {
                 let piece = s.frags.piece(f);
                 s.cover_boxes.push(bounds(piece.iter()));
+                s.cover_bodies.push(s.casting_body);
                 s.covered.push(piece);
             }
         }
@@ -1176,6 +1197,48 @@ mod tests {
         // crossing points through the receiver's corner on the blocker's plane, once cleared a
         // blocker and left 0.093 of the view instead of 0.012.
         integrates_to_reference(&geo, &[AUTO_CUTS, Cuts::ALL], (shaded, whole));
+    }
+
+    #[test]
+    fn a_convex_body_s_front_faces_are_merged_without_subtracting_each_other() {
+        // A block of 12 outward triangles, tilted so that two or three of its sides face the
+        // emitter's points; the receiver catches part of its shadow.
+        let block =
+            super::super::prism::extrude(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], |q, w| {
+                DVec3::new(
+                    0.3 + 0.4 * q.x + 0.1 * w,
+                    0.25 + 0.3 * q.y + 0.15 * q.x,
+                    0.5 + 0.35 * w + 0.1 * q.y,
+                )
+            });
+        let d = DVec3::new;
+        let (geo, closed) = body_geometry(
+            vec![d(-0.5, -0.4, 0.0), d(1.6, -0.3, 0.0), d(0.2, 1.5, 0.0)],
+            vec![d(1.1, 1.2, 1.5), d(0.9, -0.2, 1.5), d(-0.1, 0.9, 1.5)],
+            block,
+        );
+        assert!(closed.iter().all(|&c| c == (1, Some(0))), "one closed convex body: {closed:?}");
+        // At most HULL_MIN_ACTIVE active faces take the subtraction path.
+        let active: Vec<u32> = (0..HULL_MIN_ACTIVE as u32).collect();
+        let (mut s0, mut s1) = (Scratch::default(), Scratch::default());
+        let ring = geo.emitter().to_vec();
+        let (mut worst, mut most, mut several) = (0.0f64, 0.0f64, 0usize);
+        for a in 1..12 {
+            for b in 1..12 {
+                let (u, v) = (a as f64 / 12.0, b as f64 / 12.0);
+                let p = ring[0] + u * (ring[1] - ring[0]) + v * (1.0 - u) * (ring[2] - ring[0]);
+                let whole = geo.unshaded(p);
+                let (g0, c0) = geo.shaded_by(p, &active, &mut s0, false);
+                let (g1, c1) = geo.shaded_by(p, &active, &mut s1, true);
+                worst = worst.max((g1 - g0).abs() / whole);
+                most = most.max(g0 / whole);
+                assert!((c1.area - c0.area).abs() <= AGREE_REL * geo.receiver_area(), "{c1:?} vs {c0:?}");
+                // Work: the viewpoint and one unit per active face, none for subtractions.
+                assert_eq!(c0.work, VIEWPOINT_WORK + active.len() as u64, "at {p}");
+                several += usize::from(s0.covered.len() > 1);
+            }
+        }
+        assert!(worst <= AGREE_REL && most > 0.1 && several > 20, "worst {worst}, most {most}, {several}");
     }
 
     #[test]

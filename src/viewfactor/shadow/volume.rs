@@ -63,6 +63,9 @@ struct Part {
     b2: Vec<DVec2>,
     /// E's vertices.
     e: Vec<DVec3>,
+    /// Buffers of [`Self::crossings_miss`]: the crossing points and their hull.
+    pts: Vec<DVec2>,
+    hull: Vec<DVec2>,
 }
 
 impl Default for Part {
@@ -77,6 +80,8 @@ impl Default for Part {
             axes: (DVec3::X, DVec3::Y),
             b2: Vec::new(),
             e: Vec::new(),
+            pts: Vec::new(),
+            hull: Vec::new(),
         }
     }
 }
@@ -129,6 +134,51 @@ impl ShadowVolume {
         Build::Casts
     }
 
+    /// [`Self::build`] then the exact classification of the convex ring `r` (the planes, then
+    /// the segments' crossing points), stopping at the
+    /// first penumbra plane that clears `r` (most blockers, when an integration cell is
+    /// re-classified); `None` where `build` gives [`Build::Never`]. The same answer; the
+    /// volume is then built only as far as that answer needed, so build it again before
+    /// classifying anything else.
+    pub fn build_classify_exact(
+        &mut self,
+        e: &[DVec3],
+        b: &[DVec3],
+        snap: f64,
+        r: &[DVec3],
+    ) -> Option<Class> {
+        self.count = 0;
+        let Some(pb) = plane_of(b) else {
+            self.parts[0].unbounded = true;
+            self.count = 1;
+            return Some(Class::Partial);
+        };
+        let (lo, hi) = extremes(e, &pb);
+        if lo >= -snap && hi <= snap {
+            return None;
+        }
+        if lo < -snap && hi > snap {
+            let [neg, pos] = &mut self.split;
+            clip_side(e, pb.flipped(), snap, neg);
+            clip_side(e, pb, snap, pos);
+            for half in [&*neg, &*pos] {
+                if half.len() >= 3 {
+                    let (_, hi) = extremes(half, &pb);
+                    let part = &mut self.parts[self.count];
+                    self.count += 1;
+                    if part.build_classify(half, b, if hi > snap { pb.flipped() } else { pb }, snap, r)
+                        != Class::Clear
+                    {
+                        return Some(Class::Partial);
+                    }
+                }
+            }
+            return Some(Class::Clear);
+        }
+        self.count = 1;
+        Some(self.parts[0].build_classify(e, b, if hi > snap { pb.flipped() } else { pb }, snap, r))
+    }
+
     /// Classifies a convex receiver ring with the bounding planes (fast, conservative).
     pub fn classify(&self, r: &[DVec3]) -> Class {
         self.classify_with(r, false)
@@ -136,6 +186,7 @@ impl ShadowVolume {
 
     /// As [`Self::classify`], and a receiver the planes leave partial is checked once more
     /// with the segments' crossing points (exact for a single part; about twice the cost).
+    #[cfg(test)]
     pub fn classify_exact(&self, r: &[DVec3]) -> Class {
         self.classify_with(r, true)
     }
@@ -184,6 +235,40 @@ impl ShadowVolume {
 impl Part {
     /// Builds from E entirely behind `pb` (B's plane oriented away from E).
     fn build(&mut self, e: &[DVec3], b: &[DVec3], pb: Plane, snap: f64) {
+        self.build_until(e, b, pb, snap, true, |_| false);
+    }
+
+    /// [`Self::build`] then [`Self::classify`] of the convex ring `r` (exact), stopping at
+    /// the first penumbra plane that clears `r`; the part is then built only that far.
+    fn build_classify(&mut self, e: &[DVec3], b: &[DVec3], pb: Plane, snap: f64, r: &[DVec3]) -> Class {
+        // No penumbra plane kept: each is tested against `r` as it is found.
+        if self.build_until(e, b, pb, snap, false, |p| r.iter().all(|&x| p.distance(x) <= snap)) {
+            return Class::Clear;
+        }
+        if self.umbra_valid && self.umbra.iter().all(|p| r.iter().all(|&x| p.distance(x) >= snap)) {
+            return Class::Full;
+        }
+        let (mut pts, mut hull) = (std::mem::take(&mut self.pts), std::mem::take(&mut self.hull));
+        let miss = self.crossings_miss_in(r, &mut pts, &mut hull);
+        (self.pts, self.hull) = (pts, hull);
+        if miss {
+            Class::Clear
+        } else {
+            Class::Partial
+        }
+    }
+
+    /// [`Self::build`], stopping (true) at the first penumbra plane for which `stop` holds;
+    /// the penumbra planes are kept only when `keep`.
+    fn build_until(
+        &mut self,
+        e: &[DVec3],
+        b: &[DVec3],
+        pb: Plane,
+        snap: f64,
+        keep: bool,
+        mut stop: impl FnMut(&Plane) -> bool,
+    ) -> bool {
         self.penumbra.clear();
         self.umbra.clear();
         self.snap = snap;
@@ -193,17 +278,9 @@ impl Part {
         self.penumbra.push(pb);
         self.umbra.push(pb);
         self.pb = pb;
-        let (a1, _) = pb.n.any_orthonormal_pair();
-        let a2 = pb.n.cross(a1);
-        self.axes = (a1, a2);
-        self.b2.clear();
-        self.b2.extend(b.iter().map(|&v| DVec2::new(v.dot(a1), v.dot(a2))));
-        if twice_area(&self.b2) < 0.0 {
-            self.b2.reverse();
+        if stop(&pb) {
+            return true;
         }
-        self.e.clear();
-        self.e.extend_from_slice(e);
-        self.umbra_valid = e.iter().all(|&x| pb.distance(x) < -snap);
         // Separating planes: edge of one polygon, vertex of the other.
         for (edges, verts) in [(b, e), (e, b)] {
             let m = edges.len();
@@ -225,14 +302,32 @@ impl Part {
                     } else {
                         continue;
                     };
+                    if stop(&p) {
+                        return true;
+                    }
                     // The same plane often comes from several edge–vertex pairs.
-                    if !self.penumbra.iter().any(|q| q.n.dot(p.n) > 1.0 - 1e-12 && (q.d - p.d).abs() <= snap)
+                    if keep
+                        && !self
+                            .penumbra
+                            .iter()
+                            .any(|q| q.n.dot(p.n) > 1.0 - 1e-12 && (q.d - p.d).abs() <= snap)
                     {
                         self.penumbra.push(p);
                     }
                 }
             }
         }
+        let (a1, _) = pb.n.any_orthonormal_pair();
+        let a2 = pb.n.cross(a1);
+        self.axes = (a1, a2);
+        self.b2.clear();
+        self.b2.extend(b.iter().map(|&v| DVec2::new(v.dot(a1), v.dot(a2))));
+        if twice_area(&self.b2) < 0.0 {
+            self.b2.reverse();
+        }
+        self.e.clear();
+        self.e.extend_from_slice(e);
+        self.umbra_valid = e.iter().all(|&x| pb.distance(x) < -snap);
         // Umbra: per edge of B, the tightest plane through it and a vertex of E (B's interior
         // inside): the one with every other vertex of E on B's side.
         if self.umbra_valid {
@@ -251,6 +346,7 @@ impl Part {
                 }
             }
         }
+        false
     }
 
     /// Classifies a convex receiver ring: the bounding planes first, then, for what they leave
@@ -279,10 +375,15 @@ impl Part {
     /// separating that hull from B (2-D separating axes) proves the pair clear. This is the
     /// edge–edge case the bounding planes cannot see.
     fn crossings_miss(&self, r: &[DVec3]) -> bool {
+        self.crossings_miss_in(r, &mut Vec::new(), &mut Vec::new())
+    }
+
+    /// [`Self::crossings_miss`] in the buffers `pts` and `hull`.
+    fn crossings_miss_in(&self, r: &[DVec3], pts: &mut Vec<DVec2>, hull: &mut Vec<DVec2>) -> bool {
         let snap = self.snap;
         let pb = self.pb;
         let (a1, a2) = self.axes;
-        let mut pts: Vec<DVec2> = Vec::with_capacity(self.e.len() * (r.len() + 1));
+        pts.clear();
         let m = r.len();
         let mut push_beyond = |w: DVec3, dw: f64| {
             for &v in &self.e {
@@ -309,9 +410,8 @@ impl Part {
         if pts.is_empty() {
             return true;
         }
-        let mut hull = Vec::with_capacity(pts.len());
-        convex_hull(&mut pts, &mut hull);
-        convex_disjoint(&hull, &self.b2, snap)
+        convex_hull(pts, hull);
+        convex_disjoint(hull, &self.b2, snap)
     }
 
     /// The box of centre `c`, half-extents `h` is outside a penumbra plane.
@@ -428,6 +528,13 @@ mod tests {
             }
             let class = if case % 2 == 0 { v.classify(&r) } else { v.classify_exact(&r) };
             counts[class as usize] += 1;
+            // The fused build that stops at the first clearing plane answers alike.
+            let exact = v.classify_exact(&r);
+            assert_eq!(
+                ShadowVolume::default().build_classify_exact(&e, &b, 1e-12, &r),
+                Some(exact),
+                "case {case}"
+            );
             // Sample segments between random points of e and r.
             let mut bary = |t: &[DVec3]| {
                 let (mut u, mut w) = (rng.random::<f64>(), rng.random::<f64>());
@@ -485,5 +592,6 @@ mod tests {
         let mut v = ShadowVolume::default();
         assert_eq!(v.build(&cell, &b, 3.5355339059327e-13), Build::Casts);
         assert_eq!(v.classify_exact(&r), Class::Partial, "{crossing} sampled segments cross the blocker");
+        assert_eq!(v.build_classify_exact(&cell, &b, 3.5355339059327e-13, &r), Some(Class::Partial));
     }
 }
