@@ -21,8 +21,9 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
-    pair_goal, Choice, CostModel, Policy, AUTO_CUTS, AUTO_MIN_DEPTH, EXACT_MIN_DEPTH, EXACT_RULES, MAX_DEPTH,
-    MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_PILOT_SHARE, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
+    pair_goal, Choice, CostModel, Policy, AUTO_CUTS, AUTO_MIN_DEPTH, AUTO_RULES, EXACT_MIN_DEPTH,
+    EXACT_RULES, MAX_DEPTH, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_PILOT_SHARE, MC_SIGMAS, SHADOW_UNIT_NS,
+    SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -92,7 +93,7 @@ impl<'s> Shadows<'s> {
         }
         let (low, high, min_depth) = match policy {
             Policy::Exact { .. } => (EXACT_RULES.0, EXACT_RULES.1, EXACT_MIN_DEPTH),
-            Policy::Auto { .. } => (2, 3, AUTO_MIN_DEPTH),
+            Policy::Auto { .. } => (AUTO_RULES.0, AUTO_RULES.1, AUTO_MIN_DEPTH),
         };
         let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
         let integrator = integrator.with_solids(SOLID_MIN_FACES);

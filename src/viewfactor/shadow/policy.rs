@@ -39,6 +39,10 @@ pub const EXACT_RULES: (usize, usize) = (4, 5);
 /// few large faces integrate faster as a shadow (box_500_block: 157 against 1,630 viewpoints
 /// per pair, same values within 6e-10).
 pub const SOLID_MIN_FACES: usize = 16;
+/// Gauss orders per direction of `auto`'s rule pair: at a goal of 1e-4 on F the 2×2 vs 3×3
+/// difference is trusted only with the minimum depth below ([`AUTO_MIN_DEPTH`]) and the
+/// per-cell blocker checks, and is priced per viewpoint by the cost model.
+pub const AUTO_RULES: (usize, usize) = (2, 3);
 /// `auto` accepts no cell larger than a quarter of the emitter on its own rules: one cell's
 /// rules alone can agree on a wrong value. Root cells already cut smaller along kink planes
 /// are not split again (behind a 200-facet part their forced split quadrupled the viewpoints).

@@ -852,7 +852,7 @@ mod tests {
     use crate::viewfactor::shadow::adaptive::{AdaptParams, AdaptScratch, Cell, Cuts, Integrator};
     use crate::viewfactor::shadow::blockers::Blockers;
     use crate::viewfactor::shadow::pair::OWN_FACES_CUTS;
-    use crate::viewfactor::shadow::policy::{AUTO_CUTS, AUTO_MIN_DEPTH, MAX_DEPTH};
+    use crate::viewfactor::shadow::policy::{AUTO_CUTS, AUTO_MIN_DEPTH, AUTO_RULES, MAX_DEPTH};
 
     /// Two ways of taking the same union agree this closely, relative to the unshaded value.
     const AGREE_REL: f64 = 1e-9;
@@ -1149,7 +1149,12 @@ mod tests {
     /// `auto`'s integration (its rules and depths) of the pair `geo` with each of `cuts`, to a
     /// goal of 1e-4 of the unshaded value: within 1e-3 of it from the reference `shaded`.
     fn integrates_to_reference(geo: &ShadowGeometry, cuts: &[Cuts], (shaded, whole): (f64, f64)) {
-        let params = AdaptParams { low: 2, high: 3, min_depth: AUTO_MIN_DEPTH, max_depth: MAX_DEPTH };
+        let params = AdaptParams {
+            low: AUTO_RULES.0,
+            high: AUTO_RULES.1,
+            min_depth: AUTO_MIN_DEPTH,
+            max_depth: MAX_DEPTH,
+        };
         for &cuts in cuts {
             let info = Integrator::new(params).with_cuts(cuts).shaded(
                 geo,
