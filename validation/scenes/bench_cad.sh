@@ -2,7 +2,8 @@
 # The CAD benchmarks of validation/cad.md: each scene of gen_cad.py with `analytic`, `auto` and
 # `mc-cosine`; wall time, peak memory, and the largest difference from the `analytic` run.
 # Usage: validation/scenes/bench_cad.sh [OUT_DIR] [SCENE ...]   (release build first;
-# LAMBERT=path picks the binary, METHODS="auto mc-cosine" the methods)
+# LAMBERT=path picks the binary, METHODS="auto mc-cosine" the methods; VIEW3D=path also runs
+# View3D on the box scenes, in the same script, and compares its factors with `analytic`)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 B=${LAMBERT:-target/release/lambert}
@@ -28,6 +29,24 @@ run() {
   printf '%-16s %-10s wall %9s  peak RSS %6.0f MB  %-18s %s\n' "$scene" "$method" "$wall" \
     "$(echo "$rss / 1024" | bc)" "$pairs" "$cmp"
 }
+view3d() {
+  local scene=$1 cmp=""
+  [ -f "$OUT/$scene.vs3" ] || return 0
+  # View3D writes View3D.log where it runs.
+  if ! (cd "$OUT" && /usr/bin/time -v "$VIEW3D" "$scene.vs3" "$scene.vf" > "$scene.view3d.log" \
+      2> "$scene.view3d.err"); then
+    echo "$scene.View3D: failed, see $OUT/$scene.view3d.err"; return
+  fi
+  local wall rss
+  wall=$(grep "Elapsed (wall" "$OUT/$scene.view3d.err" | awk '{print $NF}')
+  rss=$(grep "Maximum resident" "$OUT/$scene.view3d.err" | awk '{print $NF}')
+  [ -f "$OUT/$scene.analytic.csv" ] && cmp=$(python3 validation/scenes/compare_vf.py \
+    "$OUT/$scene.analytic.csv" "$OUT/$scene.vf" "$OUT/${scene%_block}.names")
+  printf '%-16s %-10s wall %9s  peak RSS %6.0f MB  %-18s %s\n' "$scene" "View3D" "$wall" \
+    "$(echo "$rss / 1024" | bc)" "(1 core, eps 1e-4)" "$cmp"
+}
+[ -n "${VIEW3D:-}" ] && VIEW3D=$(realpath "$VIEW3D") && python3 validation/scenes/gen_cad.py --view3d "$OUT" > /dev/null
 for s in "${SCENES[@]}"; do
   for m in "${METHODS[@]}"; do run "$s" "$m"; done
+  if [ -n "${VIEW3D:-}" ]; then view3d "$s"; fi
 done

@@ -15,8 +15,14 @@ Run: python3 validation/scenes/gen_cad.py [--reference]
 --reference also prints F(floor -> ceiling, wall_x0, wall_y1) of the blocked box from the
 generator's exact-shadow integration (cases/_generator/shadow.py, about two minutes): whole
 faces, so the value holds for every triangulation.
+
+--view3d DIR also writes DIR/box_{500,2k,8k}{,_block}.vs3, the same triangles for View3D (the
+glTF's float32 vertices; the cuboid's 12 triangles as obstruction-only `O` surfaces; raw
+factors, encl=0, eps 1e-4) and DIR/box_{500,2k,8k}.names (each triangle's surface), for
+`bench_cad.sh` to run View3D side by side.
 """
 import os
+import struct
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -61,6 +67,41 @@ def boxes():
         print(f"box_{tag}: {total} triangles")
 
 
+def f32(x):
+    """x rounded to float32, as the glTF stores it."""
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def write_vs3(path, title, surfaces, obstructions):
+    """A View3D 3-D input: `surfaces` (radiating) then `obstructions`, each a list of triangles."""
+    verts, lines = [], []
+    for kind, tris in (("S", surfaces), ("O", obstructions)):
+        for t in tris:
+            ids = []
+            for c in t:
+                verts.append(tuple(f32(x) for x in c))
+                ids.append(len(verts))
+            lines.append(f"{kind} {len(lines) + 1} {ids[0]} {ids[1]} {ids[2]} 0 0 0 0.9 s{len(lines) + 1}\n")
+    with open(path, "w") as f:
+        f.write(f"T {title}\nC encl=0 list=0 eps=1.0e-4\nF 3\n")
+        for k, p in enumerate(verts, 1):
+            f.write(f"V {k} {p[0]!r} {p[1]!r} {p[2]!r}\n")
+        f.writelines(lines)
+        f.write("End of data\n")
+
+
+def view3d_boxes(out):
+    """The boxes of `boxes` as View3D inputs in `out`."""
+    os.makedirs(out, exist_ok=True)
+    block = gltf.box(*irregular.BLOCK, 1)
+    for tag, n in BOXES:
+        tris = [t for _, face in irregular.box_faces(n, SEED) for t in face]
+        write_vs3(os.path.join(out, f"box_{tag}.vs3"), f"Irregular box {tag}", tris, [])
+        write_vs3(os.path.join(out, f"box_{tag}_block.vs3"), f"Irregular box {tag}, cuboid", tris, block)
+        with open(os.path.join(out, f"box_{tag}.names"), "w") as f:
+            f.writelines(f"{name}\n" for name, face in irregular.box_faces(n, SEED) for _ in face)
+
+
 def reference():
     from cases_obstructed import irregular_box_references
 
@@ -72,5 +113,7 @@ if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     sphere_room()
     boxes()
+    if "--view3d" in sys.argv[1:]:
+        view3d_boxes(sys.argv[sys.argv.index("--view3d") + 1])
     if "--reference" in sys.argv[1:]:
         reference()

@@ -759,11 +759,14 @@ fn event_planes(geo: &ShadowGeometry, silhouette: &[Vec<bool>], planes: &mut Vec
             }
         }
     };
+    // A corner shared by several faces gives the same planes once per face: taken once.
+    let mut corners: Vec<DVec3> = Vec::new();
     for (b, sil) in geo.blockers().iter().zip(silhouette) {
         let m = b.len();
         for k in 0..m {
             let (v, w) = (b[k], b[(k + 1) % m]);
-            if sil[k] || sil[(k + m - 1) % m] {
+            if (sil[k] || sil[(k + m - 1) % m]) && !corners.contains(&v) {
+                corners.push(v);
                 for &(q0, q1) in &recv {
                     push(q0, q1, v, trace(v, q0, q1, true));
                 }

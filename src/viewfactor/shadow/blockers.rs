@@ -6,7 +6,9 @@
 //!   - a planar surface whose patches tile their convex hull (a subdivided rectangle, disk or
 //!     convex polygon) is one blocker, its outline: one shadow instead of a shadow per patch,
 //!     and no seams between patch shadows;
-//!   - any other patch, and every obstruction polygon, is its own blocker, split into
+//!   - the coplanar, edge-sharing polygons of an obstruction mesh that tile their convex hull
+//!     (a meshed body's flat face) are one blocker, its hull ([`coplanar_tiles`]);
+//!   - any other patch, and every other obstruction polygon, is its own blocker, split into
 //!     triangles when non-convex.
 //! - A blocker is kept only when patches lie strictly on both sides of its plane; otherwise no
 //!   segment between two patches can cross it (the walls of a convex room never block).
@@ -17,6 +19,9 @@ use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, CONVEX_B
 
 /// Face × vertex tests above which a body's convexity rests on its edges alone.
 const CONVEX_BODY_FULL_CHECK: usize = 20_000_000;
+/// Neighbouring obstruction polygons whose unit normals differ by less than this (1 − cos) and
+/// whose vertices lie within the snap length of each other's plane are one flat face.
+const COPLANAR_NORMAL_TOL: f64 = 1e-12;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
 use crate::visibility::boxes::BoxTree;
@@ -108,7 +113,7 @@ impl Blockers {
         let snap = BLOCKER_SNAP_REL * size;
         let patch_tree = BoxTree::new(scene.patches.iter().map(|p| bounds(p.polygon.vertices())), pad);
         let mut all = Vec::new();
-        collect(scene, &mut all);
+        collect(scene, snap, &mut all);
         let mut me = Self { blockers: Vec::new(), blocker_tree: BoxTree::default(), patch_tree, snap, pad };
         // Keep blockers with patch material strictly on both sides of their plane.
         let kept: Vec<Blocker> = all
@@ -202,7 +207,7 @@ impl Blockers {
 }
 
 /// Every candidate blocker of the scene, before the two-sides filter.
-fn collect(scene: &Scene, out: &mut Vec<Blocker>) {
+fn collect(scene: &Scene, snap: f64, out: &mut Vec<Blocker>) {
     for (s, surface) in scene.surfaces.iter().enumerate() {
         let patches = &scene.patches[surface.patches.clone()];
         if patches.len() > 1 && surface.planar {
@@ -225,10 +230,107 @@ fn collect(scene: &Scene, out: &mut Vec<Blocker>) {
         }
     }
     for (o, obs) in scene.obstructions.iter().enumerate() {
-        for (k, p) in obs.polygons.iter().enumerate() {
-            push_convex(p, BlockerSource::Obstruction { obstruction: o, polygon: k }, out);
+        for piece in coplanar_tiles(&obs.polygons, snap) {
+            let source = BlockerSource::Obstruction { obstruction: o, polygon: piece.first };
+            match piece.ring {
+                Some(ring) => out.push(Blocker {
+                    ring,
+                    normal: obs.polygons[piece.first].normal(),
+                    source,
+                    across: Vec::new(),
+                    closed: 0,
+                    body: None,
+                    body_faces: 0,
+                }),
+                None => push_convex(&obs.polygons[piece.first], source, out),
+            }
         }
     }
+}
+
+/// One blocker of an obstruction mesh: polygon `first` alone (`ring` `None`), or the convex
+/// ring that it and its coplanar neighbours tile.
+struct Tile {
+    first: usize,
+    ring: Option<Vec<DVec3>>,
+}
+
+/// An obstruction mesh's polygons with every connected set of coplanar neighbours (sharing an
+/// edge, bit-identical end points) that tiles its convex hull taken as that hull: a meshed
+/// body's flat face is one blocker, not one per triangle (fewer shadows to cast and classify,
+/// and no seam between them). The hull's corners are the polygons' own vertices, so the
+/// merged faces still share their edges bit for bit. Other polygons stay as they are.
+fn coplanar_tiles(polys: &[Polygon], snap: f64) -> Vec<Tile> {
+    let n = polys.len();
+    let key = |v: DVec3| v.to_array().map(f64::to_bits);
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(p: &mut [usize], mut k: usize) -> usize {
+        while p[k] != k {
+            p[k] = p[p[k]];
+            k = p[k];
+        }
+        k
+    }
+    let coplanar = |a: &Polygon, b: &Polygon| {
+        a.normal().dot(b.normal()) > 1.0 - COPLANAR_NORMAL_TOL
+            && b.vertices().iter().all(|&x| a.normal().dot(x - a.vertices()[0]).abs() <= snap)
+    };
+    let mut edges: std::collections::HashMap<_, Vec<usize>> = std::collections::HashMap::new();
+    for (k, p) in polys.iter().enumerate() {
+        let v = p.vertices();
+        for i in 0..v.len() {
+            let (a, c) = (key(v[i]), key(v[(i + 1) % v.len()]));
+            edges.entry(if a <= c { (a, c) } else { (c, a) }).or_default().push(k);
+        }
+    }
+    for sharing in edges.values() {
+        if let [a, b] = sharing[..] {
+            if a != b && coplanar(&polys[a], &polys[b]) {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for k in 0..n {
+        let r = root(&mut parent, k);
+        members[r].push(k);
+    }
+    let mut out = Vec::with_capacity(n);
+    for (r, group) in members.iter().enumerate() {
+        if group.is_empty() {
+            continue;
+        }
+        if group.len() > 1 {
+            let area: f64 = group.iter().map(|&k| polys[k].area()).sum();
+            if let Some(ring) = tiled_corners(group.iter().map(|&k| &polys[k]), area) {
+                out.push(Tile { first: r, ring: Some(ring) });
+                continue;
+            }
+        }
+        out.extend(group.iter().map(|&k| Tile { first: k, ring: None }));
+    }
+    out.sort_by_key(|t| t.first);
+    out
+}
+
+/// As [`tiled_outline`], the hull's corners being the polygons' own vertices.
+fn tiled_corners<'a>(polys: impl Iterator<Item = &'a Polygon> + Clone, area: f64) -> Option<Vec<DVec3>> {
+    let first = polys.clone().next()?;
+    let (n, o) = (first.normal(), first.centroid());
+    let (e1, _) = n.any_orthonormal_pair();
+    let e2 = n.cross(e1);
+    let flat = |v: DVec3| DVec2::new((v - o).dot(e1), (v - o).dot(e2));
+    let corners: Vec<(DVec2, DVec3)> =
+        polys.flat_map(|p| p.vertices().iter()).map(|&v| (flat(v), v)).collect();
+    let mut pts: Vec<DVec2> = corners.iter().map(|c| c.0).collect();
+    let mut hull = Vec::new();
+    convex_hull(&mut pts, &mut hull);
+    let hull_area = 0.5 * twice_area(&hull);
+    if hull.len() < 3 || (hull_area - area).abs() > TILE_AREA_REL * area {
+        return None;
+    }
+    hull.iter().map(|q| corners.iter().find(|c| c.0 == *q).map(|c| c.1)).collect()
 }
 
 /// Fills every blocker's [`Blocker::across`]: edges with bit-identical end points (either
@@ -493,11 +595,13 @@ mod tests {
 
     #[test]
     fn closed_and_convex_bodies_are_recognised_from_shared_edges() {
-        // A closed convex block: every edge linked, normals out, one convex body.
+        // A closed convex block: every edge linked, normals out, one convex body; each face's
+        // triangles (four on the flat top) one square blocker.
         let blockers = Blockers::new(&room_with(dented_block(DVec3::ONE, 0.0)));
-        assert_eq!(blockers.len(), 14);
+        assert_eq!(blockers.len(), 6);
         for b in 0..blockers.len() {
             let bl = blockers.get(b);
+            assert_eq!(bl.ring.len(), 4, "{bl:?}");
             assert!(bl.across.iter().all(Option::is_some), "{bl:?}");
             assert_eq!((bl.closed, bl.body), (1, Some(0)), "{bl:?}");
         }
@@ -510,6 +614,50 @@ mod tests {
         let blockers = Blockers::new(&room_with(open));
         assert!((0..blockers.len()).all(|b| blockers.get(b).closed == 0 && blockers.get(b).body.is_none()));
         assert!((0..blockers.len()).any(|b| blockers.get(b).across.iter().any(Option::is_none)));
+    }
+
+    #[test]
+    fn an_obstruction_s_coplanar_neighbours_are_one_blocker_only_where_they_tile_a_convex_face() {
+        // A cube whose faces are 2 × 2 squares, each split into two triangles: six squares,
+        // their corners the mesh's own vertices (bit for bit), linked along every edge.
+        let cube: Vec<Polygon> = cube_faces(DVec3::ONE, 1.0, 2, false)
+            .into_iter()
+            .flatten()
+            .flat_map(|q| {
+                let v = q.vertices().to_vec();
+                [vec![v[0], v[1], v[2]], vec![v[0], v[2], v[3]]]
+            })
+            .map(|t| Polygon::new(t).unwrap())
+            .collect();
+        let corners: Vec<DVec3> = cube.iter().flat_map(|p| p.vertices().iter().copied()).collect();
+        let blockers = Blockers::new(&room_with(cube.clone()));
+        assert_eq!(blockers.len(), 6);
+        for b in 0..6 {
+            let bl = blockers.get(b);
+            assert_eq!(bl.ring.len(), 4, "{bl:?}");
+            assert!(bl.ring.iter().all(|v| corners.contains(v)), "{bl:?}");
+            assert!((bl.ring[1] - bl.ring[0]).cross(bl.ring[2] - bl.ring[0]).dot(bl.normal) > 0.0, "{bl:?}");
+            assert!(bl.across.iter().all(Option::is_some) && bl.closed == 1 && bl.body.is_some(), "{bl:?}");
+        }
+        // An L of three unit squares in one plane (six triangles, non-convex): kept as they are.
+        let d = DVec3::new;
+        let sq = |x: f64, y: f64| {
+            let (a, b, c, e) =
+                (d(x, y, 1.5), d(x + 0.5, y, 1.5), d(x + 0.5, y + 0.5, 1.5), d(x, y + 0.5, 1.5));
+            [Polygon::new(vec![a, b, c]).unwrap(), Polygon::new(vec![a, c, e]).unwrap()]
+        };
+        let l: Vec<Polygon> =
+            [(1.0, 1.0), (1.5, 1.0), (1.0, 1.5)].iter().flat_map(|&(x, y)| sq(x, y)).collect();
+        assert_eq!(Blockers::new(&room_with(l.clone())).len(), 6);
+        // Two of them (a rectangle) merge; folded along their shared edge (the second square
+        // tilted by 2e-6 rad) they are one blocker per square.
+        assert_eq!(Blockers::new(&room_with(l[..4].to_vec())).len(), 1);
+        let mut folded = l[..4].to_vec();
+        let v = folded[3].vertices().to_vec();
+        let lifted = |x: DVec3| if x.x > 1.75 { x + d(0.0, 0.0, 1e-6) } else { x };
+        folded[3] = Polygon::new(v.iter().map(|&x| lifted(x)).collect()).unwrap();
+        folded[2] = Polygon::new(folded[2].vertices().iter().map(|&x| lifted(x)).collect()).unwrap();
+        assert_eq!(Blockers::new(&room_with(folded)).len(), 2);
     }
 
     #[test]

@@ -413,15 +413,16 @@ mod tests {
         // face's shadow subtracted).
         let mut flipped = block(lo, hi, false);
         flipped[3] = Polygon::new(flipped[3].vertices().iter().rev().copied().collect()).unwrap();
-        for (what, faces, closed) in [
-            ("outward", block(lo, hi, false), 1),
-            ("inward", block(lo, hi, true), -1),
-            ("one face flipped", flipped, 0),
+        // Each face's two triangles are one blocker, but for the flipped one and its partner.
+        for (what, faces, closed, count) in [
+            ("outward", block(lo, hi, false), 1, 6),
+            ("inward", block(lo, hi, true), -1, 6),
+            ("one face flipped", flipped, 0, 7),
         ] {
             let scene = box_pair_scene(faces);
             let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
-            assert_eq!(shadows.blockers().len(), 12, "{what}");
-            assert!((0..12).all(|b| shadows.blockers().get(b).closed == closed), "{what}");
+            assert_eq!(shadows.blockers().len(), count, "{what}");
+            assert!((0..count).all(|b| shadows.blockers().get(b).closed == closed), "{what}");
             assert_eq!(shadows.blockers().get(0).body.is_some(), closed != 0, "{what}");
             let (r, u) = integrate_01(&shadows);
             let err = (r.s - BOX_PAIR_REFERENCE).abs() / u;
@@ -547,7 +548,7 @@ mod tests {
 
     #[test]
     fn an_enclosure_meshed_with_inward_normals_hides_what_is_outside() {
-        // A closed unit box of 12 triangles facing in, a small plate inside it facing up, a
+        // A closed unit box of 12 triangles facing in (six square blockers), a small plate inside it facing up, a
         // plate outside beside it in the plane y = 0.5 (which cuts the box, so the inside
         // plate is the emitter: viewpoints inside the body), and a floor below so every face
         // of the box has patches on both sides. No sight line gets out.
@@ -569,9 +570,23 @@ mod tests {
             .build();
         let shadows = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).unwrap();
         let faces = obstruction_faces(&shadows);
-        assert!(faces.len() == 12 && faces.iter().all(|b| b.closed == -1 && b.body.is_some()));
-        let (r, u) = integrate_01(&shadows);
+        assert!(faces.len() == 6 && faces.iter().all(|b| b.closed == -1 && b.body.is_some()));
+        // One square face now intercepts every segment: the row's classification says so.
+        let mut s = ShadowScratch::default();
+        shadows.classify_row(0, &mut s.row);
+        assert!(matches!(s.row.status(1), Status::Blocked));
+        // The integration from viewpoints inside the body, every face handed over as partial.
+        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
         assert!(u > 1e-6, "the plates face each other: {u}");
+        let all: Vec<u32> = (0..shadows.blockers().len() as u32)
+            .filter(|&b| {
+                matches!(
+                    shadows.blockers().get(b as usize).source,
+                    super::super::blockers::BlockerSource::Obstruction { .. }
+                )
+            })
+            .collect();
+        let r = shadows.integrate(0, 1, u, &all, EXACT_REL_TOL * u, u64::MAX, &mut s.work);
         assert!(!r.swapped, "the inside plate emits");
         assert!(r.s <= 1e-12 * u, "A·F = {} of {u} escapes the enclosure", r.s);
     }
