@@ -6,8 +6,9 @@
 //!   - a planar surface whose patches tile their convex hull (a subdivided rectangle, disk or
 //!     convex polygon) is one blocker, its outline: one shadow instead of a shadow per patch,
 //!     and no seams between patch shadows;
-//!   - the coplanar, edge-sharing polygons of an obstruction mesh that tile their convex hull
-//!     (a meshed body's flat face) are one blocker, its hull ([`coplanar_tiles`]);
+//!   - the coplanar, edge-sharing polygons of a mesh (an obstruction's, or the patches of a
+//!     surface) that tile their convex hull (a meshed body's flat face) are one blocker, its
+//!     hull ([`coplanar_tiles`]);
 //!   - any other patch, and every other obstruction polygon, is its own blocker, split into
 //!     triangles when non-convex.
 //! - A blocker is kept only when patches lie strictly on both sides of its plane; otherwise no
@@ -66,6 +67,9 @@ pub struct Blocker {
     pub body: Option<u32>,
     /// Faces of that convex body (0 when there is none).
     pub body_faces: u32,
+    /// For a blocker of coplanar patches ([`coplanar_tiles`]): the patches besides its
+    /// source's; empty otherwise.
+    pub also: Vec<u32>,
 }
 
 /// The scene's blockers with their box hierarchies.
@@ -221,16 +225,32 @@ fn collect(scene: &Scene, snap: f64, out: &mut Vec<Blocker>) {
                     closed: 0,
                     body: None,
                     body_faces: 0,
+                    also: Vec::new(),
                 });
                 continue;
             }
         }
-        for (k, p) in patches.iter().enumerate() {
-            push_convex(&p.polygon, BlockerSource::Patch(surface.patches.start + k), out);
+        let polys: Vec<&Polygon> = patches.iter().map(|p| &p.polygon).collect();
+        for piece in coplanar_tiles(&polys, snap) {
+            let source = BlockerSource::Patch(surface.patches.start + piece.first);
+            match piece.ring {
+                Some(ring) => out.push(Blocker {
+                    ring,
+                    normal: polys[piece.first].normal(),
+                    source,
+                    across: Vec::new(),
+                    closed: 0,
+                    body: None,
+                    body_faces: 0,
+                    also: piece.members[1..].iter().map(|&k| (surface.patches.start + k) as u32).collect(),
+                }),
+                None => push_convex(polys[piece.first], source, out),
+            }
         }
     }
     for (o, obs) in scene.obstructions.iter().enumerate() {
-        for piece in coplanar_tiles(&obs.polygons, snap) {
+        let polys: Vec<&Polygon> = obs.polygons.iter().collect();
+        for piece in coplanar_tiles(&polys, snap) {
             let source = BlockerSource::Obstruction { obstruction: o, polygon: piece.first };
             match piece.ring {
                 Some(ring) => out.push(Blocker {
@@ -241,26 +261,29 @@ fn collect(scene: &Scene, snap: f64, out: &mut Vec<Blocker>) {
                     closed: 0,
                     body: None,
                     body_faces: 0,
+                    also: Vec::new(),
                 }),
-                None => push_convex(&obs.polygons[piece.first], source, out),
+                None => push_convex(polys[piece.first], source, out),
             }
         }
     }
 }
 
-/// One blocker of an obstruction mesh: polygon `first` alone (`ring` `None`), or the convex
-/// ring that it and its coplanar neighbours tile.
+/// One blocker of a mesh: polygon `first` alone (`ring` `None`), or the convex ring that it and
+/// its coplanar neighbours (`members`, `first` the first of them) tile.
 struct Tile {
     first: usize,
     ring: Option<Vec<DVec3>>,
+    members: Vec<usize>,
 }
 
-/// An obstruction mesh's polygons with every connected set of coplanar neighbours (sharing an
-/// edge, bit-identical end points) that tiles its convex hull taken as that hull: a meshed
-/// body's flat face is one blocker, not one per triangle (fewer shadows to cast and classify,
-/// and no seam between them). The hull's corners are the polygons' own vertices, so the
-/// merged faces still share their edges bit for bit. Other polygons stay as they are.
-fn coplanar_tiles(polys: &[Polygon], snap: f64) -> Vec<Tile> {
+/// A mesh's polygons (an obstruction's, or a surface's patches) with every connected set of
+/// coplanar neighbours (sharing an edge, bit-identical end points) that tiles its convex hull
+/// taken as that hull: a meshed body's flat face is one blocker, not one per triangle (fewer
+/// shadows to cast and classify, and no seam between them). The hull's corners are the
+/// polygons' own vertices, so the merged faces still share their edges bit for bit. Other
+/// polygons stay as they are.
+fn coplanar_tiles(polys: &[&Polygon], snap: f64) -> Vec<Tile> {
     let n = polys.len();
     let key = |v: DVec3| v.to_array().map(f64::to_bits);
     let mut parent: Vec<usize> = (0..n).collect();
@@ -285,7 +308,7 @@ fn coplanar_tiles(polys: &[Polygon], snap: f64) -> Vec<Tile> {
     }
     for sharing in edges.values() {
         if let [a, b] = sharing[..] {
-            if a != b && coplanar(&polys[a], &polys[b]) {
+            if a != b && coplanar(polys[a], polys[b]) {
                 let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
                 parent[ra.max(rb)] = ra.min(rb);
             }
@@ -303,12 +326,12 @@ fn coplanar_tiles(polys: &[Polygon], snap: f64) -> Vec<Tile> {
         }
         if group.len() > 1 {
             let area: f64 = group.iter().map(|&k| polys[k].area()).sum();
-            if let Some(ring) = tiled_corners(group.iter().map(|&k| &polys[k]), area) {
-                out.push(Tile { first: r, ring: Some(ring) });
+            if let Some(ring) = tiled_corners(group.iter().map(|&k| polys[k]), area) {
+                out.push(Tile { first: r, ring: Some(ring), members: group.clone() });
                 continue;
             }
         }
-        out.extend(group.iter().map(|&k| Tile { first: k, ring: None }));
+        out.extend(group.iter().map(|&k| Tile { first: k, ring: None, members: vec![k] }));
     }
     out.sort_by_key(|t| t.first);
     out
@@ -454,6 +477,7 @@ fn push_convex(p: &Polygon, source: BlockerSource, out: &mut Vec<Blocker>) {
             closed: 0,
             body: None,
             body_faces: 0,
+            also: Vec::new(),
         });
     } else {
         for t in p.triangulate() {
@@ -465,6 +489,7 @@ fn push_convex(p: &Polygon, source: BlockerSource, out: &mut Vec<Blocker>) {
                 closed: 0,
                 body: None,
                 body_faces: 0,
+                also: Vec::new(),
             });
         }
     }
@@ -617,7 +642,7 @@ mod tests {
     }
 
     #[test]
-    fn an_obstruction_s_coplanar_neighbours_are_one_blocker_only_where_they_tile_a_convex_face() {
+    fn a_mesh_s_coplanar_neighbours_are_one_blocker_only_where_they_tile_a_convex_face() {
         // A cube whose faces are 2 × 2 squares, each split into two triangles: six squares,
         // their corners the mesh's own vertices (bit for bit), linked along every edge.
         let cube: Vec<Polygon> = cube_faces(DVec3::ONE, 1.0, 2, false)
@@ -639,6 +664,26 @@ mod tests {
             assert!((bl.ring[1] - bl.ring[0]).cross(bl.ring[2] - bl.ring[0]).dot(bl.normal) > 0.0, "{bl:?}");
             assert!(bl.across.iter().all(Option::is_some) && bl.closed == 1 && bl.body.is_some(), "{bl:?}");
         }
+        // The same cube as the patches of one surface: six blockers, each patch in one of them.
+        let mut b = Scene::builder();
+        for (k, f) in cube_faces(DVec3::ZERO, 3.0, 2, true).into_iter().enumerate() {
+            b = b.surface(&format!("wall{k}"), f, 0.9, None);
+        }
+        let scene = b.surface("cube", cube.clone(), 0.9, None).build();
+        let blockers = Blockers::new(&scene);
+        let mut covered: Vec<usize> = Vec::new();
+        for k in 0..blockers.len() {
+            let bl = blockers.get(k);
+            if let BlockerSource::Patch(p) = bl.source {
+                assert_eq!(bl.ring.len(), 4, "{bl:?}");
+                covered.push(p);
+                covered.extend(bl.also.iter().map(|&q| q as usize));
+            }
+        }
+        covered.sort_unstable();
+        let first = scene.surfaces[6].patches.start;
+        assert_eq!(covered, (first..first + 48).collect::<Vec<_>>());
+        assert_eq!(blockers.len(), 6, "the cube's faces (the room's walls never block)");
         // An L of three unit squares in one plane (six triangles, non-convex): kept as they are.
         let d = DVec3::new;
         let sq = |x: f64, y: f64| {

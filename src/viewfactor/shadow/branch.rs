@@ -106,6 +106,9 @@ impl<'s> Shadows<'s> {
             let bl = blockers.get(b);
             if let (BlockerSource::Patch(p), 1, None) = (bl.source, bl.closed, bl.body) {
                 on_solid[p] = true;
+                for &q in &bl.also {
+                    on_solid[q as usize] = true;
+                }
             }
         }
         let pad = blockers.pad();
