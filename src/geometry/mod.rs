@@ -12,6 +12,7 @@
 //!   homogeneous) and the named variants whose arithmetic differs.
 //! - [`convex`]: 2-D convex helpers: half-planes, subtraction, hull, disjointness and overlap,
 //!   convexity, ear clipping.
+//! - `groups`: disjoint groups of indices (union–find), rooted at their smallest member.
 //! - `loops`: closed rings from the loose edges of a cycle (a silhouette's outline).
 //! - `union`: the union of many plane polygons by one boolean (Clipper2's sweep).
 //! - `tolerance`: every geometric epsilon, one name per concept, with its reason.
@@ -22,6 +23,7 @@ pub mod convex;
 pub mod frame;
 mod glue;
 pub(crate) mod grid_clip;
+pub(crate) mod groups;
 pub(crate) mod loops;
 pub(crate) mod planes;
 pub(crate) mod polygon;

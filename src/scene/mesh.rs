@@ -4,6 +4,7 @@
 //!
 //! Every triangle keeps a [`Tag`]: the surface it belongs to (within one model file) and its
 //! index as read, so findings can name "surface S, triangle k" whatever was welded or dropped.
+use crate::geometry::groups::Groups;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -141,27 +142,17 @@ impl TriMesh {
     /// order of their first triangle) and the component count.
     pub fn components(&self, edges: &[Edge]) -> (Vec<u32>, usize) {
         let n = self.triangles.len();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn find(p: &mut [u32], mut x: u32) -> u32 {
-            while p[x as usize] != x {
-                p[x as usize] = p[p[x as usize] as usize];
-                x = p[x as usize];
-            }
-            x
-        }
+        let mut groups = Groups::new(n);
         for e in edges {
             let first = e.uses[0].0;
             for &(t, _) in &e.uses[1..] {
-                let (ra, rb) = (find(&mut parent, first), find(&mut parent, t));
-                if ra != rb {
-                    parent[ra.max(rb) as usize] = ra.min(rb);
-                }
+                groups.join(first as usize, t as usize);
             }
         }
         let mut ids = vec![u32::MAX; n];
         let mut roots: HashMap<u32, u32> = HashMap::new();
         for (t, id) in ids.iter_mut().enumerate() {
-            let r = find(&mut parent, t as u32);
+            let r = groups.root(t) as u32;
             let next = roots.len() as u32;
             *id = *roots.entry(r).or_insert(next);
         }

@@ -28,6 +28,7 @@ use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
 use super::volume::{Class, ShadowVolume};
 use crate::geometry::convex::{ear_indices, is_convex_local};
+use crate::geometry::groups::Groups;
 use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::tolerance::{EDGE_PARALLEL_ANGLE, EVENT_LEVEL_REL, PARALLELOGRAM_REL};
@@ -784,23 +785,15 @@ fn event_planes(geo: &ShadowGeometry, silhouette: &[Vec<bool>], planes: &mut Vec
 /// (one mesh body or sheet): the unit that must be seen from a cell's quadrature points.
 fn fold_groups(geo: &ShadowGeometry) -> Vec<u32> {
     let n = geo.blockers().len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(p: &mut [u32], mut k: u32) -> u32 {
-        while p[k as usize] != k {
-            p[k as usize] = p[p[k as usize] as usize];
-            k = p[k as usize];
-        }
-        k
-    }
+    let mut groups = Groups::new(n);
     for k in 0..n {
         for e in 0..geo.blockers()[k].len() {
             if let Some(m) = geo.neighbour(k, e) {
-                let (a, b) = (root(&mut parent, k as u32), root(&mut parent, m));
-                parent[a.max(b) as usize] = a.min(b);
+                groups.join(k, m as usize);
             }
         }
     }
-    (0..n as u32).map(|k| root(&mut parent, k)).collect()
+    (0..n).map(|k| groups.root(k) as u32).collect()
 }
 
 /// Per kept blocker and edge: false when the edge is shared with another kept blocker and,

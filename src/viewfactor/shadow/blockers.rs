@@ -16,6 +16,7 @@
 //! - Both hierarchies are walked with a box predicate; boxes are padded, so a conservative
 //!   predicate gives a conservative query.
 use crate::geometry::convex::{convex_hull, twice_area};
+use crate::geometry::groups::Groups;
 use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, CONVEX_BODY_REL, TILE_AREA_REL};
 
 /// Face × vertex tests above which a body's convexity rests on its edges alone.
@@ -286,14 +287,7 @@ struct Tile {
 fn coplanar_tiles(polys: &[&Polygon], snap: f64) -> Vec<Tile> {
     let n = polys.len();
     let key = |v: DVec3| v.to_array().map(f64::to_bits);
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(p: &mut [usize], mut k: usize) -> usize {
-        while p[k] != k {
-            p[k] = p[p[k]];
-            k = p[k];
-        }
-        k
-    }
+    let mut groups = Groups::new(n);
     let coplanar = |a: &Polygon, b: &Polygon| {
         a.normal().dot(b.normal()) > 1.0 - COPLANAR_NORMAL_TOL
             && b.vertices().iter().all(|&x| a.normal().dot(x - a.vertices()[0]).abs() <= snap)
@@ -309,15 +303,13 @@ fn coplanar_tiles(polys: &[&Polygon], snap: f64) -> Vec<Tile> {
     for sharing in edges.values() {
         if let [a, b] = sharing[..] {
             if a != b && coplanar(polys[a], polys[b]) {
-                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-                parent[ra.max(rb)] = ra.min(rb);
+                groups.join(a, b);
             }
         }
     }
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
     for k in 0..n {
-        let r = root(&mut parent, k);
-        members[r].push(k);
+        members[groups.root(k)].push(k);
     }
     let mut out = Vec::with_capacity(n);
     for (r, group) in members.iter().enumerate() {
