@@ -152,7 +152,7 @@ pub fn subtract_convex(
 }
 
 /// Convex hull of `pts` (Andrew's monotone chain), counter-clockwise, collinear points dropped
-/// and points within [`HULL_MERGE_REL`] of each other taken once; `pts` is scratch (sorted and
+/// and points within `HULL_MERGE_REL` of each other taken once; `pts` is scratch (sorted and
 /// compacted in place).
 pub fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     hull.clear();

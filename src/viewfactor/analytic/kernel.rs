@@ -232,7 +232,7 @@ impl<'s> AnalyticKernel<'s> {
     }
 
     /// Progress estimate only: the cost (ns) of row i over the receivers `js`, each pair's
-    /// [`Self::pair_cost`] plus the row's classification against its [`Self::row_blockers`]
+    /// `Self::pair_cost` plus the row's classification against its [`Self::row_blockers`]
     /// shadow volumes, which a row whose receivers all face away skips unless it is
     /// `always_classified` (the hierarchy classifies every row of patch pairs it hands over);
     /// `ids` is scratch.

@@ -8,7 +8,7 @@
 //!     and no seams between patch shadows;
 //!   - the coplanar, edge-sharing polygons of a mesh (an obstruction's, or the patches of a
 //!     surface) that tile their convex hull (a meshed body's flat face) are one blocker, its
-//!     hull ([`coplanar_tiles`]);
+//!     hull (`coplanar_tiles`);
 //!   - any other patch, and every other obstruction polygon, is its own blocker, split into
 //!     triangles when non-convex.
 //! - A blocker is kept only when patches lie strictly on both sides of its plane; otherwise no
@@ -68,7 +68,7 @@ pub struct Blocker {
     pub body: Option<u32>,
     /// Faces of that convex body (0 when there is none).
     pub body_faces: u32,
-    /// For a blocker of coplanar patches ([`coplanar_tiles`]): the patches besides its
+    /// For a blocker of coplanar patches (`coplanar_tiles`): the patches besides its
     /// source's; empty otherwise.
     pub also: Vec<u32>,
 }

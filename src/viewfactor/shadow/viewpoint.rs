@@ -27,7 +27,7 @@
 //!   edges over the layers behind (thousands per viewpoint on a meshed part). If the edges do
 //!   not close, the whole faces are united instead;
 //! - in fact the outline edges are found and chained on the mesh, before any projection
-//!   ([`super::silhouette`]), and each loop is clipped by the hull's planes and projected as
+//!   (`super::silhouette`), and each loop is clipped by the hull's planes and projected as
 //!   one ring: the same region, no front face clipped. Each front face is still tested
 //!   against the hull's planes (its corners all inside, or all outside one) for the counted
 //!   work and the seen mask, which are those of the face-by-face outline (kept for the
@@ -324,7 +324,7 @@ impl ShadowGeometry {
     }
 
     /// Unites the shadows by one polygon boolean from more than `min` active blockers on
-    /// (default [`UNION_MIN_ACTIVE`]).
+    /// (default `UNION_MIN_ACTIVE`).
     pub fn set_union_min(&mut self, min: usize) {
         self.union_min = min;
     }
