@@ -21,7 +21,7 @@ use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, CONVEX_B
 
 /// Face × vertex tests above which a body's convexity rests on its edges alone.
 const CONVEX_BODY_FULL_CHECK: usize = 20_000_000;
-/// Neighbouring obstruction polygons whose unit normals differ by less than this (1 − cos) and
+/// Neighbouring mesh polygons whose unit normals differ by less than this (1 − cos) and
 /// whose vertices lie within the snap length of each other's plane are one flat face.
 const COPLANAR_NORMAL_TOL: f64 = 1e-12;
 use crate::geometry::Polygon;
@@ -234,39 +234,33 @@ fn collect(scene: &Scene, snap: f64, out: &mut Vec<Blocker>) {
         let polys: Vec<&Polygon> = patches.iter().map(|p| &p.polygon).collect();
         for piece in coplanar_tiles(&polys, snap) {
             let source = BlockerSource::Patch(surface.patches.start + piece.first);
-            match piece.ring {
-                Some(ring) => out.push(Blocker {
-                    ring,
-                    normal: polys[piece.first].normal(),
-                    source,
-                    across: Vec::new(),
-                    closed: 0,
-                    body: None,
-                    body_faces: 0,
-                    also: piece.members[1..].iter().map(|&k| (surface.patches.start + k) as u32).collect(),
-                }),
-                None => push_convex(polys[piece.first], source, out),
-            }
+            let also = piece.members[1..].iter().map(|&k| (surface.patches.start + k) as u32).collect();
+            push_tile(piece, &polys, source, also, out);
         }
     }
     for (o, obs) in scene.obstructions.iter().enumerate() {
         let polys: Vec<&Polygon> = obs.polygons.iter().collect();
         for piece in coplanar_tiles(&polys, snap) {
             let source = BlockerSource::Obstruction { obstruction: o, polygon: piece.first };
-            match piece.ring {
-                Some(ring) => out.push(Blocker {
-                    ring,
-                    normal: obs.polygons[piece.first].normal(),
-                    source,
-                    across: Vec::new(),
-                    closed: 0,
-                    body: None,
-                    body_faces: 0,
-                    also: Vec::new(),
-                }),
-                None => push_convex(polys[piece.first], source, out),
-            }
+            push_tile(piece, &polys, source, Vec::new(), out);
         }
+    }
+}
+
+/// The blocker of `piece`: its merged ring, or its one polygon ([`push_convex`]).
+fn push_tile(piece: Tile, polys: &[&Polygon], source: BlockerSource, also: Vec<u32>, out: &mut Vec<Blocker>) {
+    match piece.ring {
+        Some(ring) => out.push(Blocker {
+            ring,
+            normal: polys[piece.first].normal(),
+            source,
+            across: Vec::new(),
+            closed: 0,
+            body: None,
+            body_faces: 0,
+            also,
+        }),
+        None => push_convex(polys[piece.first], source, out),
     }
 }
 
