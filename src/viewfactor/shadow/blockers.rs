@@ -280,22 +280,14 @@ struct Tile {
 /// polygons stay as they are.
 fn coplanar_tiles(polys: &[&Polygon], snap: f64) -> Vec<Tile> {
     let n = polys.len();
-    let key = |v: DVec3| v.to_array().map(f64::to_bits);
     let mut groups = Groups::new(n);
     let coplanar = |a: &Polygon, b: &Polygon| {
         a.normal().dot(b.normal()) > 1.0 - COPLANAR_NORMAL_TOL
             && b.vertices().iter().all(|&x| a.normal().dot(x - a.vertices()[0]).abs() <= snap)
     };
-    let mut edges: std::collections::HashMap<_, Vec<usize>> = std::collections::HashMap::new();
-    for (k, p) in polys.iter().enumerate() {
-        let v = p.vertices();
-        for i in 0..v.len() {
-            let (a, c) = (key(v[i]), key(v[(i + 1) % v.len()]));
-            edges.entry(if a <= c { (a, c) } else { (c, a) }).or_default().push(k);
-        }
-    }
-    for sharing in edges.values() {
-        if let [a, b] = sharing[..] {
+    for sharing in edge_uses(polys.iter().map(|p| p.vertices())).values() {
+        if let [(a, _), (b, _)] = sharing[..] {
+            let (a, b) = (a as usize, b as usize);
             if a != b && coplanar(polys[a], polys[b]) {
                 groups.join(a, b);
             }
@@ -345,15 +337,7 @@ fn tiled_corners<'a>(polys: impl Iterator<Item = &'a Polygon> + Clone, area: f64
 /// Fills every blocker's [`Blocker::across`]: edges with bit-identical end points (either
 /// direction) shared by exactly two blockers are linked.
 fn link_shared_edges(blockers: &mut [Blocker]) {
-    let key = |v: DVec3| v.to_array().map(f64::to_bits);
-    let mut edges: std::collections::HashMap<_, Vec<(u32, u32)>> = std::collections::HashMap::new();
-    for (b, bl) in blockers.iter().enumerate() {
-        let m = bl.ring.len();
-        for k in 0..m {
-            let (a, c) = (key(bl.ring[k]), key(bl.ring[(k + 1) % m]));
-            edges.entry(if a <= c { (a, c) } else { (c, a) }).or_default().push((b as u32, k as u32));
-        }
-    }
+    let edges = edge_uses(blockers.iter().map(|b| b.ring.as_slice()));
     for bl in blockers.iter_mut() {
         bl.across = vec![None; bl.ring.len()];
     }
@@ -364,7 +348,7 @@ fn link_shared_edges(blockers: &mut [Blocker]) {
                 blockers[b0 as usize].across[k0 as usize] = Some(b1);
                 blockers[b1 as usize].across[k1 as usize] = Some(b0);
                 // Consistent orientation walks a shared edge in opposite directions.
-                let start = |b: u32, k: u32| key(blockers[b as usize].ring[k as usize]);
+                let start = |b: u32, k: u32| vertex_key(blockers[b as usize].ring[k as usize]);
                 if start(b0, k0) == start(b1, k1) {
                     consistent[b0 as usize] = false;
                     consistent[b1 as usize] = false;
@@ -373,6 +357,28 @@ fn link_shared_edges(blockers: &mut [Blocker]) {
         }
     }
     mark_closed(blockers, &consistent);
+}
+
+/// A vertex's bits: vertices are one only when bit-identical.
+fn vertex_key(v: DVec3) -> [u64; 3] {
+    v.to_array().map(f64::to_bits)
+}
+
+/// Undirected edges (end points by [`vertex_key`], lower first) and their uses (ring, edge).
+type EdgeUses = std::collections::HashMap<([u64; 3], [u64; 3]), Vec<(u32, u32)>>;
+
+/// Every undirected edge of the rings (end points by [`vertex_key`], either direction) with its
+/// uses: (ring, edge k from vertex k to k + 1).
+fn edge_uses<'a>(rings: impl Iterator<Item = &'a [DVec3]>) -> EdgeUses {
+    let mut edges = EdgeUses::new();
+    for (b, ring) in rings.enumerate() {
+        let m = ring.len();
+        for k in 0..m {
+            let (a, c) = (vertex_key(ring[k]), vertex_key(ring[(k + 1) % m]));
+            edges.entry(if a <= c { (a, c) } else { (c, a) }).or_default().push((b as u32, k as u32));
+        }
+    }
+    edges
 }
 
 /// Sets [`Blocker::closed`] on every component (blockers linked through shared edges) in

@@ -147,8 +147,6 @@ pub struct Scratch {
     cover_boxes: Vec<[DVec2; 2]>,
     /// Per covered piece: the convex body whose front face cast it, if any.
     cover_bodies: Vec<Option<u32>>,
-    /// The convex body whose front face cast the shadow being merged, if any.
-    casting_body: Option<u32>,
     frags: PieceSet,
     frags2: PieceSet,
     edges: Vec<HalfPlane>,
@@ -477,8 +475,7 @@ impl ShadowGeometry {
                 s.body_pts.extend(s.shadow.iter().map(|&q| (*body, q)));
                 continue;
             }
-            s.casting_body = self.front_body(k as usize);
-            self.add(s, &mut cov, unite);
+            self.add(s, &mut cov, unite, self.front_body(k as usize));
         }
         // A convex body's shadow is the hull of its faces' shadows (each already cut to the
         // receiver hull, whose intersection with the body's shadow is convex).
@@ -492,8 +489,7 @@ impl ShadowGeometry {
                 s.hull_pts.extend(s.body_pts[start..end].iter().map(|b| b.1));
                 crate::geometry::convex::convex_hull(&mut s.hull_pts, &mut s.shadow);
                 if s.shadow.len() >= 3 && twice_area(&s.shadow) > self.snap * self.snap {
-                    s.casting_body = None;
-                    self.add(s, &mut cov, unite);
+                    self.add(s, &mut cov, unite, None);
                 }
                 start = end;
             }
@@ -623,20 +619,21 @@ impl ShadowGeometry {
         s.shadow.len() >= 3
     }
 
-    /// The shadow in `s.shadow` joins the union to be taken (`unite`, one work unit), or is
-    /// merged into the covered pieces at once.
-    fn add(&self, s: &mut Scratch, cov: &mut Coverage, unite: bool) {
+    /// The shadow in `s.shadow` (cast by a front face of convex body `body`, if any) joins the
+    /// union to be taken (`unite`, one work unit), or is merged into the covered pieces at once.
+    fn add(&self, s: &mut Scratch, cov: &mut Coverage, unite: bool, body: Option<u32>) {
         if unite {
             s.union.push(&s.shadow);
             cov.work += 1;
         } else {
-            self.merge(s, cov);
+            self.merge(s, cov, body);
         }
     }
 
-    /// Adds the shadow in `s.shadow` (counter-clockwise, inside the receiver hull) to the
-    /// covered pieces `s.covered`, minus what they already cover.
-    fn merge(&self, s: &mut Scratch, cov: &mut Coverage) {
+    /// Adds the shadow in `s.shadow` (counter-clockwise, inside the receiver hull; cast by a
+    /// front face of convex body `body`, if any) to the covered pieces `s.covered`, minus what
+    /// they already cover.
+    fn merge(&self, s: &mut Scratch, cov: &mut Coverage, body: Option<u32>) {
         let snap = self.snap;
         {
             // Shadow ∩ receiver pieces (already inside the hull when the receiver is convex).
@@ -663,7 +660,7 @@ impl ShadowGeometry {
                     break;
                 }
                 if boxes_apart(&frag_box, &s.cover_boxes[c], snap)
-                    || s.casting_body.is_some() && s.cover_bodies[c] == s.casting_body
+                    || body.is_some() && s.cover_bodies[c] == body
                 {
                     continue;
                 }
@@ -685,7 +682,7 @@ impl ShadowGeometry {
             for f in 0..s.frags.len() {
                 let piece = s.frags.piece(f);
                 s.cover_boxes.push(bounds(piece.iter()));
-                s.cover_bodies.push(s.casting_body);
+                s.cover_bodies.push(body);
                 s.covered.push(piece);
             }
         }
@@ -915,24 +912,39 @@ mod tests {
         assert!(active.len() > 20, "a meshed body: {} blockers", active.len());
         let solid = closed.iter().all(|c| c.0 == 1);
         assert_eq!(geo.outline.iter().any(|&o| o), solid, "closed solids enter the boolean by their outline");
-        let (mut worst, mut most) = (0.0f64, 0.0f64);
         let mut s = Scratch::default();
+        let agreement = union_against_subtraction(&geo, &active, &mut s, |_, _, _| {});
+        assert_eq!(s.outline_fallbacks(), 0, "every closed-body outline closed");
+        agreement
+    }
+
+    /// Over an 11 × 11 grid of viewpoints on the emitter (its ring's fan from the first
+    /// vertex), `active`'s shadows united by one boolean and subtracted one by one: the same
+    /// shaded area and mask at every viewpoint, and `check(p, subtracted coverage, scratch)`
+    /// run after the subtraction. Returns the largest |united − subtracted| relative to the
+    /// unshaded value, and the largest shaded fraction seen.
+    fn union_against_subtraction(
+        geo: &ShadowGeometry,
+        active: &[u32],
+        s: &mut Scratch,
+        mut check: impl FnMut(DVec3, &Coverage, &Scratch),
+    ) -> (f64, f64) {
+        let (mut worst, mut most) = (0.0f64, 0.0f64);
         let ring = geo.emitter().to_vec();
         for a in 1..12 {
             for b in 1..12 {
                 let (u, v) = (a as f64 / 12.0, b as f64 / 12.0);
-                // A point of the emitter ring's fan from its first vertex.
                 let p = ring[0] + u * (ring[1] - ring[0]) + v * (1.0 - u) * (ring[2] - ring[0]);
                 let whole = geo.unshaded(p);
-                let (g1, c1) = geo.shaded_by(p, &active, &mut s, true);
-                let (g0, c0) = geo.shaded_by(p, &active, &mut s, false);
+                let (g1, c1) = geo.shaded_by(p, active, s, true);
+                let (g0, c0) = geo.shaded_by(p, active, s, false);
                 worst = worst.max((g1 - g0).abs() / whole);
                 assert!((c1.area - c0.area).abs() <= AGREE_REL * geo.receiver_area(), "{c1:?} vs {c0:?}");
                 assert_eq!(c1.seen, c0.seen);
                 most = most.max(g0 / whole);
+                check(p, &c0, s);
             }
         }
-        assert_eq!(s.outline_fallbacks(), 0, "every closed-body outline closed");
         (worst, most)
     }
 
@@ -1228,24 +1240,12 @@ mod tests {
         assert_eq!(geo.blockers().len(), 6);
         let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
         assert!(active.len() <= HULL_MIN_ACTIVE);
-        let (mut s0, mut s1) = (Scratch::default(), Scratch::default());
-        let ring = geo.emitter().to_vec();
-        let (mut worst, mut most, mut several) = (0.0f64, 0.0f64, 0usize);
-        for a in 1..12 {
-            for b in 1..12 {
-                let (u, v) = (a as f64 / 12.0, b as f64 / 12.0);
-                let p = ring[0] + u * (ring[1] - ring[0]) + v * (1.0 - u) * (ring[2] - ring[0]);
-                let whole = geo.unshaded(p);
-                let (g0, c0) = geo.shaded_by(p, &active, &mut s0, false);
-                let (g1, c1) = geo.shaded_by(p, &active, &mut s1, true);
-                worst = worst.max((g1 - g0).abs() / whole);
-                most = most.max(g0 / whole);
-                assert!((c1.area - c0.area).abs() <= AGREE_REL * geo.receiver_area(), "{c1:?} vs {c0:?}");
-                // Work: the viewpoint and one unit per active face, none for subtractions.
-                assert_eq!(c0.work, VIEWPOINT_WORK + active.len() as u64, "at {p}");
-                several += usize::from(s0.covered.len() > 1);
-            }
-        }
+        let mut several = 0usize;
+        let (worst, most) = union_against_subtraction(&geo, &active, &mut Scratch::default(), |p, c0, s| {
+            // Work: the viewpoint and one unit per active face, none for subtractions.
+            assert_eq!(c0.work, VIEWPOINT_WORK + active.len() as u64, "at {p}");
+            several += usize::from(s.covered.len() > 1);
+        });
         assert!(worst <= AGREE_REL && most > 0.1 && several > 20, "worst {worst}, most {most}, {several}");
     }
 

@@ -86,6 +86,18 @@ impl Default for Part {
     }
 }
 
+/// How [`ShadowVolume::build_parts`] split the emitter.
+enum Parts {
+    /// B has no plane: one unbounded part.
+    Unbounded,
+    /// E lies in B's plane: nothing is ever shadowed.
+    Never,
+    /// E lies on one side: one part.
+    One,
+    /// E straddles B's plane: a part per side.
+    Split,
+}
+
 /// Outcome of [`ShadowVolume::build`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Build {
@@ -105,15 +117,59 @@ impl ShadowVolume {
     /// Builds the volume of blocker `b` (convex ring) lit by emitter `e` (convex ring).
     /// `snap` is the length below which points count as on a plane.
     pub fn build(&mut self, e: &[DVec3], b: &[DVec3], snap: f64) -> Build {
+        match self.build_parts(e, b, snap, |part, half, pb| {
+            part.build(half, b, pb, snap);
+            false
+        }) {
+            Parts::Never => Build::Never,
+            _ => Build::Casts,
+        }
+    }
+
+    /// [`Self::build`] then the exact classification of the convex ring `r` (the planes, then
+    /// the segments' crossing points), stopping at the first penumbra plane that clears `r`
+    /// (most blockers, when an integration cell is re-classified); `None` where `build` gives
+    /// [`Build::Never`]. The same answer; the volume is then built only as far as that answer
+    /// needed, so build it again before classifying anything else.
+    pub fn build_classify_exact(
+        &mut self,
+        e: &[DVec3],
+        b: &[DVec3],
+        snap: f64,
+        r: &[DVec3],
+    ) -> Option<Class> {
+        let mut class = Class::Clear;
+        match self.build_parts(e, b, snap, |part, half, pb| {
+            class = part.build_classify(half, b, pb, snap, r);
+            class != Class::Clear
+        }) {
+            Parts::Never => None,
+            Parts::Unbounded => Some(Class::Partial),
+            // A part of a split emitter lies on the plane's side only: never wholly blocked.
+            Parts::Split if class != Class::Clear => Some(Class::Partial),
+            Parts::Split | Parts::One => Some(class),
+        }
+    }
+
+    /// The parts of the volume: E whole when it lies on one side of B's plane, else its halves
+    /// on each side; `each(part, e_part, pb)` builds one (pb oriented away from it) and stops
+    /// the rest by returning true.
+    fn build_parts(
+        &mut self,
+        e: &[DVec3],
+        b: &[DVec3],
+        snap: f64,
+        mut each: impl FnMut(&mut Part, &[DVec3], Plane) -> bool,
+    ) -> Parts {
         self.count = 0;
         let Some(pb) = plane_of(b) else {
             self.parts[0].unbounded = true;
             self.count = 1;
-            return Build::Casts;
+            return Parts::Unbounded;
         };
         let (lo, hi) = extremes(e, &pb);
         if lo >= -snap && hi <= snap {
-            return Build::Never;
+            return Parts::Never;
         }
         if lo < -snap && hi > snap {
             // E straddles B's plane: one part per side.
@@ -123,60 +179,18 @@ impl ShadowVolume {
             for half in [&*neg, &*pos] {
                 if half.len() >= 3 {
                     let (_, hi) = extremes(half, &pb);
-                    self.parts[self.count].build(half, b, if hi > snap { pb.flipped() } else { pb }, snap);
-                    self.count += 1;
-                }
-            }
-            return Build::Casts;
-        }
-        self.parts[0].build(e, b, if hi > snap { pb.flipped() } else { pb }, snap);
-        self.count = 1;
-        Build::Casts
-    }
-
-    /// [`Self::build`] then the exact classification of the convex ring `r` (the planes, then
-    /// the segments' crossing points), stopping at the
-    /// first penumbra plane that clears `r` (most blockers, when an integration cell is
-    /// re-classified); `None` where `build` gives [`Build::Never`]. The same answer; the
-    /// volume is then built only as far as that answer needed, so build it again before
-    /// classifying anything else.
-    pub fn build_classify_exact(
-        &mut self,
-        e: &[DVec3],
-        b: &[DVec3],
-        snap: f64,
-        r: &[DVec3],
-    ) -> Option<Class> {
-        self.count = 0;
-        let Some(pb) = plane_of(b) else {
-            self.parts[0].unbounded = true;
-            self.count = 1;
-            return Some(Class::Partial);
-        };
-        let (lo, hi) = extremes(e, &pb);
-        if lo >= -snap && hi <= snap {
-            return None;
-        }
-        if lo < -snap && hi > snap {
-            let [neg, pos] = &mut self.split;
-            clip_side(e, pb.flipped(), snap, neg);
-            clip_side(e, pb, snap, pos);
-            for half in [&*neg, &*pos] {
-                if half.len() >= 3 {
-                    let (_, hi) = extremes(half, &pb);
                     let part = &mut self.parts[self.count];
                     self.count += 1;
-                    if part.build_classify(half, b, if hi > snap { pb.flipped() } else { pb }, snap, r)
-                        != Class::Clear
-                    {
-                        return Some(Class::Partial);
+                    if each(part, half, if hi > snap { pb.flipped() } else { pb }) {
+                        break;
                     }
                 }
             }
-            return Some(Class::Clear);
+            return Parts::Split;
         }
         self.count = 1;
-        Some(self.parts[0].build_classify(e, b, if hi > snap { pb.flipped() } else { pb }, snap, r))
+        each(&mut self.parts[0], e, if hi > snap { pb.flipped() } else { pb });
+        Parts::One
     }
 
     /// Classifies a convex receiver ring with the bounding planes (fast, conservative).
