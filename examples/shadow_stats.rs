@@ -10,6 +10,10 @@
 //! `DUMP=file` it appends `i j A_iF_ij u error blockers viewpoints roots cells` per pair
 //! (compare two targets to measure the error of the looser one); with `ONLY=j` it integrates
 //! only the pairs with receiver j; with `PAIR=i,j` it prints those patches' vertices and stops.
+//! With `AUTO=tol` each pair goes through `auto`'s choice instead ([`Shadows::pair`]), and the
+//! time, work and count are broken down by estimator and by pair kind (mesh–mesh, mesh–plane,
+//! plane–plane: a patch is a mesh patch when its surface has more than [`MESH_PATCHES`] patches
+//! that are not all parallelograms).
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::EXACT_REL_TOL;
@@ -17,11 +21,76 @@ use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
 use std::io::Write;
 use std::time::Instant;
 
+/// Patches of a surface above which a triangle surface counts as a meshed part.
+const MESH_PATCHES: usize = 1;
+
+/// `auto`'s choice per pair, broken down by estimator and pair kind.
+fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
+    let shadows = Shadows::new(scene, Policy::Auto { tol, seed: 1 }).expect("the scene has blockers");
+    let mut s = ShadowScratch::default();
+    let n = scene.patches.len();
+    let mut count = vec![0usize; scene.surfaces.len()];
+    for p in &scene.patches {
+        count[p.surface] += 1;
+    }
+    let mesh: Vec<bool> = scene
+        .patches
+        .iter()
+        .map(|p| count[p.surface] > MESH_PATCHES && p.polygon.vertices().len() == 3)
+        .collect();
+    // [kind][estimator]: pairs, work, seconds, blockers
+    let mut table = [[(0u64, 0u64, 0.0f64, 0u64); 2]; 3];
+    let (mut pairs, mut clear) = (0u64, 0u64);
+    let t0 = Instant::now();
+    for i in (0..n).step_by(stride) {
+        shadows.classify_row(i, &mut s.row);
+        for j in i + 1..n {
+            pairs += 1;
+            let Status::Partial(partial) = s.row.status(j) else {
+                clear += 1;
+                continue;
+            };
+            let partial = partial.to_vec();
+            let u = polygon_polygon(&scene.patches[i].polygon, &scene.patches[j].polygon);
+            let t = Instant::now();
+            let r = shadows.pair(i, j, u, &partial, &mut s.work);
+            let dt = t.elapsed().as_secs_f64();
+            let kind = usize::from(mesh[i]) + usize::from(mesh[j]);
+            let est = usize::from(r.method == lambert::viewfactor::MethodSet::MC_AREA);
+            let e = &mut table[kind][est];
+            *e = (e.0 + 1, e.1 + r.work, e.2 + dt, e.3 + partial.len() as u64);
+        }
+    }
+    println!(
+        "rows {} pairs {pairs}, not partial {clear}, {:.3} s",
+        n.div_ceil(stride),
+        t0.elapsed().as_secs_f64()
+    );
+    for (kind, name) in ["plane-plane", "mesh-plane", "mesh-mesh"].iter().enumerate() {
+        for (est, ename) in ["shadowed", "mc"].iter().enumerate() {
+            let (p, w, sec, b) = table[kind][est];
+            if p > 0 {
+                println!(
+                    "{name:12} {ename:9} pairs {p:6}  {:.3} s  {:7.1} us/pair  work/pair {:8.0}  blockers/pair {:.1}",
+                    sec,
+                    1e6 * sec / p as f64,
+                    w as f64 / p as f64,
+                    b as f64 / p as f64
+                );
+            }
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let scene = lambert::scene::load(std::path::Path::new(&args[1])).expect("scene loads");
     let stride: usize = args.get(2).map_or(10, |s| s.parse().expect("row stride"));
     let rel: f64 = args.get(3).map_or(EXACT_REL_TOL, |s| s.parse().expect("relative target"));
+    if let Ok(tol) = std::env::var("AUTO") {
+        auto_stats(&scene, stride, tol.parse().expect("AUTO=tolerance"));
+        return;
+    }
     if let Ok(pair) = std::env::var("PAIR") {
         for k in pair.split(',') {
             let k: usize = k.parse().expect("patch index");
