@@ -352,11 +352,14 @@ impl Integrator {
                     return (0.0, 0);
                 }
             }
-            let (lo, hi, seen, evals, work) = this.evaluate(geo, &item, s);
+            let (lo, hi, (seen, away), evals, work) = this.evaluate(geo, &item, s);
             info.evals += evals;
             info.work += work;
             let all_seen = item.full || item.len >= 64 || {
-                // Every active blocker, or a blocker folded onto it, cast a shadow here.
+                // Every active blocker was turned away from some rule point, or it or a
+                // blocker folded onto it cast a shadow here. A face turned away vouches for
+                // itself only: counted for its body, it once let a board whose faces' shadows
+                // all fell between the rule points pass as seen.
                 let active = &s.pool[item.start..item.start + item.len];
                 let mut hit = 0u64;
                 for (bit, &b) in active.iter().enumerate() {
@@ -364,7 +367,10 @@ impl Integrator {
                         hit |= 1 << (groups[b as usize] % 64);
                     }
                 }
-                active.iter().all(|&b| hit >> (groups[b as usize] % 64) & 1 == 1)
+                active
+                    .iter()
+                    .enumerate()
+                    .all(|(bit, &b)| away >> bit & 1 == 1 || hit >> (groups[b as usize] % 64) & 1 == 1)
             };
             let must_split = item.cell.area() > forced_area && item.depth < this.params.max_depth;
             // A blocker no rule point saw may still shade part of the cell: 0 ≤ g ≤ the
@@ -496,11 +502,16 @@ impl Integrator {
         (sum, evals)
     }
 
-    /// Both rules on one cell: (low, high, seen-mask, evaluations, work).
-    fn evaluate(&self, geo: &ShadowGeometry, item: &Item, s: &mut AdaptScratch) -> (f64, f64, u64, u64, u64) {
+    /// Both rules on one cell: (low, high, (seen, turned-away) masks, evaluations, work).
+    fn evaluate(
+        &self,
+        geo: &ShadowGeometry,
+        item: &Item,
+        s: &mut AdaptScratch,
+    ) -> (f64, f64, (u64, u64), u64, u64) {
         let active = &s.pool[item.start..item.start + item.len];
         let shadow = &mut s.shadow;
-        let mut seen = 0u64;
+        let (mut seen, mut away) = (0u64, 0u64);
         let mut evals = 0u64;
         let mut work = 0u64;
         let mut sums = [0.0; 2];
@@ -513,13 +524,14 @@ impl Integrator {
                 } else {
                     let (g, cov) = geo.shaded(p, active, shadow);
                     seen |= cov.seen;
+                    away |= cov.away;
                     work += cov.work;
                     g
                 };
                 sums[k] += w * g;
             });
         }
-        (sums[0], sums[1], seen, evals, work)
+        (sums[0], sums[1], (seen, away), evals, work)
     }
 }
 

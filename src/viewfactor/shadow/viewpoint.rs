@@ -56,10 +56,12 @@ use std::f64::consts::TAU;
 pub struct Coverage {
     /// Shaded area, m².
     pub area: f64,
-    /// Bit k set when active blocker k cast a non-empty shadow on the receiver hull. A closed
-    /// body's face turned away from the viewpoint casts none and sets no bit: the body counts
-    /// as seen only where one of its faces' shadows falls on the receiver.
+    /// Bit k set when active blocker k cast a non-empty shadow on the receiver hull.
     pub seen: u64,
+    /// Bit k set when active blocker k, a closed body's face, was skipped as turned away from
+    /// the viewpoint: nothing of that face is left unseen there, but it says nothing of the
+    /// body's shadow (see `super::adaptive`'s check that every body was seen).
+    pub away: u64,
     /// Counted work: [`VIEWPOINT_WORK`] for the viewpoint, 1 per active blocker projected, 1
     /// per shadow piece subtracted from one covered piece (or per shadow united).
     pub work: u64,
@@ -427,10 +429,11 @@ impl ShadowGeometry {
         }
         for (bit, &k) in active.iter().enumerate() {
             if let Some(Some((n, d))) = self.facing.get(k as usize) {
-                // Turned away: no sight line enters the body through it. It is not marked
-                // seen: the cell's check that every body cast a shadow from some rule point
-                // would otherwise pass for a body whose shadow fell between the points.
+                // Turned away: no sight line enters the body through it.
                 if n.dot(p) + d <= 0.0 {
+                    if bit < 64 {
+                        cov.away |= 1 << bit;
+                    }
                     continue;
                 }
             }
