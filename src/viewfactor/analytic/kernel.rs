@@ -568,9 +568,10 @@ impl RowKernel for AnalyticKernel<'_> {
         let small = self.scene.patches[w.i].polygon.area().min(self.scene.patches[w.j].polygon.area());
         vec![format!(
             "{count} partly obstructed entr{} ended with an error estimate above its goal (the shadow \
-             integration stopped at its depth limit, or where its error stopped falling); worst: F({} -> {}) or its reciprocal, error \
-             estimate {:.1e} on F against a goal of {:.1e}",
+             integration stopped at its depth limit, or where its error stopped falling{}); worst: F({} -> {}) or \
+             its reciprocal, error estimate {:.1e} on F against a goal of {:.1e}",
             if count == 1 { "y" } else { "ies" },
+            if matches!(shadows.policy(), Policy::Auto { .. }) { ", and no capped sample did better" } else { "" },
             self.scene.patch_name(w.i),
             self.scene.patch_name(w.j),
             w.error / small,

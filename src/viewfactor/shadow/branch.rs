@@ -152,6 +152,10 @@ impl<'s> Shadows<'s> {
     pub fn scene(&self) -> &'s Scene {
         self.scene
     }
+    /// How partly obstructed pairs are computed.
+    pub fn policy(&self) -> Policy {
+        self.policy
+    }
     /// The prices `auto` chooses by.
     pub fn model(&self) -> &CostModel {
         &self.model
@@ -175,34 +179,48 @@ impl<'s> Shadows<'s> {
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
     /// partial blockers `partial` (from the row classification). Under `auto` the goal is
     /// [`pair_goal`] (both F_ij and F_ji); Monte Carlo that cannot reach it within
-    /// [`MC_MAX_SAMPLES`] is replaced by the shadow integration. An entry whose error estimate
-    /// still exceeds its goal is recorded in [`Self::misses`].
+    /// [`MC_MAX_SAMPLES`] is replaced by the shadow integration, and an integration that ends
+    /// above it by the capped sample where that reports the smaller error ([`settle`]). An
+    /// entry whose error estimate still exceeds its goal is recorded in [`Self::misses`].
     pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
-        let integrate = |goal: f64, s: &mut PairWork| {
-            let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
-            if r.error > goal {
-                self.misses.record(Miss { i, j, error: r.error, goal });
-            }
-            Obstructed {
-                s: r.s,
-                var: 0.0,
-                method: MethodSet::SHADOWED,
-                work: r.info.evals,
-                at_max_depth: r.info.at_max_depth,
-            }
-        };
         match self.policy {
-            Policy::Exact { rel_tol } => integrate(rel_tol * u, s),
+            Policy::Exact { rel_tol } => {
+                let goal = rel_tol * u;
+                let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                if r.error > goal {
+                    self.misses.record(Miss { i, j, error: r.error, goal });
+                }
+                settle(&r, None, 0)
+            }
             Policy::Auto { tol, seed } => {
                 let (ai, aj) = (self.scene.patches[i].polygon.area(), self.scene.patches[j].polygon.area());
                 let goal = pair_goal(tol, ai, aj);
+                // The entry from an integration `r`, and from the sample `m` where one was
+                // drawn (`spent`: work besides theirs): see [`settle`]. An integration that
+                // ended above its goal (depth limit, or its error stopped falling) is checked
+                // against a capped sample drawn for it.
+                let finish = |r: Shadowed, m: Option<McPair>, spent: u64, s: &mut PairWork| {
+                    let m = m.or_else(|| {
+                        (r.error > goal)
+                            .then(|| self.sample(i, j, u, partial, (MC_MAX_SAMPLES, goal), seed, s))
+                    });
+                    let entry = settle(&r, m.as_ref(), spent);
+                    let error = if entry.method == MethodSet::MC_AREA {
+                        MC_SIGMAS * entry.var.sqrt()
+                    } else {
+                        r.error
+                    };
+                    if error > goal {
+                        self.misses.record(Miss { i, j, error, goal });
+                    }
+                    entry
+                };
                 let sampled = |n: u32, spent: u64, s: &mut PairWork| {
                     let m = self.sample(i, j, u, partial, (n, goal), seed, s);
                     if MC_SIGMAS * m.var.sqrt() > goal {
                         // The sample cap was reached first: the entry is integrated.
-                        let mut r = integrate(goal, s);
-                        r.work += m.samples as u64 + spent;
-                        return r;
+                        let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                        return finish(r, Some(m), spent, s);
                     }
                     Obstructed {
                         s: m.s,
@@ -216,7 +234,8 @@ impl<'s> Shadows<'s> {
                     Choice::Shadowed => {
                         let n = CostModel::samples(u, goal);
                         if n > MC_MAX_SAMPLES as f64 {
-                            return integrate(goal, s);
+                            let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                            return finish(r, None, 0, s);
                         }
                         // The model's price of the integration can be far off (a wall pair
                         // behind a whole meshed part costs hundreds of times the price fitted
@@ -227,16 +246,7 @@ impl<'s> Shadows<'s> {
                         // A finished result is kept even past the cap (the facet sum behind
                         // a convex solid runs to its end whatever the cap).
                         if !r.info.capped {
-                            if r.error > goal {
-                                self.misses.record(Miss { i, j, error: r.error, goal });
-                            }
-                            return Obstructed {
-                                s: r.s,
-                                var: 0.0,
-                                method: MethodSet::SHADOWED,
-                                work: r.info.evals,
-                                at_max_depth: r.info.at_max_depth,
-                            };
+                            return finish(r, None, 0, s);
                         }
                         sampled(n as u32, r.info.evals, s)
                     }
@@ -298,6 +308,27 @@ impl<'s> Shadows<'s> {
     }
 }
 
+/// `auto`'s entry from a finished shadow integration `r` and, where one was drawn, a sample
+/// `m` (`spent`: work besides theirs): the integration where its error estimate is no larger
+/// than the sample's ([`MC_SIGMAS`] standard errors), else the sample. A sliver behind a
+/// meshed part can end its integration at the depth limit hundreds of times above its goal,
+/// where a capped sample still reports its standard error honestly.
+fn settle(r: &Shadowed, m: Option<&McPair>, spent: u64) -> Obstructed {
+    let work = spent + r.info.evals + m.map_or(0, |m| u64::from(m.samples));
+    match m {
+        Some(m) if MC_SIGMAS * m.var.sqrt() < r.error => {
+            Obstructed { s: m.s, var: m.var, method: MethodSet::MC_AREA, work, at_max_depth: 0 }
+        }
+        _ => Obstructed {
+            s: r.s,
+            var: 0.0,
+            method: MethodSet::SHADOWED,
+            work,
+            at_max_depth: r.info.at_max_depth,
+        },
+    }
+}
+
 /// The first draw of a sample whose worst case is `n` points ([`MC_PILOT_SHARE`] of it, at least
 /// [`MC_MIN_SAMPLES`]).
 fn pilot(n: u32) -> u32 {
@@ -309,6 +340,7 @@ mod tests {
     use super::*;
     use crate::geometry::Polygon;
     use crate::viewfactor::exact::pair::polygon_polygon;
+    use crate::viewfactor::shadow::adaptive::AdaptInfo;
     use crate::viewfactor::shadow::classify::Status;
     use crate::viewfactor::shadow::policy::EXACT_REL_TOL;
 
@@ -406,6 +438,47 @@ mod tests {
     fn f32_block() -> (DVec3, DVec3) {
         let f = |x: f32| f64::from(x);
         (DVec3::new(f(0.35), f(0.45), f(0.2)), DVec3::new(f(0.65), f(0.85), f(0.5)))
+    }
+
+    #[test]
+    fn an_integration_above_its_goal_gives_way_to_a_sample_that_reports_less() {
+        let info = AdaptInfo { evals: 500, at_max_depth: 3, ..AdaptInfo::default() };
+        let r = Shadowed { s: 0.30, error: 0.05, info, swapped: false };
+        // A sample at 2 standard errors of 0.02 against an integration's 0.05: the sample.
+        let m = McPair { s: 0.27, var: 1e-4, samples: 4096, tests: 0 };
+        let e = settle(&r, Some(&m), 7);
+        assert_eq!((e.s, e.var, e.method, e.work, e.at_max_depth), (0.27, 1e-4, MethodSet::MC_AREA, 4603, 0));
+        // At 2 standard errors of 0.06 the integration stays; without a sample too.
+        let wide = McPair { var: 9e-4, ..m };
+        for e in [settle(&r, Some(&wide), 0), settle(&r, None, 0)] {
+            assert_eq!((e.s, e.var, e.method, e.at_max_depth), (0.30, 0.0, MethodSet::SHADOWED, 3));
+        }
+    }
+
+    #[test]
+    fn a_goal_out_of_reach_is_flagged_and_keeps_the_better_estimate() {
+        // The blocked box pair at a goal of 1e-17 × the triangle's area: the integration ends
+        // above it; the capped sample drawn for it reports more, so the integration is kept,
+        // and the entry is recorded once as a miss.
+        let (lo, hi) = f32_block();
+        let scene = box_pair_scene(block(lo, hi, false));
+        let shadows = Shadows::new(&scene, Policy::Auto { tol: 1e-17, seed: 1 }).unwrap();
+        let (mut s, partial, u) = pair_01(&shadows);
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let (count, worst) = shadows.misses().summary();
+        assert_eq!(r.method, MethodSet::SHADOWED);
+        assert!((r.s - BOX_PAIR_REFERENCE).abs() < 1e-9 * u, "{} vs {BOX_PAIR_REFERENCE}", r.s);
+        assert_eq!(count, 1);
+        let worst = worst.unwrap();
+        assert!(worst.error > worst.goal && (worst.i, worst.j) == (0, 1), "{worst:?}");
+        // The sample was drawn: its points count in the entry's work beyond the integration's.
+        let alone = shadows.integrate(0, 1, u, &partial, worst.goal, u64::MAX, &mut s.work);
+        assert!(
+            r.work >= alone.info.evals + u64::from(MC_MAX_SAMPLES) / 16,
+            "{} vs {}",
+            r.work,
+            alone.info.evals
+        );
     }
 
     #[test]

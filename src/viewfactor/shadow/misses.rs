@@ -4,8 +4,9 @@
 //! [`super::policy::pair_goal`]; `analytic`: a relative target on the unobstructed value).
 //! Monte Carlo that cannot reach the goal within its sample cap is replaced by the shadow
 //! integration, and the integration stops only at its depth limit or where its error stops
-//! falling ([`super::adaptive::STALL_MIN_WORK`]); an entry that still misses
-//! its goal there is recorded here. The log keeps the count and the worst entry (largest
+//! falling ([`super::adaptive::STALL_MIN_WORK`]); under `auto` an integration that ends there
+//! is checked against a capped sample, which is kept where its error is the smaller. An entry
+//! that still misses its goal is recorded here. The log keeps the count and the worst entry (largest
 //! estimate over goal, ties broken by the pair), so its report is the same on any thread count.
 use std::sync::Mutex;
 
