@@ -5,25 +5,24 @@
 //! receivers ([`super::classify::classify_row`]) and per partly obstructed pair it returns
 //! the obstructed exchange area under a [`Policy`]:
 //! - [`Policy::Exact`] (`analytic`): shadow integration to a relative target on the
-//!   unobstructed value, rules [`EXACT_RULES`] per cell, minimum depth [`EXACT_MIN_DEPTH`];
-//! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules 2×2 vs 3×3, minimum
-//!   depth [`AUTO_MIN_DEPTH`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
+//!   unobstructed value, rules and depths [`EXACT_ADAPT`];
+//! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules and depths
+//!   [`AUTO_ADAPT`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
 //!   the branch is built (see [`super::policy`]); a pair priced for integration is integrated
 //!   within the sampling price where sampling can meet its goal, and sampled past it.
 //!
 //! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
 //! integrated as the facet sum ([`super::solid`]) instead of the shadow.
-use super::adaptive::{AdaptParams, Integrator};
+use super::adaptive::Integrator;
 use super::blockers::{BlockerSource, Blockers};
 use super::classify::{classify_row, RowShadows};
 use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{shadowed, PairScratch, Shadowed};
 use super::policy::{
-    pair_goal, Choice, CostModel, Policy, AUTO_CUTS, AUTO_MIN_DEPTH, AUTO_RULES, EXACT_MIN_DEPTH,
-    EXACT_RULES, MAX_DEPTH, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_PILOT_SHARE, MC_SIGMAS, SHADOW_UNIT_NS,
-    SOLID_MIN_FACES,
+    pair_goal, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT, MC_MAX_SAMPLES, MC_MIN_SAMPLES,
+    MC_PILOT_SHARE, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -91,11 +90,10 @@ impl<'s> Shadows<'s> {
         if blockers.is_empty() {
             return None;
         }
-        let (low, high, min_depth) = match policy {
-            Policy::Exact { .. } => (EXACT_RULES.0, EXACT_RULES.1, EXACT_MIN_DEPTH),
-            Policy::Auto { .. } => (AUTO_RULES.0, AUTO_RULES.1, AUTO_MIN_DEPTH),
-        };
-        let integrator = Integrator::new(AdaptParams { low, high, min_depth, max_depth: MAX_DEPTH });
+        let integrator = Integrator::new(match policy {
+            Policy::Exact { .. } => EXACT_ADAPT,
+            Policy::Auto { .. } => AUTO_ADAPT,
+        });
         let integrator = integrator.with_solids(SOLID_MIN_FACES);
         let integrator = match policy {
             Policy::Exact { .. } => integrator,
@@ -180,7 +178,7 @@ impl<'s> Shadows<'s> {
     /// partial blockers `partial` (from the row classification). Under `auto` the goal is
     /// [`pair_goal`] (both F_ij and F_ji); Monte Carlo that cannot reach it within
     /// [`MC_MAX_SAMPLES`] is replaced by the shadow integration, and an integration that ends
-    /// above it by the capped sample where that reports the smaller error ([`settle`]). An
+    /// above it by the capped sample where that reports the smaller error (`settle`). An
     /// entry whose error estimate still exceeds its goal is recorded in [`Self::misses`].
     pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
         match self.policy {

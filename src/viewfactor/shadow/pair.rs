@@ -357,9 +357,8 @@ mod tests {
     use super::*;
     use crate::scene::Scene;
     use crate::viewfactor::exact::pair::polygon_polygon;
-    use crate::viewfactor::shadow::adaptive::AdaptParams;
     use crate::viewfactor::shadow::classify::{classify_row, RowShadows, Status};
-    use crate::viewfactor::shadow::policy::{AUTO_CUTS, AUTO_MIN_DEPTH, AUTO_RULES, MAX_DEPTH};
+    use crate::viewfactor::shadow::policy::{AUTO_ADAPT, AUTO_CUTS};
 
     /// A U profile (a slot open at the top), counter-clockwise in (x, z).
     const U: &[[f64; 2]] =
@@ -426,13 +425,7 @@ mod tests {
         };
         assert!(!partial.iter().any(slot_side) && own.iter().any(slot_side), "{partial:?} / {own:?}");
         let u = polygon_polygon(pi, pj);
-        let integrator = Integrator::new(AdaptParams {
-            low: AUTO_RULES.0,
-            high: AUTO_RULES.1,
-            min_depth: AUTO_MIN_DEPTH,
-            max_depth: MAX_DEPTH,
-        })
-        .with_cuts(AUTO_CUTS);
+        let integrator = Integrator::new(AUTO_ADAPT).with_cuts(AUTO_CUTS);
         let mut s = PairScratch::default();
         let at = |own: bool, tol: f64, s: &mut PairScratch| {
             shadowed_with(pi, pj, u, (&blockers, &partial), &integrator, (tol, u64::MAX), own, s)

@@ -16,7 +16,7 @@
 //! shadow must be sampled before a cell is trusted), which no fixed constant prices. Without
 //! sample pairs the prior ([`CostModel::default`]) is used. Counts, not clocks, decide: the
 //! choice is the same on every run and thread count.
-use super::adaptive::Cuts;
+use super::adaptive::{AdaptParams, Cuts};
 use super::viewpoint::VIEWPOINT_WORK;
 
 /// Default relative target of `analytic` on obstructed pairs: below the Gauss ladder's own
@@ -57,6 +57,13 @@ pub const AUTO_MIN_DEPTH: u32 = 1;
 pub const AUTO_CUTS: Cuts = Cuts { max_pieces: 64, faces_last: true };
 /// Deepest split (4⁸ = 65 536 cells per pair at most), as View3D's maxO.
 pub const MAX_DEPTH: u32 = 8;
+
+/// `analytic`'s integration controls: [`EXACT_RULES`], [`EXACT_MIN_DEPTH`], [`MAX_DEPTH`].
+pub const EXACT_ADAPT: AdaptParams =
+    AdaptParams { low: EXACT_RULES.0, high: EXACT_RULES.1, min_depth: EXACT_MIN_DEPTH, max_depth: MAX_DEPTH };
+/// `auto`'s integration controls: [`AUTO_RULES`], [`AUTO_MIN_DEPTH`], [`MAX_DEPTH`].
+pub const AUTO_ADAPT: AdaptParams =
+    AdaptParams { low: AUTO_RULES.0, high: AUTO_RULES.1, min_depth: AUTO_MIN_DEPTH, max_depth: MAX_DEPTH };
 
 /// How partly obstructed pairs are computed.
 #[derive(Debug, Clone, Copy, PartialEq)]

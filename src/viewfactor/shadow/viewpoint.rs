@@ -848,10 +848,10 @@ mod tests {
     use super::*;
     use crate::geometry::Polygon;
     use crate::scene::Scene;
-    use crate::viewfactor::shadow::adaptive::{AdaptParams, AdaptScratch, Cell, Cuts, Integrator};
+    use crate::viewfactor::shadow::adaptive::{AdaptScratch, Cell, Cuts, Integrator};
     use crate::viewfactor::shadow::blockers::Blockers;
     use crate::viewfactor::shadow::pair::OWN_FACES_CUTS;
-    use crate::viewfactor::shadow::policy::{AUTO_CUTS, AUTO_MIN_DEPTH, AUTO_RULES, MAX_DEPTH};
+    use crate::viewfactor::shadow::policy::{AUTO_ADAPT, AUTO_CUTS};
 
     /// Two ways of taking the same union agree this closely, relative to the unshaded value.
     const AGREE_REL: f64 = 1e-9;
@@ -1163,14 +1163,8 @@ mod tests {
     /// `auto`'s integration (its rules and depths) of the pair `geo` with each of `cuts`, to a
     /// goal of 1e-4 of the unshaded value: within 1e-3 of it from the reference `shaded`.
     fn integrates_to_reference(geo: &ShadowGeometry, cuts: &[Cuts], (shaded, whole): (f64, f64)) {
-        let params = AdaptParams {
-            low: AUTO_RULES.0,
-            high: AUTO_RULES.1,
-            min_depth: AUTO_MIN_DEPTH,
-            max_depth: MAX_DEPTH,
-        };
         for &cuts in cuts {
-            let info = Integrator::new(params).with_cuts(cuts).shaded(
+            let info = Integrator::new(AUTO_ADAPT).with_cuts(cuts).shaded(
                 geo,
                 1e-4 * whole,
                 &mut AdaptScratch::default(),
@@ -1230,19 +1224,13 @@ mod tests {
         // `auto`'s goal at a tolerance of 1e-4: 1e-4 × the smaller patch, the receiver.
         let goal = 1e-4 * geo.receiver_area();
         assert!((5.0..100.0).contains(&(shaded / goal)), "reference shadow {} goals", shaded / goal);
-        let params = AdaptParams {
-            low: AUTO_RULES.0,
-            high: AUTO_RULES.1,
-            min_depth: AUTO_MIN_DEPTH,
-            max_depth: MAX_DEPTH,
-        };
         // Cut along four pieces' worth of kink planes, most cells see no shadow from any rule
         // point while the underside still shades part of the receiver from part of the cell.
         // The side, turned away from those points, once counted as the board's shadow seen:
-        // the cells were accepted with an error estimate of 0.02 goals, 1.6 goals off.
+        // the cells were accepted with an error estimate of 0.00 goals, 1.57 goals off.
         for cuts in [Cuts { max_pieces: 4, faces_last: true }, AUTO_CUTS] {
             let info =
-                Integrator::new(params).with_cuts(cuts).shaded(&geo, goal, &mut AdaptScratch::default());
+                Integrator::new(AUTO_ADAPT).with_cuts(cuts).shaded(&geo, goal, &mut AdaptScratch::default());
             let off = (info.shaded - shaded).abs();
             assert!(
                 off <= goal && info.error <= goal,
