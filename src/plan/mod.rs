@@ -431,9 +431,9 @@ impl Plan {
         };
         let rate = req.tolerance.unwrap_or(exchange::hierarchy::DEFAULT_HEAT_RATE_TOLERANCE);
         // The exact pairs keep `auto`'s own goal on each F, tightened with the heat-rate
-        // tolerance (sampled pairs must not dominate the heat-rate error).
+        // tolerance (their errors count in the estimate, in quadrature per surface).
         vf.tolerance =
-            (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(viewfactor::DEFAULT_FACTOR_TOLERANCE);
+            (rate * exchange::hierarchy::PAIR_TOLERANCE_SHARE).min(exchange::hierarchy::PAIR_TOLERANCE_MAX);
         Ok(Plan {
             goal: Goal::Solve,
             route: Route::Clustered,

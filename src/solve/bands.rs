@@ -196,6 +196,7 @@ pub fn solve_bands(scene: &Scene, ex: &Exchange, spec: &BandSpec, params: &Param
                 },
                 heat_rate_error: None,
                 heat_rate_shift: None,
+                heat_rate_spread: None,
             });
         }
         if steps == BAND_MAX_NEWTON {

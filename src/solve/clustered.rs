@@ -3,7 +3,8 @@
 //! ambient), solved by the same Jacobi-preconditioned CG as the dense path, and each patch's
 //! heat rate given an error estimate: the links' direct errors carried through the
 //! inter-reflections ([`super::dense::propagate_errors`]), plus the signed move of the closure
-//! and of the links' sharing by area ([`super::dense::propagate_shift`]).
+//! and of the links' sharing by area ([`super::dense::propagate_shift`]), plus the patch
+//! pairs' independent errors (a surface's in quadrature, [`super::dense::surface_spread`]).
 //!
 //! Tight tolerances take two passes (Hanrahan–Salzman–Aupperle's refinement on B·F): a loose
 //! first pass bounds every patch's radiosity (its solution ± its own error estimate), and the
@@ -89,8 +90,17 @@ pub fn solve_scene_with(
     phase(Phase::Solve);
     let mut solution = super::dense::solve_operator(scene, &h, params)?;
     let j: Vec<f64> = solution.results.iter().map(|r| r.radiosity).collect();
-    let direct = h.heat_rate_errors(&j, e_amb(scene));
+    let (direct, pairs) = h.heat_rate_error_parts(&j, e_amb(scene));
     let mut error = super::dense::propagate_errors(scene, &h, &direct)?;
+    // The patch pairs' independent errors: per patch as the links, per surface in quadrature
+    // where the surfaces are few enough for one solve each.
+    let pairs = super::dense::propagate_errors(scene, &h, &pairs)?;
+    for (e, s) in error.iter_mut().zip(&pairs) {
+        *e += s;
+    }
+    let spread = super::dense::surface_spread(scene, &h, &h.independent_pairs(), &j, e_amb(scene))?;
+    solution.heat_rate_spread = spread
+        .map(|t| (pairs, t.into_iter().map(|sd| crate::exchange::hierarchy::LEAK_ERR_SIGMAS * sd).collect()));
     // The closure's move and the links' sharing by area, with their signs: the closure undoes
     // part of what sharing moves between patches, and sharing cancels in part over a surface.
     let sharing = h.sharing_shift(&j, e_amb(scene));

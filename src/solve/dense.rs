@@ -192,6 +192,7 @@ pub fn solve_operator(scene: &Scene, t: &dyn Operator, params: &Params) -> Resul
         info,
         heat_rate_error: None,
         heat_rate_shift: None,
+        heat_rate_spread: None,
     })
 }
 
@@ -311,6 +312,73 @@ pub fn propagate_shift(scene: &Scene, t: &dyn Operator, c: &[f64]) -> Result<Vec
             RowKind::Flux(_) => 0.0,
         })
         .collect())
+}
+
+/// Surfaces above this count keep the per-patch view of independent pair errors (one solve of
+/// K per surface).
+pub const SPREAD_MAX_SURFACES: usize = 64;
+
+/// Per surface, the standard deviation (W) of its heat rate from independent errors of pair
+/// values (`pairs`: patch a, patch b, variance of s_ab), carried through the
+/// inter-reflections to first order as in [`propagate_shift`]: an error δs moves the net
+/// exchange of a by δs (J_b − J_a) and of b by δs (J_a − J_b) (in an open scene, where the
+/// ambient takes the rest, by δs (J_b − E_amb) and δs (J_a − E_amb)), and surface t's heat rate
+/// by δs (x_a u_t[a] + x_b u_t[b]) with u_t = Pᵀ 1_t the adjoint of the shift map, one solve
+/// of the symmetric K per surface. A pair within one surface moves that surface's heat rate
+/// only through the reflections, which a per-patch sum of standard errors counts in full.
+/// `None` above [`SPREAD_MAX_SURFACES`] surfaces.
+pub fn surface_spread(
+    scene: &Scene,
+    t: &dyn Operator,
+    pairs: &[(u32, u32, f64)],
+    j: &[f64],
+    e_amb: Option<f64>,
+) -> Result<Option<Vec<f64>>> {
+    let m = scene.surfaces.len();
+    if m > SPREAD_MAX_SURFACES {
+        return Ok(None);
+    }
+    let sys = LeanSystem::new(scene, t)?;
+    let areas = t.areas();
+    let n = t.len();
+    let surface: Vec<usize> = scene.patches.iter().map(|p| p.surface).collect();
+    let black = |i: usize| matches!(sys.rows[i], RowKind::Temperature(_)) && !sys.unknown[i];
+    let mut out = vec![0.0; m];
+    for (s, sd) in out.iter_mut().enumerate() {
+        if !surface.contains(&s) {
+            continue;
+        }
+        // δQ_s = −(H 1_s + S̄ B 1_s)ᵀ y − (B 1_s)ᵀ c with K y = c on the unknowns: H the gray
+        // temperature rows' A ε/ρ, B the black rows.
+        let b1: Vec<f64> = (0..n).map(|i| if surface[i] == s && black(i) { 1.0 } else { 0.0 }).collect();
+        let sb = t.matvec_scaled(None, &b1);
+        let r: Vec<f64> = (0..n)
+            .map(|i| {
+                let h = match sys.rows[i] {
+                    RowKind::Temperature(_) if surface[i] == s && sys.unknown[i] => {
+                        areas[i] * sys.eps[i] / (1.0 - sys.eps[i])
+                    }
+                    _ => 0.0,
+                };
+                h + sb[i]
+            })
+            .collect();
+        let y = sys.solve(t, &r);
+        let u: Vec<f64> = (0..n).map(|i| -sys.mask[i] * y[i] - b1[i]).collect();
+        let var: f64 = pairs
+            .iter()
+            .map(|&(a, b, v)| {
+                let (a, b) = (a as usize, b as usize);
+                let (xa, xb) = match e_amb {
+                    Some(ea) => (j[b] - ea, j[a] - ea),
+                    None => (j[b] - j[a], j[a] - j[b]),
+                };
+                v * (xa * u[a] + xb * u[b]).powi(2)
+            })
+            .sum();
+        *sd = var.sqrt();
+    }
+    Ok(Some(out))
 }
 
 /// Relative residual of the error propagation solve (an estimate needs two digits).

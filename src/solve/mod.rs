@@ -150,6 +150,10 @@ pub struct Solution {
     /// from the closure scaling, which largely cancel within a surface, so a surface counts
     /// |Σ shift| rather than Σ |shift|.
     pub heat_rate_shift: Option<Vec<f64>>,
+    /// Independent errors of sampled pair values: per node the part of `heat_rate_error` they
+    /// make (W, included there), and per surface their total in quadrature (W, a few standard
+    /// deviations, [`dense::surface_spread`]), which a surface counts instead of its nodes' sum.
+    pub heat_rate_spread: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Solution {
@@ -226,12 +230,15 @@ impl Solution {
                 let mut shift = vec![0.0; m];
                 for (k, v) in e.iter().enumerate() {
                     let c = self.heat_rate_shift.as_ref().map_or(0.0, |c| c[k]);
-                    out[self.surface[k]] += v - c.abs();
+                    let spread = self.heat_rate_spread.as_ref().map_or(0.0, |(p, _)| p[k]);
+                    out[self.surface[k]] += v - c.abs() - spread;
                     shift[self.surface[k]] += c;
                 }
-                out.iter().zip(&shift).map(|(e, c)| e.max(0.0) + c.abs()).collect()
+                let spread = |s: usize| self.heat_rate_spread.as_ref().map_or(0.0, |(_, t)| t[s]);
+                (0..m).map(|s| out[s].max(0.0) + shift[s].abs() + spread(s)).collect()
             }),
             heat_rate_shift: None,
+            heat_rate_spread: None,
         }
     }
 }
@@ -263,6 +270,7 @@ pub fn solve_gray(scene: &Scene, ex: &Exchange, params: &Params) -> Result<Solut
         info,
         heat_rate_error: None,
         heat_rate_shift: None,
+        heat_rate_spread: None,
     })
 }
 

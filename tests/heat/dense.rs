@@ -423,6 +423,36 @@ fn hierarchical_banded_and_obstructed_room_matches_the_dense_path() {
 }
 
 #[test]
+fn hierarchical_meshed_body_in_a_room_matches_the_dense_path() {
+    // The 1,280-facet sphere of cases/o8 at 600 K in its 4 m room at 300 K: a curved meshed
+    // body, whose clusters are split down to planar ones before they link.
+    let dir = tempfile::tempdir().unwrap();
+    let case = Path::new("cases/o8_sphere_in_room");
+    std::fs::copy(case.join("sphere.gltf"), dir.path().join("sphere.gltf")).unwrap();
+    let text = std::fs::read_to_string(case.join("scene.toml")).unwrap();
+    let text = text.replace("[[surface]]", "[[surface]]\nemissivity = 0.8\ntemperature = 300.0");
+    let text = text.replace("[[model]]", "[[model]]\nemissivity = 0.85\ntemperature = 600.0");
+    let scene = load(dir.path(), "sphere.toml", &text);
+    check_against_dense("sphere in a room", &scene, &params(Method::Auto), 1e-2);
+}
+
+#[test]
+fn hierarchical_concave_parts_in_a_room_match_the_dense_path() {
+    // The real parts of validation/reference/real_parts (an L-bracket, a U-channel and a
+    // finned heat sink, STL, at 400 K) in their 1 m room of 8 × 8 patches per wall: folded
+    // meshed bodies, whose curved clusters do not link.
+    let dir = tempfile::tempdir().unwrap();
+    for part in ["l_bracket", "u_channel", "heat_sink"] {
+        let case = Path::new("validation/reference/real_parts").join(part);
+        std::fs::copy(case.join("part0.stl"), dir.path().join("part0.stl")).unwrap();
+        let text = std::fs::read_to_string(case.join("scene.toml")).unwrap();
+        let text = text.replace("temperature = 300.0", "temperature = 300.0\nsubdivide = [8, 8]");
+        let scene = load(dir.path(), "part.toml", &text);
+        check_against_dense(part, &scene, &params(Method::Auto), 1e-2);
+    }
+}
+
+#[test]
 fn hierarchical_refuses_a_leaking_closed_scene() {
     // The obstructed room without its ceiling and without an ambient: the leak check allows
     // for what unanimous visibility rays past the block may miss, not for a missing wall.
@@ -728,5 +758,73 @@ fn a_priori_radiosity_bounds_and_surface_weights_hold_the_exact_solution() {
             weights[floor],
             4.0 * widest
         );
+    }
+}
+
+#[test]
+fn a_surface_s_spread_of_pair_errors_is_the_shift_each_pair_makes_summed_in_quadrature() {
+    // `surface_spread` takes each surface's heat-rate move from one pair's error through the
+    // adjoint of the shift map (one solve per surface); `propagate_shift` carries the same
+    // pair's change of net exchange forward. Gray, black and flux rows, closed and open.
+    let dir = tempfile::tempdir().unwrap();
+    let mut props = FURNACE;
+    props[1] = "emissivity = 1.0\ntemperature = 400.0";
+    props[4] = "emissivity = 0.7\ntemperature = 700.0";
+    for open in [false, true] {
+        let scene = load(dir.path(), "s.toml", &box_toml([1.0, 1.3, 0.7], 3, props, open));
+        let vf = params(Method::Analytic);
+        let mode = Enforce::solve_default(open);
+        let run = solve::dense::solve_scene(&scene, &vf, mode, &solve::Params::default()).unwrap().unwrap();
+        let d = dense::build(&scene, &vf).unwrap().unwrap();
+        let j: Vec<f64> = run.solution.results.iter().map(|r| r.radiosity).collect();
+        let e_amb = scene.ambient.map(|a| lambert::SIGMA * a.temperature.powi(4));
+        let n = j.len();
+        let m = scene.surfaces.len();
+        // Pairs within one surface, across two, and with a black or flux patch.
+        let pairs = [(0u32, 3u32, 2.0e-6), (1, 20, 5.0e-7), (10, 30, 1.0e-6), (4, (n - 1) as u32, 3.0e-6)];
+        let mut want = vec![0.0; m];
+        for &(a, b, v) in &pairs {
+            let (a, b) = (a as usize, b as usize);
+            let mut c = vec![0.0; n];
+            (c[a], c[b]) = match e_amb {
+                Some(ea) => (j[b] - ea, j[a] - ea),
+                None => (j[b] - j[a], j[a] - j[b]),
+            };
+            let shift = solve::dense::propagate_shift(&scene, &d, &c).unwrap();
+            let one = solve::dense::surface_spread(&scene, &d, &[(a as u32, b as u32, 1.0)], &j, e_amb)
+                .unwrap()
+                .unwrap();
+            for s in 0..m {
+                let moved: f64 = (0..n).filter(|&i| scene.patches[i].surface == s).map(|i| shift[i]).sum();
+                let scale = shift.iter().map(|x| x.abs()).sum::<f64>();
+                assert!(
+                    (one[s] - moved.abs()).abs() <= 1e-5 * scale,
+                    "open {open}: pair ({a}, {b}), {}: spread {:e} against the shift's {:e}",
+                    scene.surfaces[s].name,
+                    one[s],
+                    moved.abs()
+                );
+                want[s] += v * moved * moved;
+            }
+        }
+        let got = solve::dense::surface_spread(&scene, &d, &pairs, &j, e_amb).unwrap().unwrap();
+        for s in 0..m {
+            assert!(
+                (got[s] - want[s].sqrt()).abs() <= 1e-5 * want[s].sqrt().max(1e-30),
+                "open {open}: {}: {:e} against {:e}",
+                scene.surfaces[s].name,
+                got[s],
+                want[s].sqrt()
+            );
+        }
+        // A pair within one gray surface of a closed scene moves that surface's heat rate only
+        // through the reflections: by less than the pair's own change of net exchange, which
+        // a per-patch sum would count twice.
+        if !open {
+            assert_eq!(scene.patches[0].surface, scene.patches[3].surface);
+            let own = solve::dense::surface_spread(&scene, &d, &[(0, 3, 1.0)], &j, e_amb).unwrap().unwrap();
+            let dj = (j[3] - j[0]).abs();
+            assert!(dj > 0.0 && own[scene.patches[0].surface] < 0.5 * dj, "{:e} against {dj:e}", own[0]);
+        }
     }
 }

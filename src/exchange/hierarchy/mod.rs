@@ -11,8 +11,8 @@
 //!   push (area shares down the tree); the enforcement hooks of [`Operator`] (the leak check
 //!   on surface rows against the links' bounds, closure or capped scales g kept as a vector,
 //!   S → G S G, the ambient of open scenes); and the heat-rate error estimate of a solution:
-//!   each link's bound on its total, and the first-order error of its sharing by area, signed
-//!   ([`Hierarchy::sharing_shift`]).
+//!   each link's bound on its total, the first-order error of its sharing by area, signed
+//!   ([`Hierarchy::sharing_shift`]), and the patch pairs' independent errors.
 //!
 //! Reciprocity holds by construction: each link is one symmetric rank-one block. Memory is
 //! O(N + links).
@@ -51,13 +51,23 @@ use tree::Tree;
 pub const LEAK_ERR_SIGMAS: f64 = 3.0;
 
 /// `auto`'s goal on each F of the exact patch pairs, as a share of the heat-rate tolerance
-/// (capped at the view-factor default): sampled pairs stay well inside the heat-rate budget.
-pub const PAIR_TOLERANCE_SHARE: f64 = 0.01;
+/// (at most [`PAIR_TOLERANCE_MAX`]). Their errors are independent of each other's and
+/// count in the estimate as standard errors (the sampled ones' own, the integrated ones' goal),
+/// summed per surface in quadrature ([`crate::solve::dense::surface_spread`]).
+pub const PAIR_TOLERANCE_SHARE: f64 = 0.1;
+/// The loosest goal on each F of an exact patch pair.
+pub const PAIR_TOLERANCE_MAX: f64 = 1e-2;
 
 /// Default relative heat-rate tolerance of the hierarchical path: a bound on each surface's
 /// heat-rate error relative to the largest heat rate (measured errors are 20–100× smaller,
 /// validation/scale.md).
 pub const DEFAULT_HEAT_RATE_TOLERANCE: f64 = 1e-2;
+
+/// True for the mark of an integrated pair in the hierarchy's list of independent errors (a
+/// negative variance: its goal squared).
+fn integrated(v: f64) -> bool {
+    v < 0.0
+}
 
 /// What the build measured.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -116,7 +126,9 @@ pub struct Hierarchy {
     /// The chunks and which of them this process holds.
     split: Split,
     held: Held,
-    /// Patch pairs estimated by sampling (`auto`): (i, j, variance of s_ij in m⁴).
+    /// Patch pairs with independent errors (`auto`), (i, j, v): sampled ones with v the
+    /// variance of s_ij (m⁴), integrated ones with v = −goal² ([`integrated`]): their goal on
+    /// s_ij counts as a standard error in the heat-rate estimate, not in the leak check.
     sampled: Vec<(u32, u32, f64)>,
     /// Scales g of enforcement (S → G S G), patch order.
     g: Option<Vec<f64>>,
@@ -278,6 +290,8 @@ impl Hierarchy {
         let n_pairs = rows.iter().map(|r| r.len() as u64).sum();
         let pairing = Progress::start_costed(n_pairs, "patch pairs", mode, row_cost.iter().sum());
         let mut sampled: Vec<(u32, u32, f64)> = Vec::new();
+        // `auto`'s goal on each F of an integrated pair (s within goal · min(A_i, A_j)).
+        let goal = if vf.method == Method::Auto { vf.tolerance } else { 0.0 };
         let mut first = 0;
         for wave in rows.chunks_mut(PAIR_WAVE) {
             let costs = &row_cost[first..first + wave.len()];
@@ -291,6 +305,9 @@ impl Hierarchy {
                     let mut js: Vec<u32> = Vec::with_capacity(row.len());
                     for &(_, j, _) in row.iter() {
                         match known.as_ref().and_then(|c| c.get(i, j)) {
+                            Some((s, var)) if integrated(var) => {
+                                out.push(RawEntry { j, method: MethodSet::SHADOWED, s, var: 0.0 })
+                            }
                             Some((s, var)) => out.push(RawEntry { j, method: MethodSet::ANALYTIC, s, var }),
                             None => js.push(j),
                         }
@@ -307,6 +324,9 @@ impl Hierarchy {
                             p.2 = out[k].s;
                             if out[k].var > 0.0 {
                                 var.push((i, p.1, out[k].var));
+                            } else if goal > 0.0 && out[k].method == MethodSet::SHADOWED {
+                                let area = tree.geom[i as usize].area.min(tree.geom[p.1 as usize].area);
+                                var.push((i, p.1, -(goal * area).powi(2)));
                             }
                         }
                     }
@@ -542,7 +562,7 @@ impl Hierarchy {
     /// Per-patch variance of the row sum from the sampled patch pairs, m⁴.
     pub fn row_variances(&self) -> Vec<f64> {
         let mut v = vec![0.0; self.areas.len()];
-        for &(i, j, var) in &self.sampled {
+        for &(i, j, var) in self.sampled.iter().filter(|p| !integrated(p.2)) {
             v[i as usize] += var;
             v[j as usize] += var;
         }
@@ -556,11 +576,24 @@ impl Hierarchy {
     /// miss. The enforcement's own move is [`Hierarchy::enforcement_shift`], the links' sharing
     /// by area [`Hierarchy::sharing_shift`]: both signed, as they cancel in part.
     pub fn heat_rate_errors(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
+        let (mut e, sampled) = self.heat_rate_error_parts(j, e_amb);
+        for (e, s) in e.iter_mut().zip(sampled) {
+            *e += s;
+        }
+        e
+    }
+
+    /// [`Hierarchy::heat_rate_errors`] in its two parts: the links' bounds (with the rows'
+    /// errors against the ambient of an open scene), and per patch [`LEAK_ERR_SIGMAS`]
+    /// standard errors of Σ_j s_ij (J_i − J_j) over its sampled pairs (and its integrated ones,
+    /// each goal a standard error). The second is a per-patch view of independent errors; a
+    /// surface's total is [`crate::solve::dense::surface_spread`] of
+    /// [`Hierarchy::independent_pairs`].
+    pub fn heat_rate_error_parts(&self, j: &[f64], e_amb: Option<f64>) -> (Vec<f64>, Vec<f64>) {
         let nodes = &self.tree.nodes;
         let range = self.tree.ranges(|p| (j[p], j[p]));
         let n = self.areas.len();
-        let g = |k: usize| self.g.as_ref().map_or(1.0, |g| g[k]);
-        let gmax = (0..self.areas.len()).map(g).fold(1.0, f64::max);
+        let gmax = self.g.as_ref().map_or(1.0, |g| g.iter().copied().fold(1.0, f64::max));
         let z = self.held.sum(nodes.len(), |z| {
             for l in self.links.iter().filter(|l| l.s > 0.0) {
                 let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
@@ -570,23 +603,29 @@ impl Hierarchy {
             }
         });
         let mut e = self.push(&z);
-        // Sampled pairs: LEAK_ERR_SIGMAS standard errors of Σ_j s_ij (J_i − J_j).
+        // Pairs: LEAK_ERR_SIGMAS standard errors of Σ_j s_ij (J_i − J_j).
         let mut var = vec![0.0; n];
         for &(a, b, v) in &self.sampled {
-            let d = (j[a as usize] - j[b as usize]).powi(2) * v;
+            let d = (j[a as usize] - j[b as usize]).powi(2) * v.abs();
             var[a as usize] += d;
             var[b as usize] += d;
         }
-        for i in 0..n {
-            e[i] += LEAK_ERR_SIGMAS * gmax * gmax * var[i].sqrt();
-        }
+        let sampled = var.iter().map(|v| LEAK_ERR_SIGMAS * gmax * gmax * v.sqrt()).collect();
         if let Some(ea) = e_amb {
             let rows = self.row_errors();
             for i in 0..n {
                 e[i] += rows[i] * gmax * gmax * (j[i] - ea).abs();
             }
         }
-        e
+        (e, sampled)
+    }
+
+    /// The sampled patch pairs (i, j, variance of the enforced s_ij, m⁴), each pair once, and
+    /// the integrated ones with their goal as a standard error: errors independent of each
+    /// other's.
+    pub fn independent_pairs(&self) -> Vec<(u32, u32, f64)> {
+        let g = |k: u32| self.g.as_ref().map_or(1.0, |g| g[k as usize]);
+        self.sampled.iter().map(|&(a, b, v)| (a, b, v.abs() * (g(a) * g(b)).powi(2))).collect()
     }
 
     /// The enforcement's change of each patch's net exchange Σ_j s_ij (J_j − J_i) at

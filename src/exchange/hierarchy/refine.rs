@@ -2,12 +2,12 @@
 //! starting from the root's self-pair, each pair of clusters (A, B) is
 //! - dropped when no patch of one can see any of the other (one lies behind every plane of a
 //!   parallel cluster, or the normal cones face away);
-//! - split when the clusters are near ([`NEAR`]), when a normal cone straddles the direction
-//!   between them, or when the link's heat-rate error bound exceeds its budget;
+//! - split when the clusters are near ([`NEAR`]), when either is curved (not parallel), when
+//!   one reaches behind the other's plane, or when the link's heat-rate error bound exceeds
+//!   its budget;
 //! - otherwise linked: S_AB from the children-level estimate Σ_cd S(c, d), its error
-//!   |S⁽²⁾ − S⁽¹⁾| against the one-level estimate plus a floor: between planar clusters the
-//!   second-order Taylor estimate (area moments as weights, remainder ∝ (ρ/r)⁴), otherwise
-//!   the vector-area estimate (V_c·d̂)(−V_d·d̂)/(π r_cd²) (remainder ∝ (ρ/r)²),
+//!   |S⁽²⁾ − S⁽¹⁾| against the one-level estimate plus a floor, with the second-order Taylor
+//!   estimate between planar clusters (area moments as weights, remainder ∝ (ρ/r)⁴),
 //!   times a visible fraction from rays through the BVH when a blocker meets the pair's
 //!   hull (its union box and the capsule around the centroids): [`VIS_RAYS`] rays between
 //!   uniform points; unanimous rays are trusted, a mixed result is kept with two standard
@@ -46,10 +46,6 @@ pub const NEAR: f64 = 0.5;
 pub const VIS_RAYS: usize = 16;
 /// Standard errors of a partly visible link's sampled fraction counted in its bound.
 pub const VIS_SIGMAS: f64 = 2.0;
-/// Term of the geometric error relative to S (ρ/R)², added to |S⁽²⁾ − S⁽¹⁾|: the one-point
-/// estimate's own error between parallel squares is (ρ/R)²/3 · S, and symmetric child layouts
-/// can make the two estimates agree by accident.
-pub const GEO_FLOOR: f64 = 0.25;
 /// Remainder of the second-order estimate per (ρ/r)⁴ (ρ the radius sum) of the kernel's
 /// largest value over the pair times the areas: at most 0.16 of S itself measured on
 /// parallel, perpendicular and tilted squares, regular and jittered, ρ/r from 0.13 to 0.76,
@@ -405,6 +401,15 @@ fn split_mixed(a: u32, b: u32, na: &Node, nb: &Node) -> Decision {
     }
 }
 
+/// Split whichever of a and b is curved (the larger when both are).
+fn split_curved(a: u32, b: u32, na: &Node, nb: &Node) -> Decision {
+    if na.planes.is_none() && (nb.planes.is_some() || na.radius >= nb.radius) {
+        Decision::Split(a, b)
+    } else {
+        Decision::Split(b, a)
+    }
+}
+
 /// True when every point of `b` lies behind (or on) every plane of the parallel cluster `a`:
 /// then no patch of a sees b.
 fn behind(a: &Node, b: &Node, snap: f64) -> bool {
@@ -426,7 +431,6 @@ fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
 struct Far {
     dist: f64,
     rho: f64,
-    planar: bool,
 }
 
 /// The part of [`assess`] that reads only the tree (no radiosity bounds, tolerance or rays):
@@ -454,49 +458,43 @@ fn geometric(ctx: &Context, a: u32, b: u32) -> Result<Decision, Far> {
         return Ok(split(ctx, a, b));
     }
     let dir = d / dist;
+    // Every sight line is within `delta` of dir: a pair whose normal cones face away from
+    // every sight line exchanges nothing.
     let delta = (rho / dist).asin();
-    // Angles of the normal cones to the sight lines: every sight line is within `delta` of dir.
-    let cone = |n: &Node, dir: DVec3| {
-        let phi = n.axis.dot(dir).clamp(-1.0, 1.0).acos();
-        let theta = n.cone_cos.clamp(-1.0, 1.0).acos();
-        (phi - theta - delta, phi + theta + delta)
+    let facing = |n: &Node, dir: DVec3| {
+        n.axis.dot(dir).clamp(-1.0, 1.0).acos() - n.cone_cos.clamp(-1.0, 1.0).acos() - delta
     };
-    let (a_lo, a_hi) = cone(na, dir);
-    let (b_lo, b_hi) = cone(nb, -dir);
-    if a_lo >= FRAC_PI_2 || b_lo >= FRAC_PI_2 {
+    if facing(na, dir) >= FRAC_PI_2 || facing(nb, -dir) >= FRAC_PI_2 {
         return Ok(Decision::Zero);
     }
-    let planar = na.planes.is_some() && nb.planes.is_some();
-    if planar {
-        // Every point of each in front of (or on) the other's plane: the kernel is the
-        // unclipped polynomial over |r|⁴ on the whole pair, so the Taylor estimate holds up
-        // to grazing sight lines (the normal cones alone would split those to single patches
-        // along every edge where two surfaces meet).
-        if !(in_front(na, nb, snap) && in_front(nb, na, snap)) {
-            return Ok(split(ctx, a, b));
-        }
-    } else if a_hi >= FRAC_PI_2 || b_hi >= FRAC_PI_2 {
-        // Some patch may face away from some point of the other: the vector area misleads.
+    // A curved cluster is split down to planar ones: links of curved clusters (the vector-area
+    // estimate, shared by area over patches facing many ways) left 0.2–0.3 W of a meshed
+    // part's heat rate outside the bounds that count pair errors per surface (the channel and
+    // the arm link in rooms, validation/cad.md).
+    if na.planes.is_none() || nb.planes.is_none() {
+        return Ok(split_curved(a, b, na, nb));
+    }
+    // Every point of each in front of (or on) the other's plane: the kernel is the unclipped
+    // polynomial over |r|⁴ on the whole pair, so the Taylor estimate holds up to grazing sight
+    // lines (the normal cones alone would split those to single patches along every edge
+    // where two surfaces meet).
+    if !(in_front(na, nb, snap) && in_front(nb, na, snap)) {
         return Ok(split(ctx, a, b));
     }
-    Err(Far { dist, rho, planar })
+    Err(Far { dist, rho })
 }
 
 /// The part of [`assess`] that weighs a pair's estimate against its budget.
 fn budgeted(ctx: &Context, a: u32, b: u32, far: Far) -> Decision {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
-    let Far { dist, rho, planar } = far;
-    // Planar clusters take the second-order estimate, whose remainder is fourth order in ρ/r
-    // (bounded with the kernel's largest value over the pair, which grazing sight lines make
-    // larger than its value at the centroids); others the vector-area one, second order.
-    let (estimate, floor): (fn(&Node, &Node) -> f64, f64) = if planar {
-        (second_order, SECOND_ORDER_FLOOR * (rho / dist).powi(4) * kernel_max(na, nb, rho))
-    } else {
-        (projected, GEO_FLOOR * (rho / dist).powi(2))
-    };
-    let one = estimate(na, nb);
-    let two = children(ctx, na).flat_map(|c| children(ctx, nb).map(move |d| estimate(c, d))).sum::<f64>();
-    let geo = (two - one).abs() + if planar { floor } else { floor * two };
+    let Far { dist, rho } = far;
+    // The second-order estimate, whose remainder is fourth order in ρ/r (bounded with the
+    // kernel's largest value over the pair, which grazing sight lines make larger than its
+    // value at the centroids).
+    let floor = SECOND_ORDER_FLOOR * (rho / dist).powi(4) * kernel_max(na, nb, rho);
+    let one = second_order(na, nb);
+    let two = children(ctx, na).flat_map(|c| children(ctx, nb).map(move |d| second_order(c, d))).sum::<f64>();
+    let geo = (two - one).abs() + floor;
     let dj = {
         let (ra, rb) = (ctx.radiosity[a as usize], ctx.radiosity[b as usize]);
         ra.1.max(rb.1) - ra.0.min(rb.0)
@@ -528,14 +526,6 @@ fn children<'t>(ctx: &'t Context, n: &'t Node) -> impl Iterator<Item = &'t Node>
     std::iter::once(n)
         .filter(move |_| leaf)
         .chain(k.into_iter().filter(move |_| !leaf).map(move |c| &nodes[c as usize]))
-}
-
-/// One-point estimate (V_a·d̂)(−V_b·d̂)/(π r²) between two clusters that face each other.
-fn projected(a: &Node, b: &Node) -> f64 {
-    let d = b.centroid - a.centroid;
-    let r2 = d.length_squared();
-    let dir = d / r2.sqrt();
-    (a.vector_area.dot(dir).max(0.0) * (-b.vector_area.dot(dir)).max(0.0)) / (PI * r2)
 }
 
 /// Gradient ∇K(r) of the kernel K(r) = (n_a·r)(−n_b·r)/(π|r|⁴) of two planar clusters at
@@ -703,6 +693,14 @@ mod tests {
     fn rect(x: [f64; 2], y: [f64; 2], at: impl Fn(f64, f64) -> DVec3) -> Vec<Polygon> {
         let (a, b, c, d) = (at(x[0], y[0]), at(x[1], y[0]), at(x[1], y[1]), at(x[0], y[1]));
         vec![Polygon::new(vec![a, b, c]).unwrap(), Polygon::new(vec![a, c, d]).unwrap()]
+    }
+
+    /// One-point estimate (V_a·d̂)(−V_b·d̂)/(π r²) between two clusters that face each other.
+    fn projected(a: &Node, b: &Node) -> f64 {
+        let d = b.centroid - a.centroid;
+        let r2 = d.length_squared();
+        let dir = d / r2.sqrt();
+        (a.vector_area.dot(dir).max(0.0) * (-b.vector_area.dot(dir)).max(0.0)) / (PI * r2)
     }
 
     /// Errors relative to `exact` of the second-order and vector-area estimates, and the
