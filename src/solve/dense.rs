@@ -323,7 +323,7 @@ pub const SPREAD_MAX_SURFACES: usize = 64;
 /// inter-reflections to first order as in [`propagate_shift`]: an error δs moves the net
 /// exchange of a by δs (J_b − J_a) and of b by δs (J_a − J_b) (in an open scene, where the
 /// ambient takes the rest, by δs (J_b − E_amb) and δs (J_a − E_amb)), and surface t's heat rate
-/// by δs (x_a u_t[a] + x_b u_t[b]) with u_t = Pᵀ 1_t the adjoint of the shift map, one solve
+/// by δs (x_a u_t(a) + x_b u_t(b)) with u_t = Pᵀ 1_t the adjoint of the shift map, one solve
 /// of the symmetric K per surface. A pair within one surface moves that surface's heat rate
 /// only through the reflections, which a per-patch sum of standard errors counts in full.
 /// `None` above [`SPREAD_MAX_SURFACES`] surfaces.
