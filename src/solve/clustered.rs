@@ -98,7 +98,7 @@ pub fn solve_scene_with(
     for (e, s) in error.iter_mut().zip(&pairs) {
         *e += s;
     }
-    let spread = super::dense::surface_spread(scene, &h, &h.independent_pairs(), &j, e_amb(scene))?;
+    let spread = super::dense::surface_spread(scene, &h, h.independent_pairs(), &j, e_amb(scene))?;
     solution.heat_rate_spread = spread
         .map(|t| (pairs, t.into_iter().map(|sd| crate::exchange::hierarchy::LEAK_ERR_SIGMAS * sd).collect()));
     // The closure's move and the links' sharing by area, with their signs: the closure undoes

@@ -330,7 +330,7 @@ pub const SPREAD_MAX_SURFACES: usize = 64;
 pub fn surface_spread(
     scene: &Scene,
     t: &dyn Operator,
-    pairs: &[(u32, u32, f64)],
+    pairs: impl Iterator<Item = (u32, u32, f64)> + Clone,
     j: &[f64],
     e_amb: Option<f64>,
 ) -> Result<Option<Vec<f64>>> {
@@ -366,8 +366,8 @@ pub fn surface_spread(
         let y = sys.solve(t, &r);
         let u: Vec<f64> = (0..n).map(|i| -sys.mask[i] * y[i] - b1[i]).collect();
         let var: f64 = pairs
-            .iter()
-            .map(|&(a, b, v)| {
+            .clone()
+            .map(|(a, b, v)| {
                 let (a, b) = (a as usize, b as usize);
                 let (xa, xb) = match e_amb {
                     Some(ea) => (j[b] - ea, j[a] - ea),

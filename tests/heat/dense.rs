@@ -791,9 +791,10 @@ fn a_surface_s_spread_of_pair_errors_is_the_shift_each_pair_makes_summed_in_quad
                 None => (j[b] - j[a], j[a] - j[b]),
             };
             let shift = solve::dense::propagate_shift(&scene, &d, &c).unwrap();
-            let one = solve::dense::surface_spread(&scene, &d, &[(a as u32, b as u32, 1.0)], &j, e_amb)
-                .unwrap()
-                .unwrap();
+            let one =
+                solve::dense::surface_spread(&scene, &d, [(a as u32, b as u32, 1.0)].into_iter(), &j, e_amb)
+                    .unwrap()
+                    .unwrap();
             for s in 0..m {
                 let moved: f64 = (0..n).filter(|&i| scene.patches[i].surface == s).map(|i| shift[i]).sum();
                 let scale = shift.iter().map(|x| x.abs()).sum::<f64>();
@@ -807,7 +808,7 @@ fn a_surface_s_spread_of_pair_errors_is_the_shift_each_pair_makes_summed_in_quad
                 want[s] += v * moved * moved;
             }
         }
-        let got = solve::dense::surface_spread(&scene, &d, &pairs, &j, e_amb).unwrap().unwrap();
+        let got = solve::dense::surface_spread(&scene, &d, pairs.into_iter(), &j, e_amb).unwrap().unwrap();
         for s in 0..m {
             assert!(
                 (got[s] - want[s].sqrt()).abs() <= 1e-5 * want[s].sqrt().max(1e-30),
@@ -822,9 +823,12 @@ fn a_surface_s_spread_of_pair_errors_is_the_shift_each_pair_makes_summed_in_quad
         // a per-patch sum would count twice.
         if !open {
             assert_eq!(scene.patches[0].surface, scene.patches[3].surface);
-            let own = solve::dense::surface_spread(&scene, &d, &[(0, 3, 1.0)], &j, e_amb).unwrap().unwrap();
+            let own = solve::dense::surface_spread(&scene, &d, [(0, 3, 1.0)].into_iter(), &j, e_amb)
+                .unwrap()
+                .unwrap();
             let dj = (j[3] - j[0]).abs();
-            assert!(dj > 0.0 && own[scene.patches[0].surface] < 0.5 * dj, "{:e} against {dj:e}", own[0]);
+            let floor = scene.patches[0].surface;
+            assert!(dj > 0.0 && own[floor] < 0.5 * dj, "{:e} against {dj:e}", own[floor]);
         }
     }
 }

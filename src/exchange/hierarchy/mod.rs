@@ -576,8 +576,8 @@ impl Hierarchy {
     /// miss. The enforcement's own move is [`Hierarchy::enforcement_shift`], the links' sharing
     /// by area [`Hierarchy::sharing_shift`]: both signed, as they cancel in part.
     pub fn heat_rate_errors(&self, j: &[f64], e_amb: Option<f64>) -> Vec<f64> {
-        let (mut e, sampled) = self.heat_rate_error_parts(j, e_amb);
-        for (e, s) in e.iter_mut().zip(sampled) {
+        let (mut e, pairs) = self.heat_rate_error_parts(j, e_amb);
+        for (e, s) in e.iter_mut().zip(pairs) {
             *e += s;
         }
         e
@@ -622,10 +622,10 @@ impl Hierarchy {
 
     /// The sampled patch pairs (i, j, variance of the enforced s_ij, m⁴), each pair once, and
     /// the integrated ones with their goal as a standard error: errors independent of each
-    /// other's.
-    pub fn independent_pairs(&self) -> Vec<(u32, u32, f64)> {
-        let g = |k: u32| self.g.as_ref().map_or(1.0, |g| g[k as usize]);
-        self.sampled.iter().map(|&(a, b, v)| (a, b, v.abs() * (g(a) * g(b)).powi(2))).collect()
+    /// other's (read in place: on a big part they number millions).
+    pub fn independent_pairs(&self) -> impl Iterator<Item = (u32, u32, f64)> + Clone + '_ {
+        let g = move |k: u32| self.g.as_ref().map_or(1.0, |g| g[k as usize]);
+        self.sampled.iter().map(move |&(a, b, v)| (a, b, v.abs() * (g(a) * g(b)).powi(2)))
     }
 
     /// The enforcement's change of each patch's net exchange Σ_j s_ij (J_j − J_i) at

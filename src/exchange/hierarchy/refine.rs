@@ -392,18 +392,10 @@ fn split(ctx: &Context, a: u32, b: u32) -> Decision {
     }
 }
 
-/// Split whichever of a and b spans several surfaces (the larger when both do).
-fn split_mixed(a: u32, b: u32, na: &Node, nb: &Node) -> Decision {
-    if na.surface == NONE && (nb.surface != NONE || na.radius >= nb.radius) {
-        Decision::Split(a, b)
-    } else {
-        Decision::Split(b, a)
-    }
-}
-
-/// Split whichever of a and b is curved (the larger when both are).
-fn split_curved(a: u32, b: u32, na: &Node, nb: &Node) -> Decision {
-    if na.planes.is_none() && (nb.planes.is_some() || na.radius >= nb.radius) {
+/// Split whichever of a and b is `unfit` (the larger when both are): a cluster that spans
+/// several surfaces, or a curved one.
+fn split_unfit(a: u32, b: u32, na: &Node, nb: &Node, unfit: impl Fn(&Node) -> bool) -> Decision {
+    if unfit(na) && (!unfit(nb) || na.radius >= nb.radius) {
         Decision::Split(a, b)
     } else {
         Decision::Split(b, a)
@@ -449,7 +441,7 @@ fn geometric(ctx: &Context, a: u32, b: u32) -> Result<Decision, Far> {
     // A link shares its exchange by area within each cluster: across surfaces that share
     // would be wrong to first order, so only single-surface clusters are linked.
     if na.surface == NONE || nb.surface == NONE {
-        return Ok(split_mixed(a, b, na, nb));
+        return Ok(split_unfit(a, b, na, nb, |n| n.surface == NONE));
     }
     let d = nb.centroid - na.centroid;
     let dist = d.length();
@@ -472,7 +464,7 @@ fn geometric(ctx: &Context, a: u32, b: u32) -> Result<Decision, Far> {
     // part's heat rate outside the bounds that count pair errors per surface (the channel and
     // the arm link in rooms, validation/cad.md).
     if na.planes.is_none() || nb.planes.is_none() {
-        return Ok(split_curved(a, b, na, nb));
+        return Ok(split_unfit(a, b, na, nb, |n| n.planes.is_none()));
     }
     // Every point of each in front of (or on) the other's plane: the kernel is the unclipped
     // polynomial over |r|⁴ on the whole pair, so the Taylor estimate holds up to grazing sight
