@@ -93,7 +93,7 @@ fn assert_same(what: &str, a: &Solution, b: &Solution) {
         assert!((p.1 - q.1).abs() <= HEAT_TOL * max, "{what}: ambient {} vs {}", p.1, q.1);
     }
     for s in [a, b] {
-        let (sum, m) = s.heat_balance();
+        let (sum, m) = (s.heat_balance().0, s.balance_scale());
         assert!(sum.abs() <= BALANCE_TOL * m, "{what}: balance {sum:.3e} of {m:.3e}");
     }
 }
@@ -313,7 +313,9 @@ fn the_same_numbers_on_one_and_two_threads() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(12))]
     /// Any box, any gray properties: closure to 1e-12, exact reciprocity by storage, and the
-    /// energy balance to 1e-9 on the lean path.
+    /// energy balance to 1e-9 on the lean path, judged as the CLI judges it: against the power
+    /// the patches exchange (`balance_scale`). Rows closed to 1e-12 leave Σ A_i J_i (1 − Σ_j F_ij)
+    /// unbalanced, which dwarfs max |Q| when every emissivity is 0.1 (the regression seed).
     #[test]
     fn lean_closure_and_energy_balance(
         a in 0.3f64..2.0, b in 0.3f64..2.0, c in 0.3f64..2.0,
@@ -334,8 +336,8 @@ proptest! {
         let rep = exchange::enforce(&mut d, &ep).unwrap();
         prop_assert!(rep.after.max_row_error <= 1e-12, "{}", rep.after);
         let sol = solve::dense::solve_gray(&scene, &d, &Default::default()).unwrap();
-        let (sum, max) = sol.heat_balance();
-        prop_assert!(sum.abs() <= BALANCE_TOL * max, "{sum:e} of {max:e}");
+        let (sum, scale) = (sol.heat_balance().0, sol.balance_scale());
+        prop_assert!(sum.abs() <= BALANCE_TOL * scale, "{sum:e} of {scale:e}");
     }
 }
 
@@ -375,8 +377,8 @@ fn check_against_dense(what: &str, scene: &Scene, vf: &viewfactor::Params, tol: 
         }
         return 0.0;
     }
-    let (sum, max_h) = got.heat_balance();
-    assert!(sum.abs() <= BALANCE_TOL * max_h, "{what}: balance {sum:e} of {max_h:e}");
+    let (sum, scale) = (got.heat_balance().0, got.balance_scale());
+    assert!(sum.abs() <= BALANCE_TOL * scale, "{what}: balance {sum:e} of {scale:e}");
     let got = got.by_surface(scene);
     let est = got.heat_rate_error.as_ref().expect("the hierarchical path reports errors");
     let max = want.results.iter().map(|r| r.heat_rate.abs()).fold(0.0, f64::max);
