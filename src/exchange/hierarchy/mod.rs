@@ -261,9 +261,10 @@ impl Hierarchy {
         let refined = links.len() + pairs.len();
         let t_refine = start.elapsed();
         let start = Instant::now();
-        // Patch pairs by row within each chunk, each row through the kernel's own row code,
-        // their values written into the refinement's list in place (no second list of pairs).
-        let mut rows: Vec<&mut [(u32, u32, f64)]> = Vec::new();
+        // Patch pairs by row: a row's pieces in every chunk this process holds are evaluated
+        // together (one blocker classification per row), each piece's values written into the
+        // refinement's list in place (no second list of pairs).
+        let mut pieces: Vec<&mut [(u32, u32, f64)]> = Vec::new();
         let mut rest = &mut pairs[..];
         for w in leaf_bounds.windows(2) {
             let (mut chunk, tail) = rest.split_at_mut(w[1] - w[0]);
@@ -272,22 +273,38 @@ impl Hierarchy {
                 let i = chunk[0].0;
                 let len = chunk.iter().position(|p| p.0 != i).unwrap_or(chunk.len());
                 let (row, more) = chunk.split_at_mut(len);
-                rows.push(row);
+                pieces.push(row);
                 chunk = more;
             }
         }
+        // Stable: a row's pieces stay in chunk order.
+        pieces.sort_by_key(|piece| piece[0].0);
+        let mut rows: Vec<Vec<&mut [(u32, u32, f64)]>> = Vec::new();
+        for piece in pieces {
+            match rows.last_mut() {
+                Some(row) if row[0][0].0 == piece[0].0 => row.push(piece),
+                _ => rows.push(vec![piece]),
+            }
+        }
+        let receivers = |row: &[&mut [(u32, u32, f64)]]| -> Vec<u32> {
+            let mut js: Vec<u32> = row.iter().flat_map(|piece| piece.iter().map(|p| p.1)).collect();
+            js.sort_unstable();
+            js
+        };
         // Each row's pairs weighed by the kernel's estimate for each (drawn runs only).
         let row_cost: Vec<u64> = if vf.progress {
             rows.par_iter()
                 .map_init(Vec::new, |ids, row| {
-                    let js = row.iter().map(|p| p.1 as usize);
-                    kernel.row_cost(row[0].0 as usize, js, ids, true).round() as u64
+                    let js = receivers(row).into_iter().map(|j| j as usize);
+                    kernel.row_cost(row[0][0].0 as usize, js, ids, true).round() as u64
                 })
                 .collect()
         } else {
-            rows.iter().map(|row| row.len() as u64).collect()
+            rows.iter().map(|row| row.iter().map(|piece| piece.len() as u64).sum()).collect()
         };
-        let n_pairs = rows.iter().map(|r| r.len() as u64).sum();
+        let row_len =
+            |row: &[&mut [(u32, u32, f64)]]| row.iter().map(|piece| piece.len() as u64).sum::<u64>();
+        let n_pairs = rows.iter().map(|r| row_len(r)).sum();
         let pairing = Progress::start_costed(n_pairs, "patch pairs", mode, row_cost.iter().sum());
         let mut sampled: Vec<(u32, u32, f64)> = Vec::new();
         // `auto`'s goal on each F of an integrated pair (s within goal · min(A_i, A_j)).
@@ -300,10 +317,11 @@ impl Hierarchy {
                 .par_iter_mut()
                 .zip(costs)
                 .map(|(row, &cost)| {
-                    let i = row[0].0;
-                    let mut out = Vec::with_capacity(row.len());
-                    let mut js: Vec<u32> = Vec::with_capacity(row.len());
-                    for &(_, j, _) in row.iter() {
+                    let i = row[0][0].0;
+                    let all = receivers(row);
+                    let mut out = Vec::with_capacity(all.len());
+                    let mut js: Vec<u32> = Vec::with_capacity(all.len());
+                    for &j in &all {
                         match known.as_ref().and_then(|c| c.get(i, j)) {
                             Some((s, var)) if integrated(var) => {
                                 out.push(RawEntry { j, method: MethodSet::SHADOWED, s, var: 0.0 })
@@ -315,22 +333,17 @@ impl Hierarchy {
                     kernel.partners(i as usize, &js, &mut out);
                     out.sort_unstable_by_key(|e| e.j);
                     let mut var = Vec::new();
-                    let mut k = 0;
-                    for p in row.iter_mut() {
-                        while k < out.len() && out[k].j < p.1 {
-                            k += 1;
-                        }
-                        if k < out.len() && out[k].j == p.1 {
-                            p.2 = out[k].s;
-                            if out[k].var > 0.0 {
-                                var.push((i, p.1, out[k].var));
-                            } else if goal > 0.0 && out[k].method == MethodSet::SHADOWED {
-                                let area = tree.geom[i as usize].area.min(tree.geom[p.1 as usize].area);
-                                var.push((i, p.1, -(goal * area).powi(2)));
-                            }
+                    for p in row.iter_mut().flat_map(|piece| piece.iter_mut()) {
+                        let Ok(k) = out.binary_search_by_key(&p.1, |e| e.j) else { continue };
+                        p.2 = out[k].s;
+                        if out[k].var > 0.0 {
+                            var.push((i, p.1, out[k].var));
+                        } else if goal > 0.0 && out[k].method == MethodSet::SHADOWED {
+                            let area = tree.geom[i as usize].area.min(tree.geom[p.1 as usize].area);
+                            var.push((i, p.1, -(goal * area).powi(2)));
                         }
                     }
-                    pairing.add_costed(row.len() as u64, cost);
+                    pairing.add_costed(row_len(row), cost);
                     var
                 })
                 .collect();

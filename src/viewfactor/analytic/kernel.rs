@@ -435,7 +435,8 @@ impl<'s> AnalyticKernel<'s> {
 
     /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, all > i),
     /// exactly as [`RowKernel::row`] computes them; entries with s = 0 are left out. Blockers
-    /// are classified only within the box of the receivers.
+    /// are classified only within the box of the receivers; a pair keeps those that meet its
+    /// own box ([`Near`]), so its entry is the same whichever receivers share the call.
     pub fn partners(&self, i: usize, js: &[u32], out: &mut Vec<RawEntry>) {
         let mut scratch = Scratch::default();
         let mut reuse = self.reuse.row(i);
@@ -450,26 +451,70 @@ impl<'s> AnalyticKernel<'s> {
         };
         let region =
             js.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |r, &j| {
-                self.scene.patches[j as usize]
-                    .polygon
-                    .vertices()
-                    .iter()
-                    .fold(r, |(lo, hi), &v| (lo.min(v), hi.max(v)))
+                let (lo, hi) = bounds(self.scene.patches[j as usize].polygon.vertices());
+                (r.0.min(lo), r.1.max(hi))
             });
+        let near = Near::new(self.scene, shadows, i);
+        let mut kept = Vec::new();
         SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
             shadows.classify_row_in(i, region, row);
             for &j in js {
-                out.extend(self.entry(
-                    shadows,
-                    i,
-                    j as usize,
-                    row.status(j as usize),
-                    (&mut reuse, &mut scratch),
-                    work,
-                ));
+                let status = near.status(j as usize, row.status(j as usize), &mut kept);
+                out.extend(self.entry(shadows, i, j as usize, status, (&mut reuse, &mut scratch), work));
             }
         });
     }
+}
+
+/// The partial blockers of a row's pairs cut to those that meet the box of the pair: only they
+/// can cut its sight lines, so an entry does not depend on which other receivers share the row
+/// (whose box limits the row's classification) nor on the process that holds them.
+struct Near<'a> {
+    scene: &'a Scene,
+    blockers: &'a crate::viewfactor::shadow::blockers::Blockers,
+    /// The box of the emitter.
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl<'a> Near<'a> {
+    fn new(scene: &'a Scene, shadows: &'a Shadows<'_>, i: usize) -> Self {
+        let (lo, hi) = bounds(scene.patches[i].polygon.vertices());
+        Near { scene, blockers: shadows.blockers(), lo, hi }
+    }
+
+    /// `status` of pair (i, j) with its partial blockers that miss the pair's box left out
+    /// (into `kept`); clear when none is left.
+    fn status<'k>(&self, j: usize, status: Status<'_>, kept: &'k mut Vec<u32>) -> Status<'k>
+    where
+        'a: 'k,
+    {
+        match status {
+            Status::Partial(list) => {
+                let (jlo, jhi) = bounds(self.scene.patches[j].polygon.vertices());
+                let (lo, hi) = (self.lo.min(jlo), self.hi.max(jhi));
+                kept.clear();
+                kept.extend(list.iter().copied().filter(|&b| {
+                    let (blo, bhi) = bounds(&self.blockers.get(b as usize).ring);
+                    blo.cmple(hi).all() && bhi.cmpge(lo).all()
+                }));
+                if kept.is_empty() {
+                    Status::Clear
+                } else {
+                    Status::Partial(kept)
+                }
+            }
+            Status::Clear => Status::Clear,
+            Status::Blocked => Status::Blocked,
+        }
+    }
+}
+
+/// The axis-aligned box of `v`.
+fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
+    v.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), &x| {
+        (lo.min(x), hi.max(x))
+    })
 }
 
 /// The rung of the ladder that evaluates a pair.
@@ -532,17 +577,13 @@ impl RowKernel for AnalyticKernel<'_> {
             out.pairs = (n - i - 1) as u64;
             return Ok(());
         };
+        let near = Near::new(self.scene, shadows, i);
+        let mut kept = Vec::new();
         SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
             shadows.classify_row(i, row);
             for j in i + 1..n {
-                out.entries.extend(self.entry(
-                    shadows,
-                    i,
-                    j,
-                    row.status(j),
-                    (&mut reuse, &mut scratch),
-                    work,
-                ));
+                let status = near.status(j, row.status(j), &mut kept);
+                out.entries.extend(self.entry(shadows, i, j, status, (&mut reuse, &mut scratch), work));
             }
         });
         out.pairs = (n - i - 1) as u64;
@@ -683,5 +724,49 @@ mod tests {
         let mean = |r: &[u64]| r.iter().sum::<u64>() as f64 / r.len() as f64;
         let (wall, part) = (mean(&costs[..96]), mean(&costs[96..]));
         assert!(wall > 30.0 * part, "wall rows {wall:.3e}, part rows {part:.3e}");
+    }
+
+    #[test]
+    fn a_pair_s_entry_is_the_same_whichever_receivers_share_its_row() {
+        // The heat sink (92 facets) in a room of 4×4 patches per wall: each emitter's
+        // receivers in one call, in two pieces and one by one (the hierarchy's pieces of a
+        // row, held by any process), against the full row. Blockers beside a pair's box used to
+        // reach it through the row's classification box and move `auto`'s choices and the
+        // integration's silhouettes.
+        let dir = tempfile::tempdir().expect("temp dir");
+        let stl =
+            format!("{}/validation/reference/real_parts/heat_sink/part0.stl", env!("CARGO_MANIFEST_DIR"));
+        let shipped = std::fs::read_to_string(stl.replace("part0.stl", "scene.toml")).expect("scene read");
+        let toml = shipped
+            .replace("file = \"part0.stl\"", &format!("file = {stl:?}"))
+            .replace("emissivity = 0.8\n", "emissivity = 0.8\nsubdivide = [4, 4]\n");
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, toml).expect("scene written");
+        let scene = crate::scene::load(&path).expect("the heat sink loads");
+        assert_eq!(scene.patches.len(), 92 + 96);
+        let n = scene.patches.len();
+        for policy in [Policy::Auto { tol: 1e-4, seed: 7 }, Policy::Exact { rel_tol: 1e-4 }] {
+            let kernel = AnalyticKernel::with_policy(&scene, 1e-5, policy);
+            let mut compared = 0;
+            for i in (0..n - 1).step_by(3) {
+                let mut row = Row::default();
+                kernel.row(i, &mut row).expect("the row computes");
+                let key = |e: &RawEntry| (e.j, e.s.to_bits(), e.var.to_bits(), e.method);
+                let want: Vec<_> = row.entries.iter().map(key).collect();
+                let js: Vec<u32> = (i as u32 + 1..n as u32).collect();
+                let (a, b) = js.split_at(js.len() / 3);
+                let groups: [Vec<&[u32]>; 3] = [vec![&js[..]], vec![a, b], js.chunks(1).collect()];
+                for group in groups {
+                    let mut out = Vec::new();
+                    for piece in &group {
+                        kernel.partners(i, piece, &mut out);
+                    }
+                    let got: Vec<_> = out.iter().map(key).collect();
+                    assert_eq!(got, want, "row {i} in {} pieces", group.len());
+                }
+                compared += want.len();
+            }
+            assert!(compared > n * n / 15, "{compared} entries compared");
+        }
     }
 }
