@@ -264,7 +264,7 @@ impl Hierarchy {
         // Patch pairs by row: a row's pieces in every chunk this process holds are evaluated
         // together (one blocker classification per row), each piece's values written into the
         // refinement's list in place (no second list of pairs).
-        let mut pieces: Vec<&mut [(u32, u32, f64)]> = Vec::new();
+        let mut pieces: Vec<Piece> = Vec::new();
         let mut rest = &mut pairs[..];
         for w in leaf_bounds.windows(2) {
             let (mut chunk, tail) = rest.split_at_mut(w[1] - w[0]);
@@ -279,14 +279,14 @@ impl Hierarchy {
         }
         // Stable: a row's pieces stay in chunk order.
         pieces.sort_by_key(|piece| piece[0].0);
-        let mut rows: Vec<Vec<&mut [(u32, u32, f64)]>> = Vec::new();
+        let mut rows: Vec<Vec<Piece>> = Vec::new();
         for piece in pieces {
             match rows.last_mut() {
                 Some(row) if row[0][0].0 == piece[0].0 => row.push(piece),
                 _ => rows.push(vec![piece]),
             }
         }
-        let receivers = |row: &[&mut [(u32, u32, f64)]]| -> Vec<u32> {
+        let receivers = |row: &[Piece]| -> Vec<u32> {
             let mut js: Vec<u32> = row.iter().flat_map(|piece| piece.iter().map(|p| p.1)).collect();
             js.sort_unstable();
             js
@@ -886,6 +886,9 @@ fn agree(scene: &Scene, vf: &crate::viewfactor::Params, tol: f64, tree: &Tree, k
 /// Runs of a chunk's buffer at least this long are added on rayon's threads (shorter ones
 /// cost less than a parallel split).
 const PAR_ADD: usize = 1 << 14;
+
+/// A run of one row's patch pairs (i, j, s) in one chunk, evaluated in place.
+type Piece<'a> = &'a mut [(u32, u32, f64)];
 
 /// Rows of exact patch pairs evaluated per wave (bounds the memory of their raw entries).
 const PAIR_WAVE: usize = 1 << 14;
