@@ -31,6 +31,10 @@ pub struct BoxTree {
     bvh: Bvh2,
     /// Each box as stored (padded, rounded to f32), so node boxes contain it exactly.
     boxes: Vec<(DVec3, DVec3)>,
+    /// Per node: its parent (the root its own).
+    parent: Vec<u32>,
+    /// Per box: the leaf node that holds it.
+    leaf: Vec<u32>,
 }
 
 impl std::fmt::Debug for BoxTree {
@@ -53,7 +57,38 @@ impl BoxTree {
         }
         let bvh =
             obvhs::bvh2::builder::build_bvh2(&prims, BvhBuildParams::fast_build(), &mut Duration::default());
-        Self { bvh, boxes }
+        let (mut parent, mut leaf) = (vec![0u32; bvh.nodes.len()], vec![0u32; prims.len()]);
+        for (k, node) in bvh.nodes.iter().enumerate() {
+            if node.is_leaf() {
+                for slot in node.first_index..node.first_index + node.prim_count {
+                    leaf[bvh.primitive_indices[slot as usize] as usize] = k as u32;
+                }
+            } else {
+                parent[node.first_index as usize] = k as u32;
+                parent[node.first_index as usize + 1] = k as u32;
+            }
+        }
+        Self { bvh, boxes, parent, leaf }
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.bvh.nodes.len()
+    }
+
+    /// Sets `marks[node] = stamp` on every node above the boxes `ks` (`marks` holds one entry
+    /// per node): the subtrees a walk limited to those boxes enters.
+    pub fn mark_paths(&self, ks: impl IntoIterator<Item = u32>, stamp: u32, marks: &mut [u32]) {
+        for k in ks {
+            let mut n = self.leaf[k as usize];
+            while marks[n as usize] != stamp {
+                marks[n as usize] = stamp;
+                if n == 0 {
+                    break;
+                }
+                n = self.parent[n as usize];
+            }
+        }
     }
     /// Feeds the tree (every node's box, count and index, the primitive order) and the
     /// stored boxes to `h`: equal hashes mean equal trees (the MPI and shard agreement check).
@@ -153,6 +188,18 @@ impl BoxTree {
     pub fn walk_with<S: Copy>(
         &self,
         root: S,
+        descend: impl FnMut(DVec3, DVec3, S) -> Option<S>,
+        visit: impl FnMut(u32, S),
+    ) {
+        self.walk_marked_with(None, root, descend, visit)
+    }
+
+    /// As [`BoxTree::walk_with`], entering only the nodes `marked` (marks, stamp) stamps (see
+    /// [`BoxTree::mark_paths`]) when given.
+    pub fn walk_marked_with<S: Copy>(
+        &self,
+        marked: Option<(&[u32], u32)>,
+        root: S,
         mut descend: impl FnMut(DVec3, DVec3, S) -> Option<S>,
         mut visit: impl FnMut(u32, S),
     ) {
@@ -161,6 +208,9 @@ impl BoxTree {
         }
         let mut stack = vec![(0u32, root)];
         while let Some((k, parent)) = stack.pop() {
+            if marked.is_some_and(|(marks, stamp)| marks[k as usize] != stamp) {
+                continue;
+            }
             let node = &self.bvh.nodes[k as usize];
             let Some(state) = descend(to64(node.aabb.min), to64(node.aabb.max), parent) else { continue };
             if node.is_leaf() {

@@ -449,15 +449,10 @@ impl<'s> AnalyticKernel<'s> {
             }
             return;
         };
-        let region =
-            js.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |r, &j| {
-                let (lo, hi) = bounds(self.scene.patches[j as usize].polygon.vertices());
-                (r.0.min(lo), r.1.max(hi))
-            });
         let near = Near::new(self.scene, shadows, i);
         let mut kept = Vec::new();
         SHADOW_SCRATCH.with_borrow_mut(|ShadowScratch { row, work }| {
-            shadows.classify_row_in(i, region, row);
+            shadows.classify_row_in(i, js, row);
             for &j in js {
                 let status = near.status(j as usize, row.status(j as usize), &mut kept);
                 out.extend(self.entry(shadows, i, j as usize, status, (&mut reuse, &mut scratch), work));

@@ -28,7 +28,6 @@ use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
 use crate::scene::Scene;
 use crate::viewfactor::MethodSet;
-use glam::DVec3;
 
 /// One obstructed entry.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,9 +168,9 @@ impl<'s> Shadows<'s> {
         classify_row(self.scene, &self.blockers, i, i + 1, row);
     }
 
-    /// As [`Self::classify_row`] for the receivers whose boxes meet `region` (lo, hi).
-    pub fn classify_row_in(&self, i: usize, region: (DVec3, DVec3), row: &mut RowShadows) {
-        super::classify::classify_row_in(self.scene, &self.blockers, i, i + 1, Some(region), row);
+    /// As [`Self::classify_row`] for the `receivers` only.
+    pub fn classify_row_in(&self, i: usize, receivers: &[u32], row: &mut RowShadows) {
+        super::classify::classify_row_in(self.scene, &self.blockers, i, i + 1, Some(receivers), row);
     }
 
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
@@ -341,6 +340,7 @@ mod tests {
     use crate::viewfactor::shadow::adaptive::AdaptInfo;
     use crate::viewfactor::shadow::classify::Status;
     use crate::viewfactor::shadow::policy::EXACT_REL_TOL;
+    use glam::DVec3;
 
     fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
         Polygon::new(crate::geometry::fixtures::square(z, x0, y0, s, up)).unwrap()

@@ -48,6 +48,11 @@ pub struct RowShadows {
     ring: Vec<DVec3>,
     volumes: Vec<ShadowVolume>,
     ids: Vec<u32>,
+    /// Per patch-tree node, then per patch: `stamp` where a row limited to its receivers
+    /// wants them.
+    nodes: Vec<u32>,
+    wanted: Vec<u32>,
+    stamp: u32,
 }
 
 impl RowShadows {
@@ -104,20 +109,49 @@ pub fn row_blockers(blockers: &Blockers, pi: &Polygon, hull: Option<(DVec3, DVec
     out.retain(|&b| !blockers.turned_from(b as usize, pi.vertices()));
 }
 
-/// As [`classify_row`] for the receivers whose boxes meet `region` (lo, hi) only: blockers
-/// outside the box of patch i and the region are never considered.
+/// As [`classify_row`] for the `receivers` only (any order) when given: blockers outside the box
+/// of patch i and the receivers are never considered, and the walk enters only the patch
+/// tree's nodes above the receivers. Any receiver's status is what the whole row gives it.
 pub fn classify_row_in(
     scene: &Scene,
     blockers: &Blockers,
     i: usize,
     first: usize,
-    region: Option<(DVec3, DVec3)>,
+    receivers: Option<&[u32]>,
     out: &mut RowShadows,
 ) {
     out.reset(scene.patches.len());
     if blockers.is_empty() {
         return;
     }
+    let region = receivers.map(|js| {
+        js.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), &j| {
+            scene.patches[j as usize]
+                .polygon
+                .vertices()
+                .iter()
+                .fold((lo, hi), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+        })
+    });
+    let tree = blockers.patch_tree();
+    let marked = receivers.map(|js| {
+        if out.nodes.len() != tree.node_count() || out.wanted.len() != scene.patches.len() {
+            out.nodes = vec![0; tree.node_count()];
+            out.wanted = vec![0; scene.patches.len()];
+            out.stamp = 0;
+        }
+        out.stamp = out.stamp.wrapping_add(1);
+        if out.stamp == 0 {
+            out.nodes.fill(0);
+            out.wanted.fill(0);
+            out.stamp = 1;
+        }
+        tree.mark_paths(js.iter().copied(), out.stamp, &mut out.nodes);
+        for &j in js {
+            out.wanted[j as usize] = out.stamp;
+        }
+        out.stamp
+    });
     let snap = blockers.snap();
     let pi = &scene.patches[i].polygon;
     let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
@@ -133,7 +167,8 @@ pub fn classify_row_in(
     row_blockers(blockers, pi, hull, &mut out.row_blockers);
     out.row_blockers.sort_unstable();
     // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
-    let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, .. } = out;
+    let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, nodes, wanted, .. } = out;
+    let marked = marked.map(|stamp| (&nodes[..], stamp));
     for chunk in row_blockers.chunks(64) {
         ids.clear();
         for &b in chunk {
@@ -175,9 +210,9 @@ pub fn classify_row_in(
             }
             (keep != 0).then_some((keep, false))
         };
-        blockers.patch_tree().walk_with((all, false), descend, |j, (mask, blocked)| {
+        tree.walk_marked_with(marked, (all, false), descend, |j, (mask, blocked)| {
             let ju = j as usize;
-            if ju < first || ju == i || mark[ju] == BLOCKED {
+            if ju < first || ju == i || mark[ju] == BLOCKED || marked.is_some_and(|(_, s)| wanted[ju] != s) {
                 return;
             }
             let pj = &scene.patches[ju].polygon;
