@@ -268,6 +268,34 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_marked_walk_reaches_exactly_the_marked_boxes_the_full_walk_reaches() {
+        // A 20×20×20 lattice; a walk pruned by a slab, limited to every 7th box (then to one).
+        let boxes: Vec<(DVec3, DVec3)> = (0..8000)
+            .map(|k| {
+                let c = DVec3::new((k % 20) as f64, ((k / 20) % 20) as f64, (k / 400) as f64) * 1.5;
+                (c, c + 1.0)
+            })
+            .collect();
+        let tree = BoxTree::new(boxes.iter().copied(), 1e-6);
+        let slab = |lo: DVec3, hi: DVec3, ()| (lo.x <= 14.0 && hi.x >= 5.0).then_some(());
+        let mut full = Vec::new();
+        tree.walk_with((), slab, |k, ()| full.push(k));
+        let mut marks = vec![0; tree.node_count()];
+        for (stamp, step) in [(1, 7), (2, 7919)] {
+            let wanted: Vec<u32> = (0..8000).step_by(step).collect();
+            tree.mark_paths(wanted.iter().copied(), stamp, &mut marks);
+            let mut got = Vec::new();
+            tree.walk_marked_with(Some((&marks, stamp)), (), slab, |k, ()| got.push(k));
+            // Leaves are entered whole: every wanted box the full walk reaches is reached, and
+            // only boxes of leaves that hold a wanted one.
+            let want: Vec<u32> = full.iter().copied().filter(|k| k % step as u32 == 0).collect();
+            assert!(want.iter().all(|k| got.contains(k)), "step {step}");
+            assert!(got.iter().all(|&k| marks[tree.leaf[k as usize] as usize] == stamp), "step {step}");
+            assert!(got.len() < full.len() / 2, "step {step}: {} of {}", got.len(), full.len());
+        }
+    }
+
+    #[test]
     fn region_queries_match_a_brute_force_scan() {
         // A 20×20×20 lattice of unit boxes; query a slab and a plane-bounded region.
         let boxes: Vec<(DVec3, DVec3)> = (0..8000)
