@@ -267,16 +267,20 @@ fn to64(v: Vec3A) -> DVec3 {
 mod tests {
     use super::*;
 
-    #[test]
-    fn a_marked_walk_reaches_exactly_the_marked_boxes_the_full_walk_reaches() {
-        // A 20×20×20 lattice; a walk pruned by a slab, limited to every 7th box (then to one).
-        let boxes: Vec<(DVec3, DVec3)> = (0..8000)
+    /// A 20×20×20 lattice of unit boxes, 0.5 apart.
+    fn lattice() -> Vec<(DVec3, DVec3)> {
+        (0..8000)
             .map(|k| {
                 let c = DVec3::new((k % 20) as f64, ((k / 20) % 20) as f64, (k / 400) as f64) * 1.5;
                 (c, c + 1.0)
             })
-            .collect();
-        let tree = BoxTree::new(boxes.iter().copied(), 1e-6);
+            .collect()
+    }
+
+    #[test]
+    fn a_marked_walk_reaches_exactly_the_marked_boxes_the_full_walk_reaches() {
+        // A 20×20×20 lattice; a walk pruned by a slab, limited to every 7th box (then to one).
+        let tree = BoxTree::new(lattice(), 1e-6);
         let slab = |lo: DVec3, hi: DVec3, ()| (lo.x <= 14.0 && hi.x >= 5.0).then_some(());
         let mut full = Vec::new();
         tree.walk_with((), slab, |k, ()| full.push(k));
@@ -298,13 +302,7 @@ mod tests {
     #[test]
     fn region_queries_match_a_brute_force_scan() {
         // A 20×20×20 lattice of unit boxes; query a slab and a plane-bounded region.
-        let boxes: Vec<(DVec3, DVec3)> = (0..8000)
-            .map(|k| {
-                let c = DVec3::new((k % 20) as f64, ((k / 20) % 20) as f64, (k / 400) as f64) * 1.5;
-                (c, c + 1.0)
-            })
-            .collect();
-        let tree = BoxTree::new(boxes.iter().copied(), 1e-6);
+        let tree = BoxTree::new(lattice(), 1e-6);
         assert_eq!(tree.len(), 8000);
         let n = DVec3::new(1.0, 2.0, -0.5).normalize();
         let beyond = |lo: DVec3, hi: DVec3| n.dot(0.5 * (lo + hi)) + n.abs().dot(0.5 * (hi - lo)) > 20.0;
