@@ -291,6 +291,7 @@ impl Hierarchy {
             js.sort_unstable();
             js
         };
+        let row_len = |row: &[Piece]| row.iter().map(|piece| piece.len() as u64).sum::<u64>();
         // Each row's pairs weighed by the kernel's estimate for each (drawn runs only).
         let row_cost: Vec<u64> = if vf.progress {
             rows.par_iter()
@@ -300,10 +301,8 @@ impl Hierarchy {
                 })
                 .collect()
         } else {
-            rows.iter().map(|row| row.iter().map(|piece| piece.len() as u64).sum()).collect()
+            rows.iter().map(|row| row_len(row)).collect()
         };
-        let row_len =
-            |row: &[&mut [(u32, u32, f64)]]| row.iter().map(|piece| piece.len() as u64).sum::<u64>();
         let n_pairs = rows.iter().map(|r| row_len(r)).sum();
         let pairing = Progress::start_costed(n_pairs, "patch pairs", mode, row_cost.iter().sum());
         let mut sampled: Vec<(u32, u32, f64)> = Vec::new();

@@ -26,6 +26,7 @@ use crate::viewfactor::accuracy::ANALYTIC_REL;
 use crate::viewfactor::engine::{RawEntry, Row, RowKernel};
 use crate::viewfactor::exact::pair::polygon_polygon_with_round_off;
 use crate::viewfactor::flags::{Flag, FlagLog};
+use crate::viewfactor::shadow::blockers::{bounds, Blockers};
 use crate::viewfactor::shadow::branch::PairWork;
 use crate::viewfactor::shadow::classify::Status;
 use crate::viewfactor::shadow::detect::Occlusion;
@@ -466,7 +467,7 @@ impl<'s> AnalyticKernel<'s> {
 /// (whose box limits the row's classification) nor on the process that holds them.
 struct Near<'a> {
     scene: &'a Scene,
-    blockers: &'a crate::viewfactor::shadow::blockers::Blockers,
+    blockers: &'a Blockers,
     /// The box of the emitter.
     lo: DVec3,
     hi: DVec3,
@@ -503,13 +504,6 @@ impl<'a> Near<'a> {
             Status::Blocked => Status::Blocked,
         }
     }
-}
-
-/// The axis-aligned box of `v`.
-fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
-    v.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), &x| {
-        (lo.min(x), hi.max(x))
-    })
 }
 
 /// The rung of the ladder that evaluates a pair.

@@ -504,9 +504,8 @@ fn tiled_outline<'a>(polys: impl Iterator<Item = &'a Polygon> + Clone, area: f64
         .then(|| hull.iter().map(|q| o + q.x * e1 + q.y * e2).collect())
 }
 
-/// Axis-aligned bounds of a vertex list.
 /// The box (lo, hi) of points `v`.
-pub(super) fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
+pub fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
     v.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(l, h), p| {
         (l.min(*p), h.max(*p))
     })

@@ -126,11 +126,8 @@ pub fn classify_row_in(
     }
     let region = receivers.map(|js| {
         js.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), &j| {
-            scene.patches[j as usize]
-                .polygon
-                .vertices()
-                .iter()
-                .fold((lo, hi), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+            let (l, h) = super::blockers::bounds(scene.patches[j as usize].polygon.vertices());
+            (lo.min(l), hi.max(h))
         })
     });
     let tree = blockers.patch_tree();
