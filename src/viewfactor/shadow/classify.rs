@@ -11,7 +11,7 @@
 //!
 //! A receiver absent from the result is unobstructed. The cost follows the receivers near each
 //! blocker's shadow boundary, not N × blockers.
-use super::blockers::Blockers;
+use super::blockers::{bounds, Blockers};
 use super::volume::{Build, Class, Region, ShadowVolume};
 use crate::geometry::clip::clip_ring;
 use crate::geometry::planes::centre_half;
@@ -126,7 +126,7 @@ pub fn classify_row_in(
     }
     let region = receivers.map(|js| {
         js.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), &j| {
-            let (l, h) = super::blockers::bounds(scene.patches[j as usize].polygon.vertices());
+            let (l, h) = bounds(scene.patches[j as usize].polygon.vertices());
             (lo.min(l), hi.max(h))
         })
     });
@@ -154,8 +154,8 @@ pub fn classify_row_in(
     let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
     let meets = |(rl, rh): (DVec3, DVec3), lo: DVec3, hi: DVec3| lo.cmple(rh).all() && hi.cmpge(rl).all();
     let hull = region.map(|(rl, rh)| {
-        let v = pi.vertices().iter();
-        (v.clone().fold(rl, |a, &b| a.min(b)), v.fold(rh, |a, &b| a.max(b)))
+        let (l, h) = bounds(pi.vertices());
+        (rl.min(l), rh.max(h))
     });
     let in_front = |lo: DVec3, hi: DVec3| {
         ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
