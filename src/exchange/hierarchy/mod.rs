@@ -582,7 +582,8 @@ impl Hierarchy {
     }
 
     /// Per-patch heat-rate error estimate (W) of radiosities `j` before enforcement: each
-    /// cluster link's error bound times the radiosity range over its two clusters, shared by
+    /// cluster link's error bound (for a link that every ray found blocked, the exchange the
+    /// rays may have missed) times the radiosity range over its two clusters, shared by
     /// area, and the sampled pairs' standard errors; in an open scene (ambient emissive power
     /// `e_amb`) also the row's error times |J_i − E_amb|, as the ambient takes what the links
     /// miss. The enforcement's own move is [`Hierarchy::enforcement_shift`], the links' sharing
@@ -607,7 +608,7 @@ impl Hierarchy {
         let n = self.areas.len();
         let gmax = self.g.as_ref().map_or(1.0, |g| g.iter().copied().fold(1.0, f64::max));
         let z = self.held.sum(nodes.len(), |z| {
-            for l in self.links.iter().filter(|l| l.s > 0.0) {
+            for l in &self.links {
                 let (ra, rb) = (range[l.a as usize], range[l.b as usize]);
                 let dq = l.err() * gmax * gmax * (ra.1.max(rb.1) - ra.0.min(rb.0));
                 z[l.a as usize] += dq;

@@ -186,6 +186,21 @@ impl Blockers {
         });
         found
     }
+    /// True when some blocker whose padded box passes `keep(lo, hi)` at every level also
+    /// passes `accept`: the walk of [`Blockers::any_blocker_where`] with a test of the
+    /// blocker itself.
+    pub fn any_blocker_accepted(
+        &self,
+        keep: impl FnMut(DVec3, DVec3) -> bool,
+        mut accept: impl FnMut(&Blocker) -> bool,
+    ) -> bool {
+        let mut found = false;
+        self.blocker_tree.walk(keep, |k| {
+            found = accept(&self.blockers[k as usize]);
+            !found
+        });
+        found
+    }
     /// The hierarchy over patch boxes (index = patch).
     pub fn patch_tree(&self) -> &BoxTree {
         &self.patch_tree
