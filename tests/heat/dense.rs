@@ -358,8 +358,13 @@ fn hierarchical(scene: &Scene, vf: &viewfactor::Params, tol: f64) -> Solution {
 /// rate would compare round-off: every hierarchical heat rate must be that small too.
 fn check_against_dense(what: &str, scene: &Scene, vf: &viewfactor::Params, tol: f64) -> f64 {
     let mode = Enforce::solve_default(!scene.is_closed());
-    let want = lean(scene, vf, mode).by_surface(scene);
-    let got = hierarchical(scene, vf, tol);
+    check_surfaces(what, scene, &lean(scene, vf, mode), hierarchical(scene, vf, tol), tol)
+}
+
+/// [`check_against_dense`] on per-patch solutions already computed: `want` dense, `got`
+/// hierarchical.
+fn check_surfaces(what: &str, scene: &Scene, want: &Solution, got: Solution, tol: f64) -> f64 {
+    let want = want.by_surface(scene);
     let emitted: f64 = scene
         .surfaces
         .iter()
@@ -450,17 +455,18 @@ fn hierarchical_concave_parts_in_a_room_match_the_dense_path() {
         let text = std::fs::read_to_string(case.join("scene.toml")).unwrap();
         let text = text.replace("temperature = 300.0", "temperature = 300.0\nsubdivide = [8, 8]");
         let scene = load(dir.path(), "part.toml", &text);
-        check_against_dense(part, &scene, &params(Method::Auto), 1e-2);
-        check_patches_against_dense(part, &scene, &params(Method::Auto), 1e-2);
+        let vf = params(Method::Auto);
+        let want = lean(&scene, &vf, Enforce::solve_default(!scene.is_closed()));
+        let got = hierarchical(&scene, &vf, 1e-2);
+        check_patches(part, &want, &got);
+        check_surfaces(part, &scene, &want, got, 1e-2);
     }
 }
 
-/// Per patch: |Q_hier − Q_dense| within the patch's own error estimate (plus the round-off of
-/// two solves): the estimate holds patch by patch, not only over a surface.
-fn check_patches_against_dense(what: &str, scene: &Scene, vf: &viewfactor::Params, tol: f64) {
-    let mode = Enforce::solve_default(!scene.is_closed());
-    let want = lean(scene, vf, mode);
-    let got = hierarchical(scene, vf, tol);
+/// Per patch: |Q_hier − Q_dense| of the hierarchical solution `got` against the dense `want`
+/// within the patch's own error estimate (plus the round-off of two solves): the estimate
+/// holds patch by patch, not only over a surface.
+fn check_patches(what: &str, want: &Solution, got: &Solution) {
     let est = got.heat_rate_error.as_ref().expect("the hierarchical path reports errors");
     let max = want.results.iter().map(|r| r.heat_rate.abs()).fold(0.0, f64::max);
     let outside: Vec<(String, f64, f64)> = want

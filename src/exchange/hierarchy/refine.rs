@@ -441,8 +441,7 @@ struct Far {
 /// cut into tasks with it ([`tasks`]), so the tasks do not depend on the budget.
 fn geometric(ctx: &Context, a: u32, b: u32) -> Result<Decision, Far> {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
-    let snap =
-        1e-9 * (na.radius + nb.radius + na.centroid.abs().max_element() + nb.centroid.abs().max_element());
+    let snap = snap(na, nb);
     if behind(na, nb, snap) || behind(nb, na, snap) {
         return Ok(Decision::Zero);
     }
@@ -491,6 +490,12 @@ fn geometric(ctx: &Context, a: u32, b: u32) -> Result<Decision, Far> {
         return Ok(split(ctx, a, b));
     }
     Err(Far { dist, rho })
+}
+
+/// Length below which two clusters' points count as on a plane: round-off of their size
+/// and place.
+fn snap(na: &Node, nb: &Node) -> f64 {
+    1e-9 * (na.radius + nb.radius + na.centroid.abs().max_element() + nb.centroid.abs().max_element())
 }
 
 /// The part of [`assess`] that weighs a pair's estimate against its budget.
@@ -606,8 +611,9 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     let (p, q, ra, rb) = (na.centroid, nb.centroid, na.radius, nb.radius);
     let seg = q - p;
     let len = seg.length();
+    let dir = seg / len;
     let (ulo, uhi) = (na.lo_box.min(nb.lo_box), na.hi_box.max(nb.hi_box));
-    let snap = 1e-9 * (ra + rb + p.abs().max_element() + q.abs().max_element());
+    let snap = snap(na, nb);
     let ahead = |n: &Node, ring: &[DVec3]| match n.planes {
         Some((lo, _)) => ring.iter().any(|v| n.axis.dot(*v) > lo + snap),
         None => true,
@@ -615,9 +621,7 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
     let met = blockers.any_blocker_accepted(
         |lo, hi| {
             let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-            lo.cmple(uhi).all()
-                && hi.cmpge(ulo).all()
-                && cone_reaches(c - p, seg / len, len, ra, rb, h.length())
+            lo.cmple(uhi).all() && hi.cmpge(ulo).all() && cone_reaches(c - p, dir, len, ra, rb, h.length())
         },
         |blocker| ahead(na, &blocker.ring) && ahead(nb, &blocker.ring),
     );

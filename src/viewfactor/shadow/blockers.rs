@@ -176,19 +176,9 @@ impl Blockers {
     pub fn blockers_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.blocker_tree.collect(keep, out);
     }
-    /// True when some blocker's padded box passes `keep(lo, hi)` at every level: the walk of
-    /// [`Blockers::blockers_where`], stopped at the first such blocker.
-    pub fn any_blocker_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool) -> bool {
-        let mut found = false;
-        self.blocker_tree.walk(keep, |_| {
-            found = true;
-            false
-        });
-        found
-    }
     /// True when some blocker whose padded box passes `keep(lo, hi)` at every level also
-    /// passes `accept`: the walk of [`Blockers::any_blocker_where`] with a test of the
-    /// blocker itself.
+    /// passes `accept`: the walk of [`Blockers::blockers_where`], stopped at the first such
+    /// blocker.
     pub fn any_blocker_accepted(
         &self,
         keep: impl FnMut(DVec3, DVec3) -> bool,
