@@ -15,6 +15,8 @@
 //! - `groups`: disjoint groups of indices (union–find), rooted at their smallest member.
 //! - `loops`: closed rings from the loose edges of a cycle (a silhouette's outline).
 //! - `union`: the union of many plane polygons by one boolean (Clipper2's sweep).
+//! - [`shaft`]: the shaft between two boxes (Haines–Wallace): everything a sight line
+//!   between them can meet.
 //! - `tolerance`: every geometric epsilon, one name per concept, with its reason.
 //!
 //! Everything here is pure math; nothing depends on scenes or methods.
@@ -29,6 +31,7 @@ pub(crate) mod planes;
 pub(crate) mod polygon;
 pub mod quadrature;
 pub mod sampling;
+pub mod shaft;
 pub mod subdivide;
 pub(crate) mod tolerance;
 pub mod union;
