@@ -766,7 +766,7 @@ fn the_measured_split_moves_rows_and_chunks_off_the_dear_ranks() {
     assert_eq!(measured[0].1, measured[1].0, "{measured:?}");
     assert!(measured[0].1 + 20 < estimated[0].1, "measured {measured:?} against estimated {estimated:?}");
     assert!(std::fs::read(d.join("e.csv")).unwrap() == std::fs::read(d.join("m.csv")).unwrap());
-    // Hierarchy: on the room the estimate gives the middle rank 1.22 × the mean of the
+    // Hierarchy: on the room the estimate gives the middle rank 1.36 × the mean of the
     // refined entries; the measured split (entries the probe tasks refined) moves chunks
     // and evens them, the same on every run (counts, not times), with the same output.
     let room = room_2k(d);

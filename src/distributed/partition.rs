@@ -22,9 +22,65 @@ pub const RATE_WINDOW: usize = 2;
 pub const BALANCE_VAR: &str = "LAMBERT_MPI_BALANCE";
 
 /// Splits rows `0..costs.len()` into `parts` contiguous blocks of nearly equal total cost:
-/// block k ends at the first row where the running cost reaches (k + 1)/parts of the total.
-/// Every row belongs to exactly one block; blocks may be empty when rows are fewer than parts.
+/// block k ends at the first row where the running cost reaches (k + 1)/parts of the total;
+/// where one dear row makes that leave a block heavier than the best split could, the blocks
+/// of the least possible largest cost instead ([`least_largest`]). Every row belongs to
+/// exactly one block; blocks may be empty when rows are fewer than parts.
 pub fn balanced(costs: &[f64], parts: usize) -> Vec<Range<usize>> {
+    let by_running = running(costs, parts);
+    let largest = |blocks: &[Range<usize>]| {
+        blocks.iter().map(|b| costs[b.clone()].iter().map(|c| c.max(0.0)).sum::<f64>()).fold(0.0, f64::max)
+    };
+    let best = least_largest(costs, parts);
+    if largest(&best) < largest(&by_running) * (1.0 - MINIMAX_GAIN) {
+        best
+    } else {
+        by_running
+    }
+}
+
+/// Relative gain in the largest block's cost for which [`balanced`] leaves the running-cost
+/// split for the least-largest one (which fills blocks front first).
+const MINIMAX_GAIN: f64 = 0.02;
+
+/// The contiguous split into at most `parts` blocks whose largest cost is least (within
+/// 1e-12 of the total): bisection on that cost, each candidate tried by filling blocks in
+/// order up to it. Blocks past the rows are empty.
+fn least_largest(costs: &[f64], parts: usize) -> Vec<Range<usize>> {
+    let parts = parts.max(1);
+    let c = |i: usize| costs[i].max(0.0);
+    let fill = |cap: f64| -> Option<Vec<Range<usize>>> {
+        let mut blocks = Vec::with_capacity(parts);
+        let mut row = 0;
+        for _ in 0..parts {
+            let lo = row;
+            let mut run = 0.0;
+            while row < costs.len() && run + c(row) <= cap {
+                run += c(row);
+                row += 1;
+            }
+            blocks.push(lo..row);
+        }
+        (row == costs.len()).then_some(blocks)
+    };
+    let total: f64 = (0..costs.len()).map(c).sum();
+    let (mut lo, mut hi) = ((0..costs.len()).map(c).fold(total / parts as f64, f64::max), total);
+    for _ in 0..200 {
+        if hi - lo <= 1e-12 * total {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if fill(mid).is_some() {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    fill(hi).unwrap_or_else(|| running(costs, parts))
+}
+
+/// [`balanced`]'s running-cost split.
+fn running(costs: &[f64], parts: usize) -> Vec<Range<usize>> {
     let parts = parts.max(1);
     let n = costs.len();
     let total: f64 = costs.iter().map(|c| c.max(0.0)).sum();
@@ -126,6 +182,53 @@ fn probe_rates(estimated: &[f64], probes: &[(usize, f64)]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_largest_block_is_within_two_percent_of_the_least_any_split_allows() {
+        // Random chunk costs with a dear chunk or two (the refined entries of a room's
+        // hierarchy chunks), 2–4 parts, against every contiguous split: the running split
+        // alone left up to 1.5 times the least on such costs.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut moved = 0;
+        for case in 0..400 {
+            let n = 5 + case % 14;
+            let mut costs: Vec<f64> = (0..n).map(|_| 1.0 + next()).collect();
+            for _ in 0..1 + case % 2 {
+                let k = (next() * n as f64) as usize % n;
+                costs[k] *= 2.0 + 4.0 * next();
+            }
+            let parts = 2 + case % 3;
+            let sum = |r: Range<usize>| costs[r].iter().sum::<f64>();
+            let largest = |blocks: &[Range<usize>]| blocks.iter().map(|b| sum(b.clone())).fold(0.0, f64::max);
+            let least = least_of_all(&costs, parts);
+            let blocks = balanced(&costs, parts);
+            assert_eq!(blocks.len(), parts);
+            assert_eq!((blocks[0].start, blocks[parts - 1].end), (0, n));
+            assert!(blocks.windows(2).all(|w| w[0].end == w[1].start), "{blocks:?}");
+            assert!(
+                largest(&blocks) <= least * (1.0 + MINIMAX_GAIN) + 1e-12,
+                "{costs:?} {parts}: {blocks:?}"
+            );
+            moved += usize::from(largest(&running(&costs, parts)) > least * (1.0 + MINIMAX_GAIN));
+        }
+        assert!(moved > 20, "the running split was off in {moved} cases only");
+    }
+
+    /// The least largest block over every contiguous split of `costs` into `parts`.
+    fn least_of_all(costs: &[f64], parts: usize) -> f64 {
+        if parts == 1 {
+            return costs.iter().sum();
+        }
+        (0..=costs.len())
+            .map(|a| costs[..a].iter().sum::<f64>().max(least_of_all(&costs[a..], parts - 1)))
+            .fold(f64::INFINITY, f64::min)
+    }
 
     #[test]
     fn the_probe_rows_are_dealt_round_robin_and_cover_every_stride() {
