@@ -16,9 +16,10 @@
 //!   rays leave S/(n + 2) in the bound (the rule of succession: a shadow edge or a gap none
 //!   of them met), n chosen so that this fits the budget when that many rays cost less than
 //!   the link's patch pairs ([`PAIR_RAYS`] each, at most [`VIS_RAYS_MAX`]), else split; a
-//!   mixed result is kept with two standard errors in the bound when that fits, else split. A link that every ray found blocked has S = 0 and
-//!   that S/(n + 2) as its bound: on a concave part such links hid the views of patches
-//!   near a lip, 2.4 times their estimates (validation/cad.md).
+//!   mixed result is kept with two standard errors in the bound when that fits, else split.
+//!   A link that every ray found blocked has S = 0 and that S/(n + 2) as its bound: on a
+//!   concave part such links hid the views of patches near a lip, 2.4 times their
+//!   estimates (validation/cad.md).
 //!
 //! Two single patches always form a leaf pair, evaluated later by the exact kernel.
 //!
