@@ -94,7 +94,8 @@ impl Shaft {
     }
 
     /// True when the point lies inside.
-    pub fn contains(&self, p: DVec3) -> bool {
+    #[cfg(test)]
+    fn contains(&self, p: DVec3) -> bool {
         p.cmpge(self.lo).all() && p.cmple(self.hi).all() && self.planes().iter().all(|&(n, d)| n.dot(p) <= d)
     }
 }
