@@ -101,8 +101,8 @@ pub struct PairCache {
 }
 
 impl PairCache {
-    /// Exchange area and its variance of patch pair (i, j), i < j, when it was evaluated as a
-    /// pair with a nonzero value.
+    /// Exchange area and its variance of patch pair (i, j) (row i, as the build chose it), when
+    /// it was evaluated as a pair with a nonzero value.
     fn get(&self, i: u32, j: u32) -> Option<(f64, f64)> {
         let key = (self.leaf_of[i as usize], self.leaf_of[j as usize]);
         let k = self.pairs.binary_search_by_key(&key, |p| (p.0, p.1)).ok()?;
@@ -996,6 +996,29 @@ mod tests {
             prefix: Vec::new(),
             seed: 0,
         }
+    }
+
+    #[test]
+    fn a_leaf_pair_of_unequal_patches_is_evaluated_from_the_smaller() {
+        // The heat sink's facets in a room of one patch per wall: a wall–facet pair's row is
+        // the facet (narrow shadow volumes), pairs of like areas keep the lower index first.
+        let path =
+            format!("{}/validation/reference/real_parts/heat_sink/scene.toml", env!("CARGO_MANIFEST_DIR"));
+        let scene = crate::scene::load(std::path::Path::new(&path)).expect("the heat sink loads");
+        let tree = Tree::new(&scene);
+        let whole = refine::refine(&context(&scene, &tree, 1e-3));
+        let area = |p: u32| scene.patches[p as usize].polygon.area();
+        let mut flipped = 0;
+        for &(i, j, _) in &whole.leaves {
+            let (ai, aj) = (area(i), area(j));
+            if ai * refine::SMALL_ROW_RATIO < aj || aj * refine::SMALL_ROW_RATIO < ai {
+                assert!(ai < aj, "pair ({i}, {j}): row area {ai:.3e} against {aj:.3e}");
+                flipped += usize::from(i > j);
+            } else {
+                assert!(i < j, "pair ({i}, {j}) of like areas {ai:.3e}, {aj:.3e}");
+            }
+        }
+        assert!(flipped > 100 && whole.leaves.len() > 500, "{flipped} of {} pairs", whole.leaves.len());
     }
 
     #[test]

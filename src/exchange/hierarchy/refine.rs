@@ -71,6 +71,13 @@ pub const SECOND_ORDER_FLOOR: f64 = 0.25;
 /// Relative spread of plane offsets within which a parallel cluster counts as one plane:
 /// above single-precision rounding of mesh vertices (6e-8), below any machined step.
 pub const COPLANAR_TOL: f64 = 1e-6;
+/// Area ratio above which a leaf pair's row is its smaller patch: the shadow volumes of its
+/// blockers are built from the row's patch, and from a small one they are narrow, so fewer
+/// receivers are left partly shadowed (a room wall's patch against a meshed part's triangles:
+/// the arm link's 40×40 room evaluates its pairs 1.7 times faster, validation/cad.md); when
+/// the areas are close the lower index is the row, as in the dense path (gridded walls keep
+/// their lattice tables, which are built from the lower surface).
+pub const SMALL_ROW_RATIO: f64 = 2.0;
 /// Node pairs above this patch-count product are refined on two threads.
 const PAR_WORK: usize = 4096;
 
@@ -118,8 +125,8 @@ impl Link {
 pub struct Refined {
     /// Cluster links.
     pub links: Vec<Link>,
-    /// Patch pairs (i, j, s) with i < j for the exact kernel, s = 0 until it fills them in
-    /// place.
+    /// Patch pairs (i, j, s) for the exact kernel, i the row ([`row_first`]), s = 0 until it
+    /// fills them in place.
     pub leaves: Vec<(u32, u32, f64)>,
     /// Visibility rays cast.
     pub rays: u64,
@@ -378,13 +385,28 @@ fn record(decision: Decision, a: u32, b: u32, ctx: &Context, out: &mut Refined) 
         Decision::Zero => {}
         Decision::Leaves => {
             let (i, j) = (ctx.tree.patches(a)[0], ctx.tree.patches(b)[0]);
-            out.leaves.push((i.min(j), i.max(j), 0.0));
+            out.leaves.push(row_first(ctx, i, j));
         }
         Decision::Link { s, err, rays } => {
             out.rays += rays;
             out.links.push(Link::new(a, b, s, err));
         }
         Decision::Split(..) => unreachable!("split pairs are recursed"),
+    }
+}
+
+/// Leaf pair (i, j) as (row, receiver, 0): the smaller patch is the row when the other is
+/// more than [`SMALL_ROW_RATIO`] times its area, else the lower index.
+fn row_first(ctx: &Context, i: u32, j: u32) -> (u32, u32, f64) {
+    let (ai, aj) = (ctx.tree.geom[i as usize].area, ctx.tree.geom[j as usize].area);
+    if aj * SMALL_ROW_RATIO < ai || ai * SMALL_ROW_RATIO < aj {
+        if ai < aj {
+            (i, j, 0.0)
+        } else {
+            (j, i, 0.0)
+        }
+    } else {
+        (i.min(j), i.max(j), 0.0)
     }
 }
 

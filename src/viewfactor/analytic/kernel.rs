@@ -434,7 +434,7 @@ impl<'s> AnalyticKernel<'s> {
         (entry.s > 0.0 || entry.var > 0.0).then_some(entry)
     }
 
-    /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, all > i),
+    /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, any j ≠ i),
     /// exactly as [`RowKernel::row`] computes them; entries with s = 0 are left out. Blockers
     /// are classified only within the box of the receivers; a pair keeps those that meet its
     /// own box ([`Near`]), so its entry is the same whichever receivers share the call.
@@ -713,6 +713,62 @@ mod tests {
         let mean = |r: &[u64]| r.iter().sum::<u64>() as f64 / r.len() as f64;
         let (wall, part) = (mean(&costs[..96]), mean(&costs[96..]));
         assert!(wall > 30.0 * part, "wall rows {wall:.3e}, part rows {part:.3e}");
+    }
+
+    #[test]
+    fn a_row_s_receivers_below_it_get_the_entries_their_own_rows_give_it() {
+        // The hierarchy evaluates a leaf pair from its smaller patch: a part facet's row with
+        // the room's patches below it. Each entry against the same pair from the other side,
+        // within the ladder's and the exact policy's goals on both sides (of the unobstructed
+        // value). A facet emitting next to the faces it shares edges with is where the Gauss
+        // rules agreed on wrong values (`shadow::adaptive`'s touching cells).
+        for part in ["heat_sink", "l_bracket", "u_channel"] {
+            let dir = tempfile::tempdir().expect("temp dir");
+            let stl =
+                format!("{}/validation/reference/real_parts/{part}/part0.stl", env!("CARGO_MANIFEST_DIR"));
+            let shipped =
+                std::fs::read_to_string(stl.replace("part0.stl", "scene.toml")).expect("scene read");
+            let toml = shipped.replace("file = \"part0.stl\"", &format!("file = {stl:?}"));
+            let path = dir.path().join("scene.toml");
+            std::fs::write(&path, toml).expect("scene written");
+            let scene = crate::scene::load(&path).expect("the part loads");
+            let n = scene.patches.len();
+            let (ladder, rel) = (1e-8, 1e-6);
+            let kernel = AnalyticKernel::with_policy(&scene, ladder, Policy::Exact { rel_tol: rel });
+            let rows: Vec<Row> = (0..n)
+                .map(|i| {
+                    let mut row = Row::default();
+                    kernel.row(i, &mut row).expect("the row computes");
+                    row
+                })
+                .collect();
+            let (mut compared, mut shadowed, mut off) = (0, 0, Vec::new());
+            for i in 1..n {
+                let below: Vec<u32> = (0..i as u32).collect();
+                let mut out = Vec::new();
+                kernel.partners(i, &below, &mut out);
+                for (j, row) in rows.iter().enumerate().take(i) {
+                    let theirs = row.entries.iter().find(|e| e.j as usize == i).map_or(0.0, |e| e.s);
+                    let ours = out.iter().find(|e| e.j as usize == j).map_or(0.0, |e| e.s);
+                    let u = kernel.unobstructed(i, j, &mut kernel.reuse.row(i), &mut Scratch::default());
+                    if (ours - theirs).abs() > 2.0 * (ladder + rel) * u {
+                        off.push((i, j, (ours - theirs) / u));
+                    }
+                    compared += 1;
+                    shadowed +=
+                        usize::from(out.iter().any(|e| e.j as usize == j && e.method == MethodSet::SHADOWED));
+                }
+            }
+            assert!(
+                compared == n * (n - 1) / 2 && shadowed > 20,
+                "{part}: {compared} pairs, {shadowed} shadowed"
+            );
+            assert!(
+                off.is_empty(),
+                "{part}: {} pairs off (i, j, difference / unobstructed): {off:?}",
+                off.len()
+            );
+        }
     }
 
     #[test]

@@ -168,9 +168,9 @@ impl<'s> Shadows<'s> {
         classify_row(self.scene, &self.blockers, i, i + 1, row);
     }
 
-    /// As [`Self::classify_row`] for the `receivers` only.
+    /// As [`Self::classify_row`] for the `receivers` only (any j ≠ i, above or below it).
     pub fn classify_row_in(&self, i: usize, receivers: &[u32], row: &mut RowShadows) {
-        super::classify::classify_row_in(self.scene, &self.blockers, i, i + 1, Some(receivers), row);
+        super::classify::classify_row_in(self.scene, &self.blockers, i, 0, Some(receivers), row);
     }
 
     /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
