@@ -24,7 +24,7 @@ pub const BALANCE_VAR: &str = "LAMBERT_MPI_BALANCE";
 /// Splits rows `0..costs.len()` into `parts` contiguous blocks of nearly equal total cost:
 /// block k ends at the first row where the running cost reaches (k + 1)/parts of the total;
 /// where one dear row makes that leave a block heavier than the best split could, the blocks
-/// of the least possible largest cost instead ([`least_largest`]). Every row belongs to
+/// of the least possible largest cost instead (`least_largest`). Every row belongs to
 /// exactly one block; blocks may be empty when rows are fewer than parts.
 pub fn balanced(costs: &[f64], parts: usize) -> Vec<Range<usize>> {
     let by_running = running(costs, parts);

@@ -21,7 +21,9 @@
 //!   concave part such links hid the views of patches near a lip, 2.4 times their
 //!   estimates (validation/cad.md).
 //!
-//! Two single patches always form a leaf pair, evaluated later by the exact kernel.
+//! Two single patches always form a leaf pair, evaluated later by the exact kernel from the
+//! smaller patch when their areas differ by more than [`SMALL_ROW_RATIO`], else from the lower
+//! index.
 //!
 //! The budget of a link (single-surface clusters on surfaces s_A, s_B, ΔJ the range of the
 //! radiosity bounds of the patches of A ∪ B) is tol · Q_ref · S_AB ΔJ / (2 max(W_sA, W_sB)) in
@@ -125,7 +127,7 @@ impl Link {
 pub struct Refined {
     /// Cluster links.
     pub links: Vec<Link>,
-    /// Patch pairs (i, j, s) for the exact kernel, i the row ([`row_first`]), s = 0 until it
+    /// Patch pairs (i, j, s) for the exact kernel, i the row (`row_first`), s = 0 until it
     /// fills them in place.
     pub leaves: Vec<(u32, u32, f64)>,
     /// Visibility rays cast.

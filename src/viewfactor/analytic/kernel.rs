@@ -437,7 +437,7 @@ impl<'s> AnalyticKernel<'s> {
     /// Exchange areas A_i F_ij of patch i with the receivers `js` (ascending, any j ≠ i),
     /// exactly as [`RowKernel::row`] computes them; entries with s = 0 are left out. Blockers
     /// are classified only within the box of the receivers; a pair keeps those that meet its
-    /// own box ([`Near`]), so its entry is the same whichever receivers share the call.
+    /// own box (`Near`), so its entry is the same whichever receivers share the call.
     pub fn partners(&self, i: usize, js: &[u32], out: &mut Vec<RawEntry>) {
         let mut scratch = Scratch::default();
         let mut reuse = self.reuse.row(i);
