@@ -76,7 +76,7 @@ pub const COPLANAR_TOL: f64 = 1e-6;
 /// Area ratio above which a leaf pair's row is its smaller patch: the shadow volumes of its
 /// blockers are built from the row's patch, and from a small one they are narrow, so fewer
 /// receivers are left partly shadowed (a room wall's patch against a meshed part's triangles:
-/// the arm link's 40×40 room evaluates its pairs 1.7 times faster, validation/cad.md); when
+/// the arm link's 40×40 room evaluates its pairs 2.1 times faster, validation/cad.md); when
 /// the areas are close the lower index is the row, as in the dense path (gridded walls keep
 /// their lattice tables, which are built from the lower surface).
 pub const SMALL_ROW_RATIO: f64 = 2.0;
