@@ -32,6 +32,7 @@ use super::classify::clip_front;
 use super::viewpoint::{Scratch, ShadowGeometry, VIEWPOINT_WORK};
 use super::volume::{Class, ShadowVolume};
 use crate::geometry::convex::{ear_indices, is_convex_local};
+use crate::geometry::frame::Frame;
 use crate::geometry::groups::Groups;
 use crate::geometry::planes::{plane_of, Plane};
 use crate::geometry::quadrature::gauss_legendre;
@@ -100,11 +101,16 @@ impl Cell {
     }
     /// Vertices (3 or 4) into `out`.
     pub fn ring(&self, out: &mut Vec<DVec3>) {
+        let (corners, m) = self.corners();
         out.clear();
+        out.extend_from_slice(&corners[..m]);
+    }
+    /// Vertices in order: the first 3 or 4 of the array, and how many.
+    fn corners(&self) -> ([DVec3; 4], usize) {
         match *self {
-            Cell::Para { o, u, v } => out.extend([o, o + u, o + u + v, o + v]),
-            Cell::Tri(t) => out.extend(t),
-            Cell::Quad(q) => out.extend(q),
+            Cell::Para { o, u, v } => ([o, o + u, o + u + v, o + v], 4),
+            Cell::Tri([a, b, c]) => ([a, b, c, c], 3),
+            Cell::Quad(q) => (q, 4),
         }
     }
 }
@@ -563,10 +569,10 @@ impl Integrator {
 /// off, and the pair ended 3.6 times its estimate. Such a cell is held to its children's sum,
 /// with |parent − Σ children| in its error (two levels instead of two rules).
 struct Touch {
-    /// Emitter-plane frame.
-    e1: DVec3,
-    e2: DVec3,
-    /// Per kept blocker, its touching segments in that frame (a lone point as a zero-length one).
+    /// The emitter's frame (its normal the frame's n).
+    frame: Frame,
+    /// Per kept blocker, its touching segments in the frame's plane (a lone point as a
+    /// zero-length one).
     sets: Vec<Vec<(DVec2, DVec2)>>,
     snap: f64,
 }
@@ -574,17 +580,14 @@ struct Touch {
 impl Touch {
     fn new(geo: &ShadowGeometry) -> Self {
         let snap = geo.snap();
-        let n_e = geo.emitter_normal();
-        let d_e = n_e.dot(geo.emitter()[0]);
-        let (e1, _) = n_e.any_orthonormal_pair();
-        let e2 = n_e.cross(e1);
-        let flat = |x: DVec3| DVec2::new(x.dot(e1), x.dot(e2));
+        let frame = Frame::new(geo.emitter()[0], geo.emitter_normal());
+        let flat = |x: DVec3| frame.in_plane(x);
         let sets = geo
             .blockers()
             .iter()
             .map(|b| {
                 let m = b.len();
-                let h: Vec<f64> = b.iter().map(|&v| n_e.dot(v) - d_e).collect();
+                let h: Vec<f64> = b.iter().map(|&v| frame.point(v).z).collect();
                 let mut out = Vec::new();
                 for k in 0..m {
                     let (v, w, hv, hw) = (b[k], b[(k + 1) % m], h[k], h[(k + 1) % m]);
@@ -600,7 +603,7 @@ impl Touch {
                 out
             })
             .collect();
-        Self { e1, e2, sets, snap }
+        Self { frame, sets, snap }
     }
 
     /// True when an active blocker of `item` touches its cell (within the snap).
@@ -609,13 +612,12 @@ impl Touch {
         if active.iter().all(|&b| self.sets[b as usize].is_empty()) {
             return false;
         }
-        let mut ring = Vec::with_capacity(4);
-        item.cell.ring(&mut ring);
-        let flat: Vec<DVec2> = ring.iter().map(|x| DVec2::new(x.dot(self.e1), x.dot(self.e2))).collect();
-        let m = flat.len();
+        let (corners, m) = item.cell.corners();
+        let flat = corners.map(|x| self.frame.in_plane(x));
+        let ring = &flat[..m];
         let near = |p: DVec2, q: DVec2| {
-            segment_meets_ring(p, q, &flat)
-                || (0..m).any(|k| segment_distance(p, q, flat[k], flat[(k + 1) % m]) <= self.snap)
+            segment_meets_ring(p, q, ring)
+                || (0..m).any(|k| segment_distance(p, q, ring[k], ring[(k + 1) % m]) <= self.snap)
         };
         active.iter().any(|&b| self.sets[b as usize].iter().any(|&(p, q)| near(p, q)))
     }
