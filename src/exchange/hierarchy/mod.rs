@@ -38,6 +38,7 @@ use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 pub mod part;
+pub mod rays;
 pub mod refine;
 pub mod tree;
 
@@ -328,6 +329,17 @@ impl Hierarchy {
                             Some((s, var)) => out.push(RawEntry { j, method: MethodSet::ANALYTIC, s, var }),
                             None => js.push(j),
                         }
+                    }
+                    // Far pairs whose whole exchange is within a few goals go by rays
+                    // ([`rays`]), before the row's blocker classification.
+                    if let (Some(vis), true) = (vis.as_ref(), goal > 0.0) {
+                        js.retain(|&j| match rays::estimate(scene, &tree, vis, (i, j), goal, vf.seed) {
+                            Some((s, var)) => {
+                                out.push(RawEntry { j, method: MethodSet::MC_AREA, s, var });
+                                false
+                            }
+                            None => true,
+                        });
                     }
                     kernel.partners(i as usize, &js, &mut out);
                     out.sort_unstable_by_key(|e| e.j);

@@ -624,7 +624,7 @@ fn in_front(a: &Node, b: &Node, snap: f64) -> bool {
 
 /// Upper bound of A_a A_b K(x, y) over the points of two planar clusters with radius sum ρ
 /// (ρ < |r|): each cosine factor n·r grows by at most ρ, the distance shrinks by at most ρ.
-fn kernel_max(a: &Node, b: &Node, rho: f64) -> f64 {
+pub(crate) fn kernel_max(a: &Node, b: &Node, rho: f64) -> f64 {
     let r = b.centroid - a.centroid;
     let d = r.length();
     let (ca, cb) = (a.axis.dot(r).max(0.0) + rho, (-b.axis.dot(r)).max(0.0) + rho);
