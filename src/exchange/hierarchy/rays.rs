@@ -57,6 +57,11 @@ pub fn estimate(
         return None;
     }
     let (pi, pj) = (&scene.patches[i as usize].polygon, &scene.patches[j as usize].polygon);
+    // The draws fan out from the first vertex: convex patches only.
+    let convex = |p: &crate::geometry::polygon::Polygon| p.vertices().len() == 3 || p.is_convex();
+    if !(convex(pi) && convex(pj)) {
+        return None;
+    }
     let (ni, nj) = (pi.normal(), pj.normal());
     let (ci, cj) = (pi.vertices()[0], pj.vertices()[0]);
     // Every vertex strictly in front of the other's plane: the kernel is positive on the pair.
@@ -203,5 +208,14 @@ mod tests {
         // c, a 10 mm strip 3 m away just above the floor's plane, faces it edge-on (grazing):
         // its kernel is far below K̂.
         assert_eq!(estimate(&scene, &tree, &vis, (0, 2), 1e-3, 1), None);
+        // An L-shaped (non-convex) patch far from the floor square is left to the kernel too.
+        let text = "[[surface]]\nname = \"a\"\nrectangle = { origin = [0.0, 0.0, 0.0], u = [0.1, 0.0, 0.0], v = [0.0, 0.1, 0.0] }\n\
+                    emissivity = 0.5\ntemperature = 300.0\n\n\
+                    [[surface]]\nname = \"l\"\npolygon = [[0.0, 0.0, 2.0], [0.0, 0.1, 2.0], [0.1, 0.1, 2.0], [0.1, 0.05, 2.0], [0.05, 0.05, 2.0], [0.05, 0.0, 2.0]]\n\
+                    emissivity = 0.5\ntemperature = 300.0\n";
+        let scene = from_str(std::path::Path::new("l.toml"), text).unwrap();
+        let (tree, vis) = (Tree::new(&scene), Visibility::new(&scene));
+        assert!(!scene.patches[1].polygon.is_convex());
+        assert_eq!(estimate(&scene, &tree, &vis, (0, 1), 1e-3, 1), None);
     }
 }
