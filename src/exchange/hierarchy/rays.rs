@@ -92,8 +92,8 @@ pub fn estimate(
     for _ in 0..k {
         let mut drawn = None;
         for _ in 0..REJECT_TRIES {
-            let x = point(pi.vertices(), &mut rng);
-            let y = point(pj.vertices(), &mut rng);
+            let x = refine::fan_point(pi.vertices(), &mut rng);
+            let y = refine::fan_point(pj.vertices(), &mut rng);
             let r = y - x;
             let rr = r.length_squared();
             let kernel = aa * ni.dot(r) * -nj.dot(r) / (PI * rr * rr);
@@ -108,24 +108,6 @@ pub fn estimate(
         }
     }
     Some((unob * clear as f64 / k as f64, unob * unob / (4.0 * k as f64)))
-}
-
-/// A point drawn uniformly by area over the convex polygon `v` (a fan triangle by area, then
-/// a uniform point in it).
-fn point(v: &[DVec3], rng: &mut Pcg64Mcg) -> DVec3 {
-    let area = |t: usize| (v[t] - v[0]).cross(v[t + 1] - v[0]).length();
-    let total: f64 = (1..v.len() - 1).map(area).sum();
-    let mut x = rng.random::<f64>() * total;
-    let mut t = 1;
-    while t + 2 < v.len() && x > area(t) {
-        x -= area(t);
-        t += 1;
-    }
-    let (mut a, mut b) = (rng.random::<f64>(), rng.random::<f64>());
-    if a + b > 1.0 {
-        (a, b) = (1.0 - a, 1.0 - b);
-    }
-    v[0] + a * (v[t] - v[0]) + b * (v[t + 1] - v[0])
 }
 
 #[cfg(test)]

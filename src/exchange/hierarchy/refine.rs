@@ -713,8 +713,12 @@ fn sample(ctx: &Context, n: &Node, rng: &mut Pcg64Mcg) -> (usize, DVec3) {
     let u = base + rng.random::<f64>() * (ctx.prefix[hi - 1] - base);
     let k = lo + ctx.prefix[lo..hi].partition_point(|&c| c < u).min(hi - lo - 1);
     let p = ctx.tree.order[k] as usize;
-    // A fan triangle of the polygon by area, then a uniform point in it.
-    let v = ctx.scene.patches[p].polygon.vertices();
+    (p, fan_point(ctx.scene.patches[p].polygon.vertices(), rng))
+}
+
+/// A point drawn uniformly by area over the convex polygon `v`: a fan triangle by area, then a
+/// uniform point in it.
+pub(crate) fn fan_point(v: &[DVec3], rng: &mut Pcg64Mcg) -> DVec3 {
     let area = |t: usize| (v[t] - v[0]).cross(v[t + 1] - v[0]).length();
     let total: f64 = (1..v.len() - 1).map(area).sum();
     let mut x = rng.random::<f64>() * total;
@@ -727,7 +731,7 @@ fn sample(ctx: &Context, n: &Node, rng: &mut Pcg64Mcg) -> (usize, DVec3) {
     if a + b > 1.0 {
         (a, b) = (1.0 - a, 1.0 - b);
     }
-    (p, v[0] + a * (v[t] - v[0]) + b * (v[t + 1] - v[0]))
+    v[0] + a * (v[t] - v[0]) + b * (v[t + 1] - v[0])
 }
 
 #[cfg(test)]
