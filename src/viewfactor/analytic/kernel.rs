@@ -20,6 +20,7 @@
 use super::ladder::{gauss_exchange, ErrorModel, PatchRules, Points};
 use super::lattice::{Reuse, RowLookup};
 use crate::geometry::planes::PlaneGroups;
+use crate::geometry::shaft::Shaft;
 use crate::geometry::tolerance::PATCH_COPLANAR_REL;
 use crate::scene::Scene;
 use crate::viewfactor::accuracy::ANALYTIC_REL;
@@ -28,7 +29,7 @@ use crate::viewfactor::exact::pair::polygon_polygon_with_round_off;
 use crate::viewfactor::flags::{Flag, FlagLog};
 use crate::viewfactor::shadow::blockers::{bounds, Blockers};
 use crate::viewfactor::shadow::branch::PairWork;
-use crate::viewfactor::shadow::classify::Status;
+use crate::viewfactor::shadow::classify::{may_cut, Status};
 use crate::viewfactor::shadow::detect::Occlusion;
 use crate::viewfactor::shadow::policy::{pair_goal, CostModel, Policy, EXACT_REL_TOL, MC_MAX_SAMPLES};
 use crate::viewfactor::shadow::{ShadowScratch, Shadows};
@@ -462,38 +463,40 @@ impl<'s> AnalyticKernel<'s> {
     }
 }
 
-/// The partial blockers of a row's pairs cut to those that meet the box of the pair: only they
-/// can cut its sight lines, so an entry does not depend on which other receivers share the row
-/// (whose box limits the row's classification) nor on the process that holds them.
+/// The partial blockers of a row's pairs cut to those that may cut the pair's own sight lines
+/// (`classify::may_cut`: its box shaft, in front of the receiver), so an entry does not depend
+/// on which other receivers share the row (whose shafts limit the row's classification) nor
+/// on the process that holds them.
 struct Near<'a> {
     scene: &'a Scene,
     blockers: &'a Blockers,
     /// The box of the emitter.
-    lo: DVec3,
-    hi: DVec3,
+    bi: (DVec3, DVec3),
 }
 
 impl<'a> Near<'a> {
     fn new(scene: &'a Scene, shadows: &'a Shadows<'_>, i: usize) -> Self {
-        let (lo, hi) = bounds(scene.patches[i].polygon.vertices());
-        Near { scene, blockers: shadows.blockers(), lo, hi }
+        Near { scene, blockers: shadows.blockers(), bi: bounds(scene.patches[i].polygon.vertices()) }
     }
 
-    /// `status` of pair (i, j) with its partial blockers that miss the pair's box left out
-    /// (into `kept`); clear when none is left.
+    /// `status` of pair (i, j) with its partial blockers that cannot cut its sight lines left
+    /// out (into `kept`); clear when none is left.
     fn status<'k>(&self, j: usize, status: Status<'_>, kept: &'k mut Vec<u32>) -> Status<'k>
     where
         'a: 'k,
     {
         match status {
             Status::Partial(list) => {
-                let (jlo, jhi) = bounds(self.scene.patches[j].polygon.vertices());
-                let (lo, hi) = (self.lo.min(jlo), self.hi.max(jhi));
+                let pj = &self.scene.patches[j].polygon;
+                let snap = self.blockers.snap();
+                let shaft = Shaft::new(self.bi, bounds(pj.vertices()), snap);
+                let plane = (pj.normal(), pj.normal().dot(pj.centroid()));
                 kept.clear();
-                kept.extend(list.iter().copied().filter(|&b| {
-                    let (blo, bhi) = bounds(&self.blockers.get(b as usize).ring);
-                    blo.cmple(hi).all() && bhi.cmpge(lo).all()
-                }));
+                kept.extend(
+                    list.iter()
+                        .copied()
+                        .filter(|&b| may_cut(&shaft, plane, &self.blockers.get(b as usize).ring, snap)),
+                );
                 if kept.is_empty() {
                     Status::Clear
                 } else {

@@ -176,6 +176,14 @@ impl Blockers {
     pub fn blockers_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.blocker_tree.collect(keep, out);
     }
+    /// Calls `visit(index)` for each blocker whose padded box passes `keep(lo, hi)` at every
+    /// level.
+    pub fn walk_blockers(&self, keep: impl FnMut(DVec3, DVec3) -> bool, mut visit: impl FnMut(u32)) {
+        self.blocker_tree.walk(keep, |k| {
+            visit(k);
+            true
+        });
+    }
     /// True when some blocker whose padded box passes `keep(lo, hi)` at every level also
     /// passes `accept`: the walk of [`Blockers::blockers_where`], stopped at the first such
     /// blocker.

@@ -15,6 +15,7 @@ use super::blockers::{bounds, Blockers};
 use super::volume::{Build, Class, Region, ShadowVolume};
 use crate::geometry::clip::clip_ring;
 use crate::geometry::planes::centre_half;
+use crate::geometry::shaft::Shaft;
 use crate::geometry::Polygon;
 use crate::scene::Scene;
 use glam::DVec3;
@@ -53,6 +54,9 @@ pub struct RowShadows {
     nodes: Vec<u32>,
     wanted: Vec<u32>,
     stamp: u32,
+    /// Per blocker: `seen_stamp` once a row limited to its receivers has taken it.
+    seen: Vec<u32>,
+    seen_stamp: u32,
 }
 
 impl RowShadows {
@@ -109,9 +113,59 @@ pub fn row_blockers(blockers: &Blockers, pi: &Polygon, hull: Option<(DVec3, DVec
     out.retain(|&b| !blockers.turned_from(b as usize, pi.vertices()));
 }
 
-/// As [`classify_row`] for the `receivers` only (any order) when given: blockers outside the box
-/// of patch i and the receivers are never considered, and the walk enters only the patch
-/// tree's nodes above the receivers. Any receiver's status is what the whole row gives it.
+/// The blockers of row `i` limited to `receivers` into `out.row_blockers`: those of
+/// [`row_blockers`] that also meet the shaft of patch i and some receiver (every sight line of
+/// the pair lies in it), found by one blocker-tree walk per receiver.
+fn shaft_blockers(scene: &Scene, blockers: &Blockers, i: usize, js: &[u32], out: &mut RowShadows) {
+    let snap = blockers.snap();
+    let pi = &scene.patches[i].polygon;
+    let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
+    let bi = bounds(pi.vertices());
+    if out.seen.len() != blockers.len() {
+        out.seen = vec![0; blockers.len()];
+        out.seen_stamp = 0;
+    }
+    out.seen_stamp = out.seen_stamp.wrapping_add(1);
+    if out.seen_stamp == 0 {
+        out.seen.fill(0);
+        out.seen_stamp = 1;
+    }
+    let (stamp, seen, list) = (out.seen_stamp, &mut out.seen, &mut out.row_blockers);
+    list.clear();
+    let reach = |n: DVec3, off: f64, lo: DVec3, hi: DVec3| {
+        n.dot(0.5 * (lo + hi)) + n.abs().dot(0.5 * (hi - lo)) - off > snap
+    };
+    for &j in js {
+        let pj = &scene.patches[j as usize].polygon;
+        let (nj, offj) = (pj.normal(), pj.normal().dot(pj.centroid()));
+        let shaft = Shaft::new(bi, bounds(pj.vertices()), snap);
+        blockers.walk_blockers(
+            |lo, hi| reach(ni, off, lo, hi) && reach(nj, offj, lo, hi) && shaft.meets_box(lo, hi),
+            |k| {
+                if seen[k as usize] != stamp
+                    && may_cut(&shaft, (nj, offj), &blockers.get(k as usize).ring, snap)
+                {
+                    seen[k as usize] = stamp;
+                    if !blockers.turned_from(k as usize, pi.vertices()) {
+                        list.push(k);
+                    }
+                }
+            },
+        );
+    }
+}
+
+/// False when blocker `ring` cannot cut a sight line of a patch pair: it lies outside the
+/// pair's box `shaft`, or on or behind the receiver's plane (n, offset) to `snap`, which
+/// every sight line leaves from its front.
+pub fn may_cut(shaft: &Shaft, (n, off): (DVec3, f64), ring: &[DVec3], snap: f64) -> bool {
+    ring.iter().any(|&v| n.dot(v) - off > snap) && shaft.meets_points(ring)
+}
+
+/// As [`classify_row`] for the `receivers` only (any order) when given: only blockers that may
+/// cut a sight line of some pair (i, j) ([`may_cut`]) are considered, and the walk enters only
+/// the patch tree's nodes above the receivers. Any receiver's status is what the whole row
+/// gives it, once each pair keeps the partial blockers that may cut its own sight lines.
 pub fn classify_row_in(
     scene: &Scene,
     blockers: &Blockers,
@@ -161,7 +215,10 @@ pub fn classify_row_in(
         ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
             && region.is_none_or(|r| meets(r, lo, hi))
     };
-    row_blockers(blockers, pi, hull, &mut out.row_blockers);
+    match receivers {
+        Some(js) => shaft_blockers(scene, blockers, i, js, out),
+        None => row_blockers(blockers, pi, hull, &mut out.row_blockers),
+    }
     out.row_blockers.sort_unstable();
     // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
     let RowShadows { mark, touched, partial, row_blockers, ring, volumes, ids, nodes, wanted, .. } = out;
@@ -286,5 +343,73 @@ pub fn clip_front(ring: &[DVec3], n: DVec3, off: f64, snap: f64, out: &mut Vec<D
     clip_ring(ring, dist, snap, out);
     if !out.iter().any(|&x| dist(x) > snap) {
         out.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::blockers::BlockerSource;
+    use super::*;
+    use crate::geometry::subdivide::parallelogram_grid;
+    use crate::geometry::DVec3 as V;
+
+    /// A square `side` wide at `o` spanned by u, v (normal u × v).
+    fn plate(o: [f64; 3], u: [f64; 3], v: [f64; 3]) -> Vec<Polygon> {
+        parallelogram_grid(V::from(o), V::from(u), V::from(v), 1, 1).unwrap()
+    }
+
+    #[test]
+    fn a_row_limited_to_its_receivers_takes_only_blockers_that_may_cut_one_of_its_pairs() {
+        // Emitter e (z = 0, facing up), receivers a above it and b beside it (z = 2, facing
+        // down); a plate between e and a, and a plate low under b: inside the box of the row
+        // but outside both pairs' shafts.
+        let scene = Scene::builder()
+            .surface("e", plate([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), 0.9, None)
+            .surface("a", plate([0.0, 0.0, 2.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]), 0.9, None)
+            .surface("b", plate([4.0, 0.0, 2.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]), 0.9, None)
+            .surface("mid", plate([0.2, 0.2, 1.0], [0.0, 0.6, 0.0], [0.6, 0.0, 0.0]), 0.9, None)
+            .surface("low", plate([3.5, 0.2, 0.3], [0.0, 0.6, 0.0], [0.5, 0.0, 0.0]), 0.9, None)
+            .build();
+        let blockers = Blockers::new(&scene);
+        let name = |b: u32| match blockers.get(b as usize).source {
+            BlockerSource::Surface(s) => scene.surfaces[s].name.clone(),
+            BlockerSource::Patch(p) => scene.surfaces[scene.patches[p].surface].name.clone(),
+            BlockerSource::Obstruction { .. } => String::from("obstruction"),
+        };
+        let mut row = RowShadows::default();
+        let pi = &scene.patches[0].polygon;
+        let mut hull = Vec::new();
+        row_blockers(&blockers, pi, Some((V::ZERO, V::new(5.0, 1.0, 2.0))), &mut hull);
+        let mut named: Vec<String> = hull.iter().map(|&b| name(b)).collect();
+        named.sort();
+        assert!(named.contains(&"low".to_string()) && named.contains(&"mid".to_string()), "{named:?}");
+        classify_row_in(&scene, &blockers, 0, 0, Some(&[1, 2]), &mut row);
+        let taken: Vec<String> = row.row_blockers.iter().map(|&b| name(b)).collect();
+        assert_eq!(taken, ["mid"]);
+        // The statuses are the whole row's, once each pair keeps the blockers that may cut it.
+        let mut full = RowShadows::default();
+        classify_row(&scene, &blockers, 0, 0, &mut full);
+        let own = |j: usize, list: &[u32]| -> Vec<u32> {
+            let pj = &scene.patches[j].polygon;
+            let shaft = Shaft::new(bounds(pi.vertices()), bounds(pj.vertices()), blockers.snap());
+            let plane = (pj.normal(), pj.normal().dot(pj.centroid()));
+            list.iter()
+                .copied()
+                .filter(|&b| may_cut(&shaft, plane, &blockers.get(b as usize).ring, blockers.snap()))
+                .collect()
+        };
+        match (row.status(1), full.status(1)) {
+            (Status::Partial(got), Status::Partial(want)) => {
+                assert_eq!(own(1, got), own(1, want));
+                assert_eq!(got.iter().map(|&b| name(b)).collect::<Vec<_>>(), ["mid"]);
+            }
+            other => panic!("receiver a: {other:?}"),
+        }
+        assert!(matches!(row.status(2), Status::Clear), "receiver b: {:?}", row.status(2));
+        match full.status(2) {
+            Status::Clear => {}
+            Status::Partial(want) => assert!(own(2, want).is_empty(), "{want:?}"),
+            Status::Blocked => panic!("receiver b blocked"),
+        }
     }
 }
