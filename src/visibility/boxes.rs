@@ -151,6 +151,26 @@ impl BoxTree {
         }
     }
 
+    /// True when box `k` and every node above it pass `keep(lo, hi)`: exactly when a
+    /// [`BoxTree::walk`] with `keep` would visit `k`.
+    pub fn reaches(&self, k: u32, mut keep: impl FnMut(DVec3, DVec3) -> bool) -> bool {
+        let (lo, hi) = self.boxes[k as usize];
+        if !keep(lo, hi) {
+            return false;
+        }
+        let mut n = self.leaf[k as usize] as usize;
+        loop {
+            let node = &self.bvh.nodes[n];
+            if !keep(to64(node.aabb.min), to64(node.aabb.max)) {
+                return false;
+            }
+            if n == 0 {
+                return true;
+            }
+            n = self.parent[n] as usize;
+        }
+    }
+
     /// Walk with a three-way region test on node boxes: subtrees `Out` are pruned, subtrees
     /// `In` are visited whole without further tests; `visit(index, region)` receives every box
     /// of a reached leaf with its node's region (`Cross` boxes are left to the caller to test,
@@ -297,6 +317,28 @@ mod tests {
             assert!(got.iter().all(|&k| marks[tree.leaf[k as usize] as usize] == stamp), "step {step}");
             assert!(got.len() < full.len() / 2, "step {step}: {} of {}", got.len(), full.len());
         }
+    }
+
+    #[test]
+    fn a_box_is_reached_from_its_path_exactly_when_the_walk_visits_it() {
+        // A predicate that is not monotone under containment (small boxes pass, wide ones
+        // only near x = 0): a walk prunes nodes whose boxes pass on their own.
+        let tree = BoxTree::new(lattice(), 1e-6);
+        let keep = |lo: DVec3, hi: DVec3| (hi - lo).max_element() < 8.0 || lo.x < 3.0;
+        let mut visited = vec![false; tree.len()];
+        tree.walk(keep, |k| {
+            visited[k as usize] = true;
+            true
+        });
+        let alone = (0..tree.len()).filter(|&k| {
+            let (lo, hi) = tree.get(k);
+            keep(lo, hi)
+        });
+        assert!(alone.count() > visited.iter().filter(|&&v| v).count(), "the ball test prunes a passing box");
+        for (k, &v) in visited.iter().enumerate() {
+            assert_eq!(tree.reaches(k as u32, keep), v, "box {k}");
+        }
+        assert!(visited.iter().filter(|&&v| v).count() > 100);
     }
 
     #[test]

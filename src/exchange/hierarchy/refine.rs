@@ -307,7 +307,7 @@ pub fn refine_tasks_counted(ctx: &Context, tasks: &[Task], done: &(dyn Fn(usize)
     tasks.par_iter().enumerate().for_each(|(k, t)| {
         match *t {
             Task::Within(k) => self_pair(ctx, k, &sink),
-            Task::Between(a, b) => pair(ctx, a, b, &sink),
+            Task::Between(a, b) => pair(ctx, a, b, None, &sink),
         }
         done(k);
     });
@@ -327,7 +327,7 @@ fn self_pair(ctx: &Context, k: u32, sink: &Sink) {
     if node.len() > 64 {
         rayon::join(
             || rayon::join(|| self_pair(ctx, l, sink), || self_pair(ctx, r, sink)),
-            || pair(ctx, l, r, sink),
+            || pair(ctx, l, r, None, sink),
         );
     } else {
         let mut out = Refined::default();
@@ -345,22 +345,24 @@ fn self_pair_into(ctx: &Context, k: u32, out: &mut Refined) {
     let [l, r] = node.kids;
     self_pair_into(ctx, l, out);
     self_pair_into(ctx, r, out);
-    pair_into(ctx, l, r, out);
+    pair_into(ctx, l, r, None, out);
 }
 
-/// Pairs between nodes a and b, in parallel while the work is large.
-fn pair(ctx: &Context, a: u32, b: u32, sink: &Sink) {
+/// Pairs between nodes a and b, in parallel while the work is large; `hint` as in
+/// [`pair_into`].
+fn pair(ctx: &Context, a: u32, b: u32, hint: Option<u32>, sink: &Sink) {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
     if na.len() * nb.len() < PAR_WORK {
         let mut out = Refined::default();
-        pair_into(ctx, a, b, &mut out);
+        pair_into(ctx, a, b, hint, &mut out);
         sink.put(out);
         return;
     }
-    match assess(ctx, a, b) {
+    let mut hint = hint;
+    match assess(ctx, a, b, &mut hint) {
         Decision::Split(x, other) => {
             let [c, d] = ctx.tree.nodes[x as usize].kids;
-            rayon::join(|| pair(ctx, c, other, sink), || pair(ctx, d, other, sink));
+            rayon::join(|| pair(ctx, c, other, hint, sink), || pair(ctx, d, other, hint, sink));
         }
         decision => {
             let mut out = Refined::default();
@@ -370,13 +372,15 @@ fn pair(ctx: &Context, a: u32, b: u32, sink: &Sink) {
     }
 }
 
-/// Pairs between nodes a and b, serially.
-fn pair_into(ctx: &Context, a: u32, b: u32, out: &mut Refined) {
-    match assess(ctx, a, b) {
+/// Pairs between nodes a and b, serially. `hint`: a blocker found in the hull of a parent
+/// pair, tried first by the pair's own blocker search (which it only shortens).
+fn pair_into(ctx: &Context, a: u32, b: u32, hint: Option<u32>, out: &mut Refined) {
+    let mut hint = hint;
+    match assess(ctx, a, b, &mut hint) {
         Decision::Split(x, other) => {
             let [c, d] = ctx.tree.nodes[x as usize].kids;
-            pair_into(ctx, c, other, out);
-            pair_into(ctx, d, other, out);
+            pair_into(ctx, c, other, hint, out);
+            pair_into(ctx, d, other, hint, out);
         }
         decision => record(decision, a, b, ctx, out),
     }
@@ -454,10 +458,10 @@ fn behind(a: &Node, b: &Node, snap: f64) -> bool {
     }
 }
 
-fn assess(ctx: &Context, a: u32, b: u32) -> Decision {
+fn assess(ctx: &Context, a: u32, b: u32, hint: &mut Option<u32>) -> Decision {
     match geometric(ctx, a, b) {
         Ok(decision) => decision,
-        Err(far) => budgeted(ctx, a, b, far),
+        Err(far) => budgeted(ctx, a, b, far, hint),
     }
 }
 
@@ -531,7 +535,7 @@ fn snap(na: &Node, nb: &Node) -> f64 {
 }
 
 /// The part of [`assess`] that weighs a pair's estimate against its budget.
-fn budgeted(ctx: &Context, a: u32, b: u32, far: Far) -> Decision {
+fn budgeted(ctx: &Context, a: u32, b: u32, far: Far, hint: &mut Option<u32>) -> Decision {
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
     let Far { dist, rho } = far;
     // The second-order estimate, whose remainder is fourth order in ρ/r (bounded with the
@@ -555,7 +559,7 @@ fn budgeted(ctx: &Context, a: u32, b: u32, far: Far) -> Decision {
     if geo * dj > budget {
         return split(ctx, a, b);
     }
-    let Some((v, vis_err, rays)) = visibility(ctx, a, b, two, dj, budget - geo * dj) else {
+    let Some((v, vis_err, rays)) = visibility(ctx, a, b, two, dj, budget - geo * dj, hint) else {
         return split(ctx, a, b);
     };
     // A link that every ray found blocked is stored with s = 0 and its `err` is the exchange
@@ -633,7 +637,16 @@ pub(crate) fn kernel_max(a: &Node, b: &Node, rho: f64) -> f64 {
 
 /// Visible fraction of link (a, b) with estimate `s`, its error in m² and the rays cast;
 /// `None` when the rays disagree and their sampling error would not fit `room` (split).
-fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Option<(f64, f64, u64)> {
+/// The blocker search tries `hint` first and leaves in it the blocker it found.
+fn visibility(
+    ctx: &Context,
+    a: u32,
+    b: u32,
+    s: f64,
+    dj: f64,
+    room: f64,
+    hint: &mut Option<u32>,
+) -> Option<(f64, f64, u64)> {
     let (Some(blockers), Some(vis)) = (ctx.blockers, ctx.vis) else { return Some((1.0, 0.0, 0)) };
     let (na, nb) = (&ctx.tree.nodes[a as usize], &ctx.tree.nodes[b as usize]);
     // Does any blocker meet the hull of A ∪ B (its box within the union box, and within the
@@ -650,16 +663,18 @@ fn visibility(ctx: &Context, a: u32, b: u32, s: f64, dj: f64, room: f64) -> Opti
         Some((lo, _)) => ring.iter().any(|v| n.axis.dot(*v) > lo + snap),
         None => true,
     };
-    let met = blockers.any_blocker_accepted(
+    let met = blockers.blocker_accepted(
+        *hint,
         |lo, hi| {
             let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
             shaft.meets_box(lo, hi) && cone_reaches(c - p, dir, len, ra, rb, h.length())
         },
         |blocker| shaft.meets_points(&blocker.ring) && ahead(na, &blocker.ring) && ahead(nb, &blocker.ring),
     );
-    if !met {
+    if met.is_none() {
         return Some((1.0, 0.0, 0));
     }
+    *hint = met;
     // Unanimous rays leave s/(n + 2) unaccounted (the rule of succession: a shadow edge, or a
     // gap, that none of n rays met): n is what makes that fit the room, cast only while the
     // rays cost less than the patch pairs a split would end in, else split.

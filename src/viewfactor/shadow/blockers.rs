@@ -190,12 +190,28 @@ impl Blockers {
     pub fn any_blocker_accepted(
         &self,
         keep: impl FnMut(DVec3, DVec3) -> bool,
-        mut accept: impl FnMut(&Blocker) -> bool,
+        accept: impl FnMut(&Blocker) -> bool,
     ) -> bool {
-        let mut found = false;
+        self.blocker_accepted(None, keep, accept).is_some()
+    }
+    /// The first blocker of [`Blockers::any_blocker_accepted`]'s walk, or `hint` when that
+    /// walk would reach and accept it (tested first, along its path in the tree: the answer
+    /// is found or not exactly as without the hint).
+    pub fn blocker_accepted(
+        &self,
+        hint: Option<u32>,
+        mut keep: impl FnMut(DVec3, DVec3) -> bool,
+        mut accept: impl FnMut(&Blocker) -> bool,
+    ) -> Option<u32> {
+        if let Some(k) = hint.filter(|&k| (k as usize) < self.blockers.len()) {
+            if self.blocker_tree.reaches(k, &mut keep) && accept(&self.blockers[k as usize]) {
+                return Some(k);
+            }
+        }
+        let mut found = None;
         self.blocker_tree.walk(keep, |k| {
-            found = accept(&self.blockers[k as usize]);
-            !found
+            found = accept(&self.blockers[k as usize]).then_some(k);
+            found.is_none()
         });
         found
     }
