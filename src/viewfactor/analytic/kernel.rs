@@ -227,7 +227,6 @@ impl<'s> AnalyticKernel<'s> {
         crate::viewfactor::shadow::classify::row_blockers(
             shadows.blockers(),
             &self.scene.patches[i].polygon,
-            None,
             ids,
         );
         ids.len()

@@ -184,18 +184,9 @@ impl Blockers {
             true
         });
     }
-    /// True when some blocker whose padded box passes `keep(lo, hi)` at every level also
-    /// passes `accept`: the walk of [`Blockers::blockers_where`], stopped at the first such
-    /// blocker.
-    pub fn any_blocker_accepted(
-        &self,
-        keep: impl FnMut(DVec3, DVec3) -> bool,
-        accept: impl FnMut(&Blocker) -> bool,
-    ) -> bool {
-        self.blocker_accepted(None, keep, accept).is_some()
-    }
-    /// The first blocker of [`Blockers::any_blocker_accepted`]'s walk, or `hint` when that
-    /// walk would reach and accept it (tested first, along its path in the tree: the answer
+    /// The first blocker whose padded box passes `keep(lo, hi)` at every level of the tree
+    /// and that passes `accept` (a walk stopped there), or `hint` when that walk would reach
+    /// and accept it (tested first, along its path in the tree: the answer
     /// is found or not exactly as without the hint).
     pub fn blocker_accepted(
         &self,

@@ -54,9 +54,8 @@ pub struct RowShadows {
     nodes: Vec<u32>,
     wanted: Vec<u32>,
     stamp: u32,
-    /// Per blocker: `seen_stamp` once a row limited to its receivers has taken it.
+    /// Per blocker: `stamp` once a row limited to its receivers has taken it.
     seen: Vec<u32>,
-    seen_stamp: u32,
 }
 
 impl RowShadows {
@@ -97,53 +96,46 @@ pub fn classify_row(scene: &Scene, blockers: &Blockers, i: usize, first: usize, 
 }
 
 /// The blockers a row of emitter `pi` is classified against, into `out` (in the blocker
-/// tree's order): those whose box reaches in front of the emitter's plane and meets `hull`
-/// when given, less a solid's faces turned away from all of the emitter (never crossed first).
-pub fn row_blockers(blockers: &Blockers, pi: &Polygon, hull: Option<(DVec3, DVec3)>, out: &mut Vec<u32>) {
+/// tree's order): those whose box reaches in front of the emitter's plane, less a solid's
+/// faces turned away from all of the emitter (never crossed first).
+pub fn row_blockers(blockers: &Blockers, pi: &Polygon, out: &mut Vec<u32>) {
     let snap = blockers.snap();
-    let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
+    let plane = (pi.normal(), pi.normal().dot(pi.centroid()));
     out.clear();
-    blockers.blockers_where(
-        |lo, hi| {
-            ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
-                && hull.is_none_or(|(rl, rh)| lo.cmple(rh).all() && hi.cmpge(rl).all())
-        },
-        out,
-    );
+    blockers.blockers_where(|lo, hi| reaches_front(plane, lo, hi, snap), out);
     out.retain(|&b| !blockers.turned_from(b as usize, pi.vertices()));
+}
+
+/// True when some point of the box [lo, hi] lies more than `snap` in front of the plane
+/// (n, offset).
+#[inline]
+fn reaches_front((n, off): (DVec3, f64), lo: DVec3, hi: DVec3, snap: f64) -> bool {
+    n.dot(0.5 * (lo + hi)) + n.abs().dot(0.5 * (hi - lo)) - off > snap
 }
 
 /// The blockers of row `i` limited to `receivers` into `out.row_blockers`: those of
 /// [`row_blockers`] that also meet the shaft of patch i and some receiver (every sight line of
-/// the pair lies in it), found by one blocker-tree walk per receiver.
+/// the pair lies in it), found by one blocker-tree walk per receiver. Uses the row's stamp
+/// (`out.stamp`, set for these receivers) to take each blocker once.
 fn shaft_blockers(scene: &Scene, blockers: &Blockers, i: usize, js: &[u32], out: &mut RowShadows) {
     let snap = blockers.snap();
     let pi = &scene.patches[i].polygon;
-    let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
+    let plane_i = (pi.normal(), pi.normal().dot(pi.centroid()));
     let bi = bounds(pi.vertices());
-    if out.seen.len() != blockers.len() {
-        out.seen = vec![0; blockers.len()];
-        out.seen_stamp = 0;
-    }
-    out.seen_stamp = out.seen_stamp.wrapping_add(1);
-    if out.seen_stamp == 0 {
-        out.seen.fill(0);
-        out.seen_stamp = 1;
-    }
-    let (stamp, seen, list) = (out.seen_stamp, &mut out.seen, &mut out.row_blockers);
+    let (stamp, seen, list) = (out.stamp, &mut out.seen, &mut out.row_blockers);
     list.clear();
-    let reach = |n: DVec3, off: f64, lo: DVec3, hi: DVec3| {
-        n.dot(0.5 * (lo + hi)) + n.abs().dot(0.5 * (hi - lo)) - off > snap
-    };
     for &j in js {
         let pj = &scene.patches[j as usize].polygon;
-        let (nj, offj) = (pj.normal(), pj.normal().dot(pj.centroid()));
+        let plane_j = (pj.normal(), pj.normal().dot(pj.centroid()));
         let shaft = Shaft::new(bi, bounds(pj.vertices()), snap);
         blockers.walk_blockers(
-            |lo, hi| reach(ni, off, lo, hi) && reach(nj, offj, lo, hi) && shaft.meets_box(lo, hi),
+            |lo, hi| {
+                reaches_front(plane_i, lo, hi, snap)
+                    && reaches_front(plane_j, lo, hi, snap)
+                    && shaft.meets_box(lo, hi)
+            },
             |k| {
-                if seen[k as usize] != stamp
-                    && may_cut(&shaft, (nj, offj), &blockers.get(k as usize).ring, snap)
+                if seen[k as usize] != stamp && may_cut(&shaft, plane_j, &blockers.get(k as usize).ring, snap)
                 {
                     seen[k as usize] = stamp;
                     if !blockers.turned_from(k as usize, pi.vertices()) {
@@ -186,15 +178,20 @@ pub fn classify_row_in(
     });
     let tree = blockers.patch_tree();
     let marked = receivers.map(|js| {
-        if out.nodes.len() != tree.node_count() || out.wanted.len() != scene.patches.len() {
+        if out.nodes.len() != tree.node_count()
+            || out.wanted.len() != scene.patches.len()
+            || out.seen.len() != blockers.len()
+        {
             out.nodes = vec![0; tree.node_count()];
             out.wanted = vec![0; scene.patches.len()];
+            out.seen = vec![0; blockers.len()];
             out.stamp = 0;
         }
         out.stamp = out.stamp.wrapping_add(1);
         if out.stamp == 0 {
             out.nodes.fill(0);
             out.wanted.fill(0);
+            out.seen.fill(0);
             out.stamp = 1;
         }
         tree.mark_paths(js.iter().copied(), out.stamp, &mut out.nodes);
@@ -207,17 +204,12 @@ pub fn classify_row_in(
     let pi = &scene.patches[i].polygon;
     let (ni, off) = (pi.normal(), pi.normal().dot(pi.centroid()));
     let meets = |(rl, rh): (DVec3, DVec3), lo: DVec3, hi: DVec3| lo.cmple(rh).all() && hi.cmpge(rl).all();
-    let hull = region.map(|(rl, rh)| {
-        let (l, h) = bounds(pi.vertices());
-        (rl.min(l), rh.max(h))
-    });
     let in_front = |lo: DVec3, hi: DVec3| {
-        ni.dot(0.5 * (lo + hi)) + ni.abs().dot(0.5 * (hi - lo)) - off > snap
-            && region.is_none_or(|r| meets(r, lo, hi))
+        reaches_front((ni, off), lo, hi, snap) && region.is_none_or(|r| meets(r, lo, hi))
     };
     match receivers {
         Some(js) => shaft_blockers(scene, blockers, i, js, out),
-        None => row_blockers(blockers, pi, hull, &mut out.row_blockers),
+        None => row_blockers(blockers, pi, &mut out.row_blockers),
     }
     out.row_blockers.sort_unstable();
     // One shadow volume per blocker (at most 64 per walk), then one walk for all of them.
@@ -379,7 +371,8 @@ mod tests {
         let mut row = RowShadows::default();
         let pi = &scene.patches[0].polygon;
         let mut hull = Vec::new();
-        row_blockers(&blockers, pi, Some((V::ZERO, V::new(5.0, 1.0, 2.0))), &mut hull);
+        let (rl, rh) = (V::ZERO, V::new(5.0, 1.0, 2.0));
+        blockers.blockers_where(|lo, hi| lo.cmple(rh).all() && hi.cmpge(rl).all(), &mut hull);
         let mut named: Vec<String> = hull.iter().map(|&b| name(b)).collect();
         named.sort();
         assert!(named.contains(&"low".to_string()) && named.contains(&"mid".to_string()), "{named:?}");
