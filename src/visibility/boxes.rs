@@ -7,6 +7,9 @@ use glam::{DVec3, Vec3A};
 use obvhs::{aabb::Aabb, bvh2::Bvh2, Boundable, BvhBuildParams};
 use std::time::Duration;
 
+/// Deepest hint path [`BoxTree::find_near`] follows (deeper hints start at the root).
+const PATH_MAX: usize = 64;
+
 struct PaddedBox(Aabb);
 impl Boundable for PaddedBox {
     fn aabb(&self) -> Aabb {
@@ -151,24 +154,97 @@ impl BoxTree {
         }
     }
 
-    /// True when box `k` and every node above it pass `keep(lo, hi)`: exactly when a
-    /// [`BoxTree::walk`] with `keep` would visit `k`.
-    pub fn reaches(&self, k: u32, mut keep: impl FnMut(DVec3, DVec3) -> bool) -> bool {
-        let (lo, hi) = self.boxes[k as usize];
-        if !keep(lo, hi) {
-            return false;
+    /// Some box that a [`BoxTree::walk`] with `keep` visits and `accept` takes, `None` exactly
+    /// when there is none. The search starts from `hints`: each hint's own box first (along
+    /// its path, as [`BoxTree::reaches`]), then the deepest node above the first hint that the
+    /// walk enters (the neighbourhood of a blocker that just failed), then the rest of the tree.
+    pub fn find_near(
+        &self,
+        hints: &[u32],
+        mut keep: impl FnMut(DVec3, DVec3) -> bool,
+        mut accept: impl FnMut(u32) -> bool,
+    ) -> Option<u32> {
+        if self.bvh.nodes.is_empty() {
+            return None;
         }
-        let mut n = self.leaf[k as usize] as usize;
-        loop {
-            let node = &self.bvh.nodes[n];
+        let mut anchor = None;
+        for &h in hints.iter().filter(|&&h| (h as usize) < self.boxes.len()) {
+            // The hint's path, root first; the deepest node of it that the walk enters.
+            let mut path = [0u32; PATH_MAX];
+            let mut depth = 0;
+            let mut n = self.leaf[h as usize];
+            loop {
+                if depth == PATH_MAX {
+                    depth = 0;
+                    break;
+                }
+                path[depth] = n;
+                depth += 1;
+                if n == 0 {
+                    break;
+                }
+                n = self.parent[n as usize];
+            }
+            let mut entered = None;
+            for &n in path[..depth].iter().rev() {
+                let node = &self.bvh.nodes[n as usize];
+                if !keep(to64(node.aabb.min), to64(node.aabb.max)) {
+                    break;
+                }
+                entered = Some(n);
+            }
+            if depth > 0 && entered == Some(path[0]) {
+                let (lo, hi) = self.boxes[h as usize];
+                if keep(lo, hi) && accept(h) {
+                    return Some(h);
+                }
+            }
+            if anchor.is_none() {
+                anchor = entered;
+            }
+        }
+        match anchor {
+            Some(a) if a != 0 => self
+                .first_in(a, None, &mut keep, &mut accept)
+                .or_else(|| self.first_in(0, Some(a), &mut keep, &mut accept)),
+            _ => self.first_in(0, None, &mut keep, &mut accept),
+        }
+    }
+
+    /// Depth first from node `start` (whose ancestors the caller has checked), leaving out the
+    /// subtree of `skip`: the first box that passes `keep` (with every node above it) and
+    /// `accept`.
+    fn first_in(
+        &self,
+        start: u32,
+        skip: Option<u32>,
+        keep: &mut impl FnMut(DVec3, DVec3) -> bool,
+        accept: &mut impl FnMut(u32) -> bool,
+    ) -> Option<u32> {
+        let mut stack = Vec::with_capacity(PATH_MAX);
+        stack.push(start);
+        while let Some(k) = stack.pop() {
+            if skip == Some(k) {
+                continue;
+            }
+            let node = &self.bvh.nodes[k as usize];
             if !keep(to64(node.aabb.min), to64(node.aabb.max)) {
-                return false;
+                continue;
             }
-            if n == 0 {
-                return true;
+            if node.is_leaf() {
+                for slot in node.first_index..node.first_index + node.prim_count {
+                    let k = self.bvh.primitive_indices[slot as usize];
+                    let (lo, hi) = self.boxes[k as usize];
+                    if keep(lo, hi) && accept(k) {
+                        return Some(k);
+                    }
+                }
+            } else {
+                stack.push(node.first_index + 1);
+                stack.push(node.first_index);
             }
-            n = self.parent[n] as usize;
         }
+        None
     }
 
     /// Walk with a three-way region test on node boxes: subtrees `Out` are pruned, subtrees
@@ -320,7 +396,7 @@ mod tests {
     }
 
     #[test]
-    fn a_box_is_reached_from_its_path_exactly_when_the_walk_visits_it() {
+    fn a_search_from_hints_finds_a_box_exactly_when_the_walk_does() {
         // A predicate that is not monotone under containment (small boxes pass, wide ones
         // only near x = 0): a walk prunes nodes whose boxes pass on their own.
         let tree = BoxTree::new(lattice(), 1e-6);
@@ -335,10 +411,28 @@ mod tests {
             keep(lo, hi)
         });
         assert!(alone.count() > visited.iter().filter(|&&v| v).count(), "the ball test prunes a passing box");
-        for (k, &v) in visited.iter().enumerate() {
-            assert_eq!(tree.reaches(k as u32, keep), v, "box {k}");
-        }
         assert!(visited.iter().filter(|&&v| v).count() > 100);
+        // Accepted sets from none to many, hints on reached, pruned and accepted boxes.
+        for (m, hints) in
+            [(1, vec![]), (97, vec![5]), (997, vec![3, 4000]), (8001, vec![17, 7999]), (13, vec![8])]
+        {
+            let accepted = |k: u32| k.is_multiple_of(m) || k == 4242;
+            let want = (0..tree.len() as u32).any(|k| visited[k as usize] && accepted(k));
+            let got = tree.find_near(&hints, keep, accepted);
+            assert_eq!(got.is_some(), want, "every {m}, hints {hints:?}");
+            if let Some(k) = got {
+                assert!(visited[k as usize] && accepted(k), "box {k}");
+            }
+        }
+        // Each visited box alone accepted, hinted at itself or from a neighbour: found.
+        for k in (0..tree.len() as u32).filter(|&k| visited[k as usize]).step_by(7) {
+            assert_eq!(tree.find_near(&[k], keep, |j| j == k), Some(k));
+            assert_eq!(tree.find_near(&[k ^ 1], keep, |j| j == k), Some(k));
+        }
+        // A pruned box is never returned, whatever the hints.
+        for k in (0..tree.len() as u32).filter(|&k| !visited[k as usize]).step_by(11) {
+            assert_eq!(tree.find_near(&[k], keep, |j| j == k), None);
+        }
     }
 
     #[test]

@@ -185,6 +185,23 @@ impl Visibility {
 
     /// Builds with an explicit obvhs preset (benchmarks compare them).
     pub fn with_params(scene: &Scene, params: BvhBuildParams) -> Self {
+        Self::build(scene, params, |_| true)
+    }
+
+    /// For [`Self::occluded`] only: the BVH holds just the occluder polygons `cuts` keeps
+    /// (patches and obstruction polygons); the frame, bands and patch planes are those of the whole scene, so
+    /// an occlusion answer is the full tree's whenever the dropped occluders cannot separate
+    /// two patch points (a convex room's walls: every patch on their front). Not for
+    /// [`Self::first_hit`], whose closest hit may be a dropped one.
+    pub fn occluding_only(scene: &Scene, cuts: impl Fn(&crate::geometry::Polygon) -> bool) -> Self {
+        Self::build(scene, BvhBuildParams::medium_build(), cuts)
+    }
+
+    fn build(
+        scene: &Scene,
+        params: BvhBuildParams,
+        cuts: impl Fn(&crate::geometry::Polygon) -> bool,
+    ) -> Self {
         let start = Instant::now();
         // Occluder table: patches first (id = patch index), then obstruction polygons.
         let mut polys: Vec<(&crate::geometry::Polygon, Occluder)> =
@@ -208,6 +225,20 @@ impl Visibility {
             }
         }
         let half = scene_half_extent(&tris);
+        let kept: Vec<bool> = polys.iter().map(|(p, _)| cuts(p)).collect();
+        if kept.iter().any(|k| !k) {
+            let mut k = 0;
+            tris.retain(|_| {
+                k += 1;
+                kept[owner[k - 1] as usize]
+            });
+            k = 0;
+            tris64.retain(|_| {
+                k += 1;
+                kept[owner[k - 1] as usize]
+            });
+            owner.retain(|&o| kept[o as usize]);
+        }
         let pad = Vec3A::splat((PAD_REL * 2.0 * half) as f32);
         let near = (ORIGIN_BAND_REL * half) as f32;
         let far = (FAR_REL * half) as f32;

@@ -635,9 +635,17 @@ pub(crate) fn kernel_max(a: &Node, b: &Node, rho: f64) -> f64 {
     a.area * b.area * ca * cb / (PI * (d - rho).powi(4))
 }
 
+thread_local! {
+    /// The blocker this thread's last link search found (`u32::MAX`: none), the search's
+    /// second hint: the pairs a thread assesses one after another are neighbours, and a pair
+    /// split before any search passes no hint of its own to its children.
+    static LAST_BLOCKER: std::cell::Cell<u32> = const { std::cell::Cell::new(u32::MAX) };
+}
+
 /// Visible fraction of link (a, b) with estimate `s`, its error in m² and the rays cast;
 /// `None` when the rays disagree and their sampling error would not fit `room` (split).
-/// The blocker search tries `hint` first and leaves in it the blocker it found.
+/// The blocker search tries `hint` first (then the thread's last found blocker, then their
+/// neighbourhoods in the tree) and leaves in `hint` the blocker it found.
 fn visibility(
     ctx: &Context,
     a: u32,
@@ -663,8 +671,13 @@ fn visibility(
         Some((lo, _)) => ring.iter().any(|v| n.axis.dot(*v) > lo + snap),
         None => true,
     };
+    let last = LAST_BLOCKER.get();
+    let hints = match *hint {
+        Some(h) if h != last => [h, last],
+        _ => [last, u32::MAX],
+    };
     let met = blockers.blocker_accepted(
-        *hint,
+        &hints,
         |lo, hi| {
             let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
             shaft.meets_box(lo, hi) && cone_reaches(c - p, dir, len, ra, rb, h.length())
@@ -675,6 +688,7 @@ fn visibility(
         return Some((1.0, 0.0, 0));
     }
     *hint = met;
+    LAST_BLOCKER.set(met.unwrap_or(u32::MAX));
     // Unanimous rays leave s/(n + 2) unaccounted (the rule of succession: a shadow edge, or a
     // gap, that none of n rays met): n is what makes that fit the room, cast only while the
     // rays cost less than the patch pairs a split would end in, else split.

@@ -184,27 +184,16 @@ impl Blockers {
             true
         });
     }
-    /// The first blocker whose padded box passes `keep(lo, hi)` at every level of the tree
-    /// and that passes `accept` (a walk stopped there), or `hint` when that walk would reach
-    /// and accept it (tested first, along its path in the tree: the answer
-    /// is found or not exactly as without the hint).
+    /// Some blocker whose padded box passes `keep(lo, hi)` at every level of the tree and that
+    /// passes `accept`, `None` exactly when a walk with `keep` finds none; the search starts
+    /// at the blockers `hints` and their neighbourhood in the tree ([`BoxTree::find_near`]).
     pub fn blocker_accepted(
         &self,
-        hint: Option<u32>,
-        mut keep: impl FnMut(DVec3, DVec3) -> bool,
+        hints: &[u32],
+        keep: impl FnMut(DVec3, DVec3) -> bool,
         mut accept: impl FnMut(&Blocker) -> bool,
     ) -> Option<u32> {
-        if let Some(k) = hint.filter(|&k| (k as usize) < self.blockers.len()) {
-            if self.blocker_tree.reaches(k, &mut keep) && accept(&self.blockers[k as usize]) {
-                return Some(k);
-            }
-        }
-        let mut found = None;
-        self.blocker_tree.walk(keep, |k| {
-            found = accept(&self.blockers[k as usize]).then_some(k);
-            found.is_none()
-        });
-        found
+        self.blocker_tree.find_near(hints, keep, |k| accept(&self.blockers[k as usize]))
     }
     /// The hierarchy over patch boxes (index = patch).
     pub fn patch_tree(&self) -> &BoxTree {
@@ -213,6 +202,18 @@ impl Blockers {
     /// Patches whose padded box passes `keep(lo, hi)` at every level, appended to `out`.
     pub fn patches_where(&self, keep: impl FnMut(DVec3, DVec3) -> bool, out: &mut Vec<u32>) {
         self.patch_tree.collect(keep, out);
+    }
+
+    /// True when patch vertices lie strictly (beyond the snap) on both sides of the plane of
+    /// `poly` (its vertices' spread along the normal counted as on it): only then can it
+    /// separate two points of the patches. The rule that keeps a blocker, for any polygon.
+    pub fn splits_patches(&self, scene: &Scene, poly: &Polygon) -> bool {
+        let n = poly.normal();
+        let (lo, hi) = poly.vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            let o = n.dot(*v);
+            (l.min(o), h.max(o))
+        });
+        self.any_patch_vertex(scene, n, -lo) && self.any_patch_vertex(scene, -n, hi)
     }
 
     /// True when some patch vertex x has n·x + d > snap.
@@ -588,6 +589,60 @@ mod tests {
         blockers.patches_where(|_, hi| hi.x >= 2.9, &mut near);
         near.retain(|&p| scene.patches[p as usize].polygon.vertices().iter().any(|v| v.x >= 2.9));
         assert_eq!(near.len(), 36 + 4 * 6);
+    }
+
+    #[test]
+    fn a_tree_without_the_room_walls_answers_every_occlusion_query_alike() {
+        use crate::visibility::Visibility;
+        use rand::{Rng, SeedableRng};
+        let mut b = Scene::builder();
+        for (k, f) in cube_faces(DVec3::ZERO, 3.0, 6, true).into_iter().enumerate() {
+            b = b.surface(&format!("wall{k}"), f, 0.9, None);
+        }
+        for (k, f) in cube_faces(DVec3::new(0.8, 1.1, 0.9), 1.2, 4, false).into_iter().enumerate() {
+            b = b.surface(&format!("block{k}"), f, 0.9, None);
+        }
+        let scene = b
+            .obstruction(
+                "plate",
+                vec![Polygon::new(vec![
+                    DVec3::new(0.2, 0.2, 2.5),
+                    DVec3::new(2.0, 0.2, 2.5),
+                    DVec3::new(2.0, 1.5, 2.5),
+                    DVec3::new(0.2, 1.5, 2.5),
+                ])
+                .unwrap()],
+            )
+            .build();
+        let blockers = Blockers::new(&scene);
+        let full = Visibility::new(&scene);
+        let cut = Visibility::occluding_only(&scene, |poly| blockers.splits_patches(&scene, poly));
+        // Walls 6·36 quads, block 6·16, plate 1, two triangles each: only block and plate stay.
+        assert_eq!(full.stats().triangles, 2 * (6 * 36 + 6 * 16 + 1));
+        assert_eq!(cut.stats().triangles, 2 * (6 * 16 + 1));
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let n = scene.patches.len();
+        let mut point = |p: usize| {
+            let v = scene.patches[p].polygon.vertices();
+            let (a, b): (f64, f64) = (rng.random(), rng.random());
+            v[0] + a * (v[1] - v[0]) + b * (v[3] - v[0])
+        };
+        let (mut hidden, mut clear) = (0, 0);
+        for k in 0..20_000u64 {
+            let (i, j) = ((k * 7919 % n as u64) as usize, (k * 104_729 % n as u64) as usize);
+            if i == j {
+                continue;
+            }
+            let (x, y) = (point(i), point(j));
+            let o = full.occluded(x, y, i, j);
+            assert_eq!(cut.occluded(x, y, i, j), o, "patches {i} and {j}");
+            if o {
+                hidden += 1;
+            } else {
+                clear += 1;
+            }
+        }
+        assert!(hidden > 2_000 && clear > 2_000, "{hidden} hidden, {clear} clear");
     }
 
     /// Faces of the box [lo, lo + 1]³ facing out, as triangles; the top face as a fan about
