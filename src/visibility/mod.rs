@@ -193,14 +193,14 @@ impl Visibility {
     /// an occlusion answer is the full tree's whenever the dropped occluders cannot separate
     /// two patch points (a convex room's walls: every patch on their front). Not for
     /// [`Self::first_hit`], whose closest hit may be a dropped one.
-    pub fn occluding_only(scene: &Scene, cuts: impl Fn(&crate::geometry::Polygon) -> bool) -> Self {
+    pub fn occluding_only(scene: &Scene, cuts: impl FnMut(&crate::geometry::Polygon) -> bool) -> Self {
         Self::build(scene, BvhBuildParams::medium_build(), cuts)
     }
 
     fn build(
         scene: &Scene,
         params: BvhBuildParams,
-        cuts: impl Fn(&crate::geometry::Polygon) -> bool,
+        mut cuts: impl FnMut(&crate::geometry::Polygon) -> bool,
     ) -> Self {
         let start = Instant::now();
         // Occluder table: patches first (id = patch index), then obstruction polygons.

@@ -194,7 +194,7 @@ impl Hierarchy {
         let blockers = kernel.shadows().map(|s| s.blockers());
         // The rays only ask whether something separates two patch points: occluders with every
         // patch on one side of their plane (a convex room's walls) are left out of their tree.
-        let vis = blockers.map(|b| Visibility::occluding_only(scene, |poly| b.splits_patches(scene, poly)));
+        let vis = blockers.map(|b| Visibility::occluding_only(scene, b.splits_patches(scene)));
         let radiosity = tree.ranges(|p| budget.radiosity[p]);
         let mut acc = 0.0;
         let prefix = tree

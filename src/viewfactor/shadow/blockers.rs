@@ -19,6 +19,10 @@ use crate::geometry::convex::{convex_hull, twice_area};
 use crate::geometry::groups::Groups;
 use crate::geometry::tolerance::{BLOCKER_BOX_PAD_REL, BLOCKER_SNAP_REL, CONVEX_BODY_REL, TILE_AREA_REL};
 
+/// Unit normals this close (each component) count as one plane's in
+/// [`Blockers::splits_patches`]: over a scene 1e4 times the snap's scale the planes part by
+/// far less than the snap.
+const SAME_PLANE_NORMAL: f64 = 1e-14;
 /// Face × vertex tests above which a body's convexity rests on its edges alone.
 const CONVEX_BODY_FULL_CHECK: usize = 20_000_000;
 /// Neighbouring mesh polygons whose unit normals differ by less than this (1 − cos) and
@@ -204,16 +208,31 @@ impl Blockers {
         self.patch_tree.collect(keep, out);
     }
 
-    /// True when patch vertices lie strictly (beyond the snap) on both sides of the plane of
-    /// `poly` (its vertices' spread along the normal counted as on it): only then can it
-    /// separate two points of the patches. The rule that keeps a blocker, for any polygon.
-    pub fn splits_patches(&self, scene: &Scene, poly: &Polygon) -> bool {
-        let n = poly.normal();
-        let (lo, hi) = poly.vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-            let o = n.dot(*v);
-            (l.min(o), h.max(o))
-        });
-        self.any_patch_vertex(scene, n, -lo) && self.any_patch_vertex(scene, -n, hi)
+    /// A test for a run of polygons (patches in scene order, then obstruction polygons): true
+    /// when patch vertices lie strictly (beyond the snap) on both sides of the polygon's plane
+    /// (its vertices' spread along the normal counted as on it), the rule that keeps a
+    /// blocker: only then can it separate two points of the patches. A polygon in the plane of
+    /// the one before (normals within [`SAME_PLANE_NORMAL`], its spread within a tenth of the
+    /// snap of that one's) takes its answer: a wall's patches lie in one plane, and each test
+    /// of a wall walks every patch of that plane.
+    pub fn splits_patches<'a>(&'a self, scene: &'a Scene) -> impl FnMut(&Polygon) -> bool + 'a {
+        let mut last: Option<(DVec3, f64, f64, bool)> = None;
+        let near = 0.1 * self.snap;
+        move |poly| {
+            let n = poly.normal();
+            let (lo, hi) = poly.vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                let o = n.dot(*v);
+                (l.min(o), h.max(o))
+            });
+            if let Some((m, l, h, answer)) = last {
+                if (n - m).abs().max_element() <= SAME_PLANE_NORMAL && lo >= l - near && hi <= h + near {
+                    return answer;
+                }
+            }
+            let answer = self.any_patch_vertex(scene, n, -lo) && self.any_patch_vertex(scene, -n, hi);
+            last = Some((n, lo, hi, answer));
+            answer
+        }
     }
 
     /// True when some patch vertex x has n·x + d > snap.
@@ -616,7 +635,12 @@ mod tests {
             .build();
         let blockers = Blockers::new(&scene);
         let full = Visibility::new(&scene);
-        let cut = Visibility::occluding_only(&scene, |poly| blockers.splits_patches(&scene, poly));
+        let cut = Visibility::occluding_only(&scene, blockers.splits_patches(&scene));
+        // A run's answers, some taken from the polygon before, are each polygon's own.
+        let mut run = blockers.splits_patches(&scene);
+        for p in &scene.patches {
+            assert_eq!(run(&p.polygon), blockers.splits_patches(&scene)(&p.polygon));
+        }
         // Walls 6·36 quads, block 6·16, plate 1, two triangles each: only block and plate stay.
         assert_eq!(full.stats().triangles, 2 * (6 * 36 + 6 * 16 + 1));
         assert_eq!(cut.stats().triangles, 2 * (6 * 16 + 1));
