@@ -684,11 +684,9 @@ fn visibility(
         },
         |blocker| shaft.meets_points(&blocker.ring) && ahead(na, &blocker.ring) && ahead(nb, &blocker.ring),
     );
-    if met.is_none() {
-        return Some((1.0, 0.0, 0));
-    }
-    *hint = met;
-    LAST_BLOCKER.set(met.unwrap_or(u32::MAX));
+    let Some(found) = met else { return Some((1.0, 0.0, 0)) };
+    *hint = Some(found);
+    LAST_BLOCKER.set(found);
     // Unanimous rays leave s/(n + 2) unaccounted (the rule of succession: a shadow edge, or a
     // gap, that none of n rays met): n is what makes that fit the room, cast only while the
     // rays cost less than the patch pairs a split would end in, else split.
