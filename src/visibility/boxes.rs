@@ -130,27 +130,8 @@ impl BoxTree {
     /// Depth-first walk: subtrees whose box fails `keep(lo, hi)` are pruned, and `visit(index)`
     /// is called for each box that passes `keep` itself; `visit` returns false to stop.
     pub fn walk(&self, mut keep: impl FnMut(DVec3, DVec3) -> bool, mut visit: impl FnMut(u32) -> bool) {
-        if self.bvh.nodes.is_empty() {
-            return;
-        }
-        let mut stack = vec![0u32];
-        while let Some(k) = stack.pop() {
-            let node = &self.bvh.nodes[k as usize];
-            if !keep(to64(node.aabb.min), to64(node.aabb.max)) {
-                continue;
-            }
-            if node.is_leaf() {
-                for slot in node.first_index..node.first_index + node.prim_count {
-                    let k = self.bvh.primitive_indices[slot as usize];
-                    let (lo, hi) = self.boxes[k as usize];
-                    if keep(lo, hi) && !visit(k) {
-                        return;
-                    }
-                }
-            } else {
-                stack.push(node.first_index + 1);
-                stack.push(node.first_index);
-            }
+        if !self.bvh.nodes.is_empty() {
+            self.first_in(0, None, &mut keep, &mut |k| !visit(k));
         }
     }
 

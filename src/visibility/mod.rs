@@ -189,10 +189,10 @@ impl Visibility {
     }
 
     /// For [`Self::occluded`] only: the BVH holds just the occluder polygons `cuts` keeps
-    /// (patches and obstruction polygons); the frame, bands and patch planes are those of the whole scene, so
-    /// an occlusion answer is the full tree's whenever the dropped occluders cannot separate
-    /// two patch points (a convex room's walls: every patch on their front). Not for
-    /// [`Self::first_hit`], whose closest hit may be a dropped one.
+    /// (patches and obstruction polygons); the frame, bands and patch planes are those of the
+    /// whole scene, so an occlusion answer is the full tree's whenever the dropped occluders
+    /// cannot separate two patch points (a convex room's walls: every patch on their front).
+    /// Not for [`Self::first_hit`], whose closest hit may be a dropped one.
     pub fn occluding_only(scene: &Scene, cuts: impl FnMut(&crate::geometry::Polygon) -> bool) -> Self {
         Self::build(scene, BvhBuildParams::medium_build(), cuts)
     }
@@ -217,28 +217,21 @@ impl Visibility {
         let mut tris = Vec::new();
         let mut tris64 = Vec::new();
         let mut owner = Vec::new();
+        // The bands come from every triangle's box; only those `cuts` keeps enter the tree.
+        let mut whole = Aabb::empty();
         for (id, (poly, _)) in polys.iter().enumerate() {
+            let keep = cuts(poly);
             for [a, b, c] in poly.triangulate() {
-                tris.push([to_f32(a), to_f32(b), to_f32(c)]);
-                tris64.push([to_f64(a), to_f64(b), to_f64(c)]);
-                owner.push(id as u32);
+                let t = [to_f32(a), to_f32(b), to_f32(c)];
+                whole = whole.union(&tri_aabb(&t));
+                if keep {
+                    tris.push(t);
+                    tris64.push([to_f64(a), to_f64(b), to_f64(c)]);
+                    owner.push(id as u32);
+                }
             }
         }
-        let half = scene_half_extent(&tris);
-        let kept: Vec<bool> = polys.iter().map(|(p, _)| cuts(p)).collect();
-        if kept.iter().any(|k| !k) {
-            let mut k = 0;
-            tris.retain(|_| {
-                k += 1;
-                kept[owner[k - 1] as usize]
-            });
-            k = 0;
-            tris64.retain(|_| {
-                k += 1;
-                kept[owner[k - 1] as usize]
-            });
-            owner.retain(|&o| kept[o as usize]);
-        }
+        let half = scene_half_extent(whole);
         let pad = Vec3A::splat((PAD_REL * 2.0 * half) as f32);
         let near = (ORIGIN_BAND_REL * half) as f32;
         let far = (FAR_REL * half) as f32;
@@ -356,9 +349,8 @@ fn normalisation(points: impl Iterator<Item = DVec3>) -> (DVec3, f64) {
     (0.5 * (lo + hi), scale)
 }
 
-/// Half-diagonal of the normalised triangles' box (≈ 512–1024; 1 when empty).
-fn scene_half_extent(tris: &[[Vec3A; 3]]) -> f64 {
-    let b = tris.iter().fold(Aabb::empty(), |b, t| b.union(&tri_aabb(t)));
+/// Half-diagonal of the normalised triangles' box `b` (≈ 512–1024; 1 when empty).
+fn scene_half_extent(b: Aabb) -> f64 {
     if b.valid() {
         (0.5 * (b.max - b.min).length() as f64).max(1.0)
     } else {
