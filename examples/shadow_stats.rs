@@ -57,6 +57,20 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
             let dt = t.elapsed().as_secs_f64();
             let kind = usize::from(mesh[i]) + usize::from(mesh[j]);
             let est = usize::from(r.method == lambert::viewfactor::MethodSet::MC_AREA);
+            if std::env::var("PLANEDUMP").ok().and_then(|k| k.parse::<usize>().ok()) == Some(kind) {
+                let goal = tol * scene.patches[i].polygon.area().min(scene.patches[j].polygon.area());
+                let t1 = Instant::now();
+                let full = shadows.integrate(i, j, u, &partial, goal, u64::MAX, &mut s.work);
+                let dt_int = t1.elapsed().as_secs_f64();
+                let t2 = Instant::now();
+                let m = shadows.sample(i, j, u, &partial, (64, goal), 1, &mut s.work);
+                let dt_mc = t2.elapsed().as_secs_f64();
+                println!(
+                    "PP {i} {j} est {est} u/goal {:.1} b {} pair {:.0}us work {} | int {:.0}us evals {} roots {} cells {} err/goal {:.2} shaded/u {:.3} | mc {:.0}us n {} sd/goal {:.2}",
+                    u / goal, partial.len(), 1e6 * dt, r.work, 1e6 * dt_int, full.info.evals, full.info.roots, full.info.cells,
+                    full.error / goal, full.info.shaded / u, 1e6 * dt_mc, m.samples, m.var.sqrt() / goal
+                );
+            }
             let e = &mut table[kind][est];
             *e = (e.0 + 1, e.1 + r.work, e.2 + dt, e.3 + partial.len() as u64);
         }

@@ -9,8 +9,10 @@
 //! - [`Policy::Auto`] (`auto`): the cheaper of shadow integration (rules and depths
 //!   [`AUTO_ADAPT`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
-//!   the branch is built (see [`super::policy`]); a pair priced for integration is integrated
-//!   within the sampling price where sampling can meet its goal, and sampled past it.
+//!   the branch is built (see [`super::policy`]); a pair priced for integration is first
+//!   probed by the sample's first draw, which prices sampling for the pair's own share in
+//!   shadow: sampled where that is cheaper, else integrated within that price and sampled
+//!   past it.
 //!
 //! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
 //! integrated as the facet sum ([`super::solid`]) instead of the shadow.
@@ -234,18 +236,32 @@ impl<'s> Shadows<'s> {
                             let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
                             return finish(r, None, 0, s);
                         }
+                        let n = n as u32;
+                        // The worst-case count prices the sample for a ratio of ½; the
+                        // sample's own first draw prices it for this pair's share in
+                        // shadow (a wall pair behind a part is mostly seen: a tenth of the
+                        // worst case or less). See [`probe_samples`].
+                        let probe = self.sample_within(i, j, u, partial, (pilot(n), pilot(n), goal), seed, s);
+                        let spent = u64::from(probe.samples);
+                        let need = probe_samples(&probe, goal, pilot(n));
+                        let price =
+                            need.map_or(f64::INFINITY, |m| self.model.mc_ns(f64::from(m), partial.len()));
+                        if price < self.model.shadow_ns(u, goal, partial.len()) {
+                            return sampled(n, spent, s);
+                        }
                         // The model's price of the integration can be far off (a wall pair
                         // behind a whole meshed part costs hundreds of times the price fitted
                         // on the part's own pairs): integrate within sampling's price, and
                         // sample where that was not enough.
-                        let cap = (self.model.mc_ns(n, partial.len()) / SHADOW_UNIT_NS).ceil() as u64;
+                        let cap =
+                            if price.is_finite() { (price / SHADOW_UNIT_NS).ceil() as u64 } else { u64::MAX };
                         let r = self.integrate(i, j, u, partial, goal, cap, s);
                         // A finished result is kept even past the cap (the facet sum behind
                         // a convex solid runs to its end whatever the cap).
                         if !r.info.capped {
-                            return finish(r, None, 0, s);
+                            return finish(r, None, spent, s);
                         }
-                        sampled(n as u32, r.info.evals, s)
+                        sampled(n, r.info.evals + spent, s)
                     }
                     Choice::MonteCarlo(n) => sampled(n, 0, s),
                 }
@@ -289,6 +305,21 @@ impl<'s> Shadows<'s> {
         seed: u64,
         s: &mut PairWork,
     ) -> McPair {
+        self.sample_within(i, j, u, partial, (pilot(n), MC_MAX_SAMPLES, goal), seed, s)
+    }
+
+    /// [`Self::sample`] from `first` points, doubling up to `max`.
+    #[allow(clippy::too_many_arguments)]
+    fn sample_within(
+        &self,
+        i: usize,
+        j: usize,
+        u: f64,
+        partial: &[u32],
+        (first, max, goal): (u32, u32, f64),
+        seed: u64,
+        s: &mut PairWork,
+    ) -> McPair {
         let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
         estimate(
             &self.samplers[i],
@@ -297,7 +328,7 @@ impl<'s> Shadows<'s> {
             pj.normal(),
             u,
             (&self.segments, partial),
-            Budget { first: pilot(n), max: MC_MAX_SAMPLES, sigma: goal / MC_SIGMAS },
+            Budget { first, max, sigma: goal / MC_SIGMAS },
             seed,
             (i, j),
             &mut s.tree,
@@ -326,6 +357,24 @@ fn settle(r: &Shadowed, m: Option<&McPair>, spent: u64) -> Obstructed {
     }
 }
 
+/// Points a sample that starts at `first` draws to meet `goal`, as the probe `probe` (its first
+/// draw) predicts: its variance falls as 1/n, and it doubles from `first`; `None` when even
+/// [`MC_MAX_SAMPLES`] would not meet the goal. A probe that missed a thin shadow predicts too
+/// few, and the sample then doubles further on its own measure: the price errs, the entry does
+/// not.
+fn probe_samples(probe: &McPair, goal: f64, first: u32) -> Option<u32> {
+    let sigma = goal / MC_SIGMAS;
+    let want = f64::from(probe.samples.max(1)) * probe.var / (sigma * sigma);
+    if !(want <= f64::from(MC_MAX_SAMPLES)) {
+        return None;
+    }
+    let mut n = first.max(1);
+    while f64::from(n) < want {
+        n = n.saturating_mul(2).min(MC_MAX_SAMPLES);
+    }
+    Some(n)
+}
+
 /// The first draw of a sample whose worst case is `n` points ([`MC_PILOT_SHARE`] of it, at least
 /// [`MC_MIN_SAMPLES`]).
 fn pilot(n: u32) -> u32 {
@@ -339,7 +388,7 @@ mod tests {
     use crate::viewfactor::exact::pair::polygon_polygon;
     use crate::viewfactor::shadow::adaptive::AdaptInfo;
     use crate::viewfactor::shadow::classify::Status;
-    use crate::viewfactor::shadow::policy::EXACT_REL_TOL;
+    use crate::viewfactor::shadow::policy::{PowerLaw, EXACT_REL_TOL};
     use glam::DVec3;
 
     fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
@@ -682,6 +731,59 @@ mod tests {
             let (s, _) = exchange(&scene, Policy::Auto { tol: 1e-4, seed: 1 });
             assert!((s - exact).abs() < 1e-4, "auto {s} vs {exact}");
         }
+    }
+
+    #[test]
+    fn a_probe_predicts_the_doubling_count_or_none_past_the_cap() {
+        let sigma = 1e-3;
+        let goal = MC_SIGMAS * sigma;
+        let probe = |samples: u32, var: f64| McPair { s: 0.5, var, samples, tests: 0 };
+        // Already within the goal: the first draw is the whole sample.
+        assert_eq!(probe_samples(&probe(256, 0.9 * sigma * sigma), goal, 256), Some(256));
+        // Five times the variance wanted: 5 × 256 points, reached by doubling to 2,048.
+        assert_eq!(probe_samples(&probe(256, 5.0 * sigma * sigma), goal, 256), Some(2048));
+        // More than the cap can bring within the goal: no sample price.
+        let over = 2.0 * f64::from(MC_MAX_SAMPLES) / 256.0;
+        assert_eq!(probe_samples(&probe(256, over * sigma * sigma), goal, 256), None);
+        assert_eq!(probe_samples(&probe(256, f64::NAN), goal, 256), None);
+    }
+
+    #[test]
+    fn a_probe_sends_a_mostly_visible_pair_to_its_sample_where_the_worst_case_would_integrate() {
+        // Unit squares 1 apart, a 0.1² plate midway (about 1 % blocked), a goal of u/64: the
+        // worst case is 4,096 samples, the pair's share in shadow a few hundred.
+        let scene = Scene::builder()
+            .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
+            .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
+            .obstruction("plate", vec![sq(0.5, 0.45, 0.45, 0.1, true)])
+            .build();
+        let exact = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).expect("a blocker");
+        let (reference, u) = integrate_01(&exact);
+        let goal = u / 64.0;
+        let n = CostModel::samples(u, goal);
+        assert_eq!(n, 4096.0);
+        let mut shadows =
+            Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 3 }).expect("a blocker");
+        let (mut s, partial, _) = pair_01(&shadows);
+        let b = partial.len();
+        // Integration priced at half the worst case's sample: above the probe's price.
+        let mc = shadows.model().mc;
+        let price = |c: f64| CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc };
+        let between = 0.5 * shadows.model().mc_ns(n, b) / ((u / goal).sqrt() * SHADOW_UNIT_NS);
+        shadows.set_model(price(between));
+        assert_eq!(shadows.model().choose(u, goal, b), Choice::Shadowed, "the worst case integrates");
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
+        assert!(r.work <= 1280, "probe and sample drew {} points", r.work);
+        assert!(
+            MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
+            "{r:?} vs {reference:?}"
+        );
+        // Integration priced below the informed sample: integrated, within the goal.
+        shadows.set_model(price(1.0));
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        assert_eq!(r.method, MethodSet::SHADOWED, "{r:?}");
+        assert!((r.s - reference.s).abs() <= goal, "{r:?} vs {reference:?}");
     }
 
     #[test]
