@@ -13,7 +13,9 @@
 //! With `AUTO=tol` each pair goes through `auto`'s choice instead ([`Shadows::pair`]), and the
 //! time, work and count are broken down by estimator and by pair kind (mesh–mesh, mesh–plane,
 //! plane–plane: a patch is a mesh patch when its surface has more than [`MESH_PATCHES`] patches
-//! that are not all parallelograms).
+//! that are not all parallelograms). With `PLANEDUMP=k` as well, each pair of kind k (0
+//! plane–plane, 1 mesh–plane, 2 mesh–mesh) prints `auto`'s time and work beside a full
+//! integration's and a sample's alone (the cost of each estimator on that pair).
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::EXACT_REL_TOL;

@@ -21,7 +21,7 @@ use super::blockers::{BlockerSource, Blockers};
 use super::classify::{classify_row, RowShadows};
 use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
-use super::pair::{shadowed, PairScratch, Shadowed};
+use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
     pair_goal, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT, MC_MAX_SAMPLES, MC_MIN_SAMPLES,
     MC_PILOT_SHARE, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
@@ -237,6 +237,12 @@ impl<'s> Shadows<'s> {
                             return finish(r, None, 0, s);
                         }
                         let n = n as u32;
+                        if self.falls_away(i, j, partial, s) {
+                            // No blocker is left once clipped to the pair: integrated before
+                            // its first viewpoint, no probe needed.
+                            let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                            return finish(r, None, 0, s);
+                        }
                         // The worst-case count prices the sample for a ratio of ½; the
                         // sample's own first draw prices it for this pair's share in
                         // shadow (a wall pair behind a part is mostly seen: a tenth of the
@@ -290,6 +296,13 @@ impl<'s> Shadows<'s> {
         let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
         let on_solid = self.on_solid[i];
         shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, max_work, on_solid, &mut s.pair)
+    }
+
+    /// True when none of pair (i, j)'s partial blockers is left once clipped to the pair
+    /// ([`falls_away`]): its integration ends before its first viewpoint.
+    fn falls_away(&self, i: usize, j: usize, partial: &[u32], s: &mut PairWork) -> bool {
+        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
+        falls_away(pi, pj, &self.blockers, partial, self.on_solid[i], &mut s.pair)
     }
 
     /// The Monte Carlo ratio estimate of pair (i, j) from `n` samples first, doubling until its

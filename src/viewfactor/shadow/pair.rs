@@ -59,6 +59,8 @@ pub struct PairScratch {
     ids: Vec<u32>,
     /// Candidates of the blocker hierarchy's query.
     candidates: Vec<u32>,
+    /// A ring clipped to patch i's front.
+    tmp: Vec<DVec3>,
 }
 
 /// Obstructed A_i F_ij for patches `pi`, `pj` with unobstructed exchange area `s_unobs` and the
@@ -96,61 +98,11 @@ fn shadowed_with(
     own: bool,
     s: &mut PairScratch,
 ) -> Shadowed {
+    let Kept { n, solid_faces, j_emits } = match keep(pi, pj, (blockers, partial), own, s) {
+        Ok(kept) => kept,
+        Err(swapped) => return Shadowed { s: s_unobs, swapped, ..Default::default() },
+    };
     let snap = blockers.snap();
-    // Blockers clipped to the region in front of both patches.
-    s.rings.resize_with(partial.len(), Vec::new);
-    let mut tmp = Vec::new();
-    let mut n = 0;
-    s.kept.clear();
-    for &b in partial {
-        let ring = &blockers.get(b as usize).ring;
-        clip_front(ring, pi.normal(), pi.normal().dot(pi.centroid()), snap, &mut tmp);
-        if tmp.len() < 3 {
-            continue;
-        }
-        clip_front(&tmp, pj.normal(), pj.normal().dot(pj.centroid()), snap, &mut s.rings[n]);
-        if s.rings[n].len() >= 3 {
-            s.kept.push((b, n as u32, s.rings[n] == *ring));
-            n += 1;
-        }
-    }
-    if n == 0 {
-        return Shadowed { s: s_unobs, ..Default::default() };
-    }
-    s.kept.sort_unstable_by_key(|k| k.0);
-    let solid_faces = s.kept.iter().any(|k| {
-        let b = blockers.get(k.0 as usize);
-        b.closed == 1 && b.body.is_none()
-    });
-    // The row's classification kept only the faces of a non-convex solid that patch i can
-    // cross first (`Blockers::turned_from`), and the shadows are taken from the emitter's
-    // viewpoints with the faces turned towards them: with that list patch i emits. Patch j
-    // emits with its own list instead (the faces j can cross first, [`faces_for_emitter`])
-    // where it is the far smaller patch.
-    let j_emits = solid_faces && own;
-    if j_emits {
-        faces_for_emitter(pj, pi, blockers, partial, &mut s.ids, &mut s.candidates);
-        n = 0;
-        s.kept.clear();
-        for &b in &s.ids {
-            let ring = &blockers.get(b as usize).ring;
-            clip_front(ring, pi.normal(), pi.normal().dot(pi.centroid()), snap, &mut tmp);
-            if tmp.len() < 3 {
-                continue;
-            }
-            if s.rings.len() <= n {
-                s.rings.push(Vec::new());
-            }
-            clip_front(&tmp, pj.normal(), pj.normal().dot(pj.centroid()), snap, &mut s.rings[n]);
-            if s.rings[n].len() >= 3 {
-                s.kept.push((b, n as u32, s.rings[n] == *ring));
-                n += 1;
-            }
-        }
-        if n == 0 {
-            return Shadowed { s: s_unobs, swapped: true, ..Default::default() };
-        }
-    }
     let rings: Vec<&[DVec3]> = s.rings[..n].iter().map(|r| r.as_slice()).collect();
     let swapped = j_emits || (!solid_faces && !emits_first(pi, pj, &rings));
     let (e, r) = if swapped { (pj, pi) } else { (pi, pj) };
@@ -226,6 +178,101 @@ fn shadowed_with(
     // u of 3e-38) must not lift the obstructed value above the unobstructed one.
     let value = (s_unobs - info.shaded).clamp(0.0, s_unobs.max(0.0));
     Shadowed { s: value, error: info.error, info, swapped }
+}
+
+/// The blockers a pair's integration keeps ([`keep`]).
+struct Kept {
+    /// How many (their rings are `PairScratch::rings[..n]`, their ids in `kept`).
+    n: usize,
+    /// One of them is a face of a non-convex solid.
+    solid_faces: bool,
+    /// Patch j emits with its own faces.
+    j_emits: bool,
+}
+
+/// The blockers of `partial` clipped to the region in front of both patches, into `s.rings`
+/// and `s.kept` (sorted by blocker); where they include a non-convex solid's faces and `own`
+/// is set, patch j's own list instead ([`faces_for_emitter`]). `Err(swapped)` when none is
+/// left (the pair is unobstructed; `swapped` when patch j's own list was the one tried).
+fn keep(
+    pi: &Polygon,
+    pj: &Polygon,
+    (blockers, partial): (&Blockers, &[u32]),
+    own: bool,
+    s: &mut PairScratch,
+) -> Result<Kept, bool> {
+    let mut n = clip_both(pi, pj, blockers, partial.iter().copied(), s);
+    if n == 0 {
+        return Err(false);
+    }
+    let solid_faces = s.kept.iter().any(|k| {
+        let b = blockers.get(k.0 as usize);
+        b.closed == 1 && b.body.is_none()
+    });
+    // The row's classification kept only the faces of a non-convex solid that patch i can
+    // cross first (`Blockers::turned_from`), and the shadows are taken from the emitter's
+    // viewpoints with the faces turned towards them: with that list patch i emits. Patch j
+    // emits with its own list instead (the faces j can cross first, [`faces_for_emitter`])
+    // where it is the far smaller patch.
+    let j_emits = solid_faces && own;
+    if j_emits {
+        let mut ids = std::mem::take(&mut s.ids);
+        faces_for_emitter(pj, pi, blockers, partial, &mut ids, &mut s.candidates);
+        n = clip_both(pi, pj, blockers, ids.iter().copied(), s);
+        s.ids = ids;
+        if n == 0 {
+            return Err(true);
+        }
+    }
+    Ok(Kept { n, solid_faces, j_emits })
+}
+
+/// Clips blockers `ids` to the region in front of both patches into `s.rings`, recording
+/// (blocker, ring, unclipped) in `s.kept`, sorted by blocker; returns how many are kept.
+fn clip_both(
+    pi: &Polygon,
+    pj: &Polygon,
+    blockers: &Blockers,
+    ids: impl Iterator<Item = u32>,
+    s: &mut PairScratch,
+) -> usize {
+    let snap = blockers.snap();
+    let mut tmp = std::mem::take(&mut s.tmp);
+    let mut n = 0;
+    s.kept.clear();
+    for b in ids {
+        let ring = &blockers.get(b as usize).ring;
+        clip_front(ring, pi.normal(), pi.normal().dot(pi.centroid()), snap, &mut tmp);
+        if tmp.len() < 3 {
+            continue;
+        }
+        if s.rings.len() <= n {
+            s.rings.push(Vec::new());
+        }
+        clip_front(&tmp, pj.normal(), pj.normal().dot(pj.centroid()), snap, &mut s.rings[n]);
+        if s.rings[n].len() >= 3 {
+            s.kept.push((b, n as u32, s.rings[n] == *ring));
+            n += 1;
+        }
+    }
+    s.tmp = tmp;
+    s.kept.sort_unstable_by_key(|k| k.0);
+    n
+}
+
+/// True when every blocker of `partial` falls away once clipped to the pair (in front of
+/// both patches, and for a small patch j behind a non-convex solid its own faces): the pair
+/// is unobstructed, and [`shadowed`] returns its unobstructed value without a viewpoint.
+pub fn falls_away(
+    pi: &Polygon,
+    pj: &Polygon,
+    blockers: &Blockers,
+    partial: &[u32],
+    i_on_solid: bool,
+    s: &mut PairScratch,
+) -> bool {
+    let own = !i_on_solid && j_emits_with_own_faces(pi, pj);
+    keep(pi, pj, (blockers, partial), own, s).is_err()
 }
 
 /// True when `a` should be the emitter: its size over its distance to the nearest blocker
@@ -399,6 +446,36 @@ mod tests {
             .surface("ground", vec![ground], 0.9, None)
             .build();
         (scene, 1 + floor, faces)
+    }
+
+    #[test]
+    fn a_pair_whose_blockers_fall_away_is_unobstructed_without_a_viewpoint() {
+        // The wall's row against every channel triangle: the partly obstructed ones whose
+        // kept blockers are none once clipped (or, for the small triangle, its own faces)
+        // and the others, each told apart before integrating.
+        let (scene, _, faces) = wall_and_channel();
+        let blockers = Blockers::new(&scene);
+        let mut row = RowShadows::default();
+        classify_row(&scene, &blockers, 0, 1, &mut row);
+        let integrator = Integrator::new(AUTO_ADAPT).with_cuts(AUTO_CUTS);
+        let mut s = PairScratch::default();
+        let (mut away, mut kept) = (0, 0);
+        for j in 1..=faces {
+            let Status::Partial(partial) = row.status(j) else { continue };
+            let partial = partial.to_vec();
+            let (pi, pj) = (&scene.patches[0].polygon, &scene.patches[j].polygon);
+            let u = polygon_polygon(pi, pj);
+            let falls = falls_away(pi, pj, &blockers, &partial, false, &mut s);
+            let r = shadowed(pi, pj, u, &blockers, &partial, &integrator, 1e-6 * u, u64::MAX, false, &mut s);
+            if falls {
+                away += 1;
+                assert_eq!((r.s, r.info.evals), (u, 0), "pair 0-{j}");
+            } else {
+                kept += 1;
+                assert!(r.info.evals > 0 || r.info.roots > 0 || r.s < u, "pair 0-{j}: {r:?}");
+            }
+        }
+        assert!(away > 0 && kept > 0, "{away} pairs fall away, {kept} keep a blocker");
     }
 
     #[test]
