@@ -268,7 +268,7 @@ def run_case(case, args, pb_dir, v3d, rows):
             rec["v3d_vs_auto_max"], rec["v3d_vs_auto_over_1e-4"] = diff_stats(mats["v3d"], mats["auto"])
 
 
-COLUMNS = ["case", "part", "triangles", "wall_n", "patches", "code", "method", "status", "wall_s", "cpu_s",
+COLUMNS = ["case", "part", "triangles", "wall_n", "patches", "code", "run", "method", "status", "wall_s", "cpu_s",
            "rss_mb", "rows_off", "worst_row", "max_std_error", "vs_analytic_max", "vs_analytic_over_1e-4",
            "vs_analytic_over_1e-3", "v3d_vs_auto_max", "v3d_vs_auto_over_1e-4", "solve_vs_tight", "goal_warning"]
 
@@ -314,7 +314,7 @@ def write_outputs(rows, out):
             both = a.get("status") == "ok" and v.get("status") == "ok"
             ratio = v["wall_s"] / a["wall_s"] if both else float("nan")
             cpu_ratio = v["cpu_s"] / a["cpu_s"] if both and a["cpu_s"] > 0 else float("nan")
-            a3 = next((r for r in rows if r["case"] == case and r["run"] == "auto3"), None)
+            a3 = next((r for r in rows if r["case"] == case and r.get("run") == "auto3"), None)
             loose = (f"{fmt(a3.get('wall_s'))} s ({fmt(a3.get('cpu_s'))} s)", fmt(v["wall_s"] / a3["wall_s"])) \
                 if a3 and a3.get("status") == "ok" and v.get("status") == "ok" and a3["wall_s"] > 0 else ("—", "—")
             f.write(f"| {case} | {a['triangles']} | {a['patches']} | {fmt(a.get('wall_s'))} s ({fmt(a.get('cpu_s'))} s) "
