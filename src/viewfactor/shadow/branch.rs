@@ -746,6 +746,16 @@ mod tests {
         }
     }
 
+    /// Unit squares 1 apart (patches 0 and 1), a 0.1² plate midway: about 1 % of their exchange
+    /// is blocked.
+    fn mostly_visible_pair() -> Scene {
+        Scene::builder()
+            .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
+            .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
+            .obstruction("plate", vec![sq(0.5, 0.45, 0.45, 0.1, true)])
+            .build()
+    }
+
     #[test]
     fn a_probe_predicts_the_doubling_count_or_none_past_the_cap() {
         let sigma = 1e-3;
@@ -765,11 +775,7 @@ mod tests {
     fn a_probe_sends_a_mostly_visible_pair_to_its_sample_where_the_worst_case_would_integrate() {
         // Unit squares 1 apart, a 0.1² plate midway (about 1 % blocked), a goal of u/64: the
         // worst case is 4,096 samples, the pair's share in shadow a few hundred.
-        let scene = Scene::builder()
-            .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
-            .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
-            .obstruction("plate", vec![sq(0.5, 0.45, 0.45, 0.1, true)])
-            .build();
+        let scene = mostly_visible_pair();
         let exact = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).expect("a blocker");
         let (reference, u) = integrate_01(&exact);
         let goal = u / 64.0;
@@ -802,11 +808,7 @@ mod tests {
     #[test]
     fn a_mostly_visible_pair_stops_sampling_early_and_keeps_an_honest_error() {
         // Unit squares 1 apart, a 0.1² plate midway: about 1 % of the exchange is blocked.
-        let scene = Scene::builder()
-            .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
-            .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
-            .obstruction("plate", vec![sq(0.5, 0.45, 0.45, 0.1, true)])
-            .build();
+        let scene = mostly_visible_pair();
         let exact = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).expect("a blocker");
         let (reference, u) = integrate_01(&exact);
         let blocked = 1.0 - reference.s / u;
