@@ -18,7 +18,7 @@
 //! integration's and a sample's alone (the cost of each estimator on that pair).
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
-use lambert::viewfactor::shadow::policy::EXACT_REL_TOL;
+use lambert::viewfactor::shadow::policy::{pilot, EXACT_REL_TOL, MC_MAX_SAMPLES};
 use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
 use std::io::Write;
 use std::time::Instant;
@@ -43,6 +43,8 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
     // [kind][estimator]: pairs, work, seconds, blockers
     let mut table = [[(0u64, 0u64, 0.0f64, 0u64); 2]; 3];
     let (mut pairs, mut clear) = (0u64, 0u64);
+    // Pair kind whose pairs are dumped one by one (`PLANEDUMP`).
+    let dump_kind = std::env::var("PLANEDUMP").ok().and_then(|k| k.parse::<usize>().ok());
     let t0 = Instant::now();
     for i in (0..n).step_by(stride) {
         shadows.classify_row(i, &mut s.row);
@@ -59,7 +61,7 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
             let dt = t.elapsed().as_secs_f64();
             let kind = usize::from(mesh[i]) + usize::from(mesh[j]);
             let est = usize::from(r.method == lambert::viewfactor::MethodSet::MC_AREA);
-            if std::env::var("PLANEDUMP").ok().and_then(|k| k.parse::<usize>().ok()) == Some(kind) {
+            if dump_kind == Some(kind) {
                 let goal = tol * scene.patches[i].polygon.area().min(scene.patches[j].polygon.area());
                 let t1 = Instant::now();
                 let full = shadows.integrate(i, j, u, &partial, goal, u64::MAX, &mut s.work);
@@ -69,7 +71,11 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
                 let dt_mc = t2.elapsed().as_secs_f64();
                 let model = shadows.model();
                 let n_worst = lambert::viewfactor::shadow::policy::CostModel::samples(u, goal);
-                let first = (n_worst / 16.0).ceil().max(8.0).min(n_worst);
+                let first = if n_worst <= f64::from(MC_MAX_SAMPLES) {
+                    f64::from(pilot(n_worst as u32))
+                } else {
+                    f64::NAN
+                };
                 println!(
                     "PP {i} {j} est {est} price_int {:.0}us price_probe {:.0}us u/goal {:.1} b {} pair {:.0}us work {} | int {:.0}us evals {} roots {} cells {} err/goal {:.2} shaded/u {:.3} | mc {:.0}us n {} sd/goal {:.2}",
                     model.shadow_ns(u, goal, partial.len()) / 1e3,

@@ -23,8 +23,8 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
-    pair_goal, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT, MC_MAX_SAMPLES, MC_MIN_SAMPLES,
-    MC_PILOT_SHARE, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
+    pair_goal, pilot, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT, MC_MAX_SAMPLES,
+    MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -247,9 +247,10 @@ impl<'s> Shadows<'s> {
                         // sample's own first draw prices it for this pair's share in
                         // shadow (a wall pair behind a part is mostly seen: a tenth of the
                         // worst case or less). See [`probe_samples`].
-                        let probe = self.sample_within(i, j, u, partial, (pilot(n), pilot(n), goal), seed, s);
+                        let first = pilot(n);
+                        let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
                         let spent = u64::from(probe.samples);
-                        let need = probe_samples(&probe, goal, pilot(n));
+                        let need = probe_samples(&probe, goal, first);
                         let price =
                             need.map_or(f64::INFINITY, |m| self.model.mc_ns(f64::from(m), partial.len()));
                         if price < self.model.shadow_ns(u, goal, partial.len()) {
@@ -386,12 +387,6 @@ fn probe_samples(probe: &McPair, goal: f64, first: u32) -> Option<u32> {
         n = n.saturating_mul(2).min(MC_MAX_SAMPLES);
     }
     Some(n)
-}
-
-/// The first draw of a sample whose worst case is `n` points ([`MC_PILOT_SHARE`] of it, at least
-/// [`MC_MIN_SAMPLES`]).
-fn pilot(n: u32) -> u32 {
-    ((f64::from(n) * MC_PILOT_SHARE).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
 }
 
 #[cfg(test)]

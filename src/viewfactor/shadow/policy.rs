@@ -100,6 +100,11 @@ pub const MC_MIN_SAMPLES: u32 = 8;
 /// seen needs r(1 − r)/¼ of it (a channel wall pair at r = 0.08 a third, at r = 0.99 a
 /// twenty-fifth), and the doubling stops there instead of drawing the worst case.
 pub const MC_PILOT_SHARE: f64 = 1.0 / 16.0;
+/// The first draw of a sample whose worst case is `n` points ([`MC_PILOT_SHARE`] of it, at least
+/// [`MC_MIN_SAMPLES`]).
+pub fn pilot(n: u32) -> u32 {
+    ((f64::from(n) * MC_PILOT_SHARE).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
+}
 /// Most Monte Carlo samples per pair; above this the shadow integration is always cheaper.
 pub const MC_MAX_SAMPLES: u32 = 1 << 16;
 /// Cost of one Monte Carlo sample besides its segment tests (two Sobol points, the kernel, the
