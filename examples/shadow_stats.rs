@@ -77,10 +77,10 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
                     f64::NAN
                 };
                 println!(
-                    "PP {i} {j} est {est} price_int {:.0}us price_probe {:.0}us u/goal {:.1} b {} pair {:.0}us work {} | int {:.0}us evals {} roots {} cells {} err/goal {:.2} shaded/u {:.3} | mc {:.0}us n {} sd/goal {:.2}",
+                    "PP {i} {j} est {est} price_int {:.0}us price_probe {:.0}us u/goal {:.1} b {} pair {:.0}us work {} | int {:.0}us iwork {} evals {} roots {} cells {} err/goal {:.2} shaded/u {:.3} | mc {:.0}us n {} sd/goal {:.2}",
                     model.shadow_ns(u, goal, partial.len()) / 1e3,
                     model.mc_ns(first, partial.len()) / 1e3,
-                    u / goal, partial.len(), 1e6 * dt, r.work, 1e6 * dt_int, full.info.evals, full.info.roots, full.info.cells,
+                    u / goal, partial.len(), 1e6 * dt, r.work, 1e6 * dt_int, full.info.work, full.info.evals, full.info.roots, full.info.cells,
                     full.error / goal, full.info.shaded / u, 1e6 * dt_mc, m.samples, m.var.sqrt() / goal
                 );
             }

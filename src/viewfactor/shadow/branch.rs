@@ -23,8 +23,8 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
-    pair_goal, pilot, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT, MC_MAX_SAMPLES,
-    MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
+    mc_ns_at, pair_goal, pilot, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT,
+    MC_MAX_SAMPLES, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -251,8 +251,10 @@ impl<'s> Shadows<'s> {
                         let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
                         let spent = u64::from(probe.samples);
                         let need = probe_samples(&probe, goal, first);
-                        let price =
-                            need.map_or(f64::INFINITY, |m| self.model.mc_ns(f64::from(m), partial.len()));
+                        // Priced at the probe's own tests per point (the fitted count can
+                        // be several times that for a pair behind a whole meshed part).
+                        let tests = probe.tests as f64 / f64::from(probe.samples.max(1));
+                        let price = need.map_or(f64::INFINITY, |m| mc_ns_at(f64::from(m), tests));
                         if price < self.model.shadow_ns(u, goal, partial.len()) {
                             return sampled(n, spent, s);
                         }
@@ -798,6 +800,78 @@ mod tests {
         let r = shadows.pair(0, 1, u, &partial, &mut s.work);
         assert_eq!(r.method, MethodSet::SHADOWED, "{r:?}");
         assert!((r.s - reference.s).abs() <= goal, "{r:?} vs {reference:?}");
+    }
+
+    /// Unit squares 1 apart with a 10 × 10 grid of 0.03² plates midway between them (100
+    /// blockers, walked in the sample's box tree; a few per cent of the exchange blocked).
+    fn pair_behind_a_grid() -> Scene {
+        let plates = (0..100)
+            .map(|k| sq(0.5, 0.2 + 0.06 * f64::from(k % 10), 0.2 + 0.06 * f64::from(k / 10), 0.03, true))
+            .collect();
+        Scene::builder()
+            .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
+            .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
+            .obstruction("grid", plates)
+            .build()
+    }
+
+    #[test]
+    fn a_probe_prices_its_sample_at_its_own_tests_per_point() {
+        // 100 partial blockers: the prior prices a sample at 1 + b tests (a scan), the box tree
+        // makes a handful. Integration priced between the two: the pair is sampled.
+        let scene = pair_behind_a_grid();
+        let exact = Shadows::new(&scene, Policy::Exact { rel_tol: 1e-5 }).expect("blockers");
+        let (mut s, partial, u) = pair_01(&exact);
+        let reference = exact.integrate(0, 1, u, &partial, 1e-5 * u, u64::MAX, &mut s.work);
+        assert!(reference.error <= 1e-5 * u, "{reference:?}");
+        let goal = u / 64.0;
+        let n = CostModel::samples(u, goal);
+        let mut shadows =
+            Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 5 }).expect("blockers");
+        let b = partial.len();
+        assert_eq!(b, 100);
+        let probe = shadows.sample_within(
+            0,
+            1,
+            u,
+            &partial,
+            (pilot(n as u32), pilot(n as u32), goal),
+            5,
+            &mut s.work,
+        );
+        let tests = probe.tests as f64 / f64::from(probe.samples);
+        assert!(
+            4.0 * tests < shadows.model().mc.at(b),
+            "{tests} tests a point against the prior's {}",
+            shadows.model().mc.at(b)
+        );
+        let need = probe_samples(&probe, goal, pilot(n as u32)).expect("a sample count");
+        let (measured, prior) = (mc_ns_at(f64::from(need), tests), shadows.model().mc_ns(f64::from(need), b));
+        let c = (measured * prior).sqrt() / ((u / goal).sqrt() * SHADOW_UNIT_NS);
+        shadows.set_model(CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc: shadows.model().mc });
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
+        assert!(u64::from(need) + u64::from(probe.samples) >= r.work, "no integration drawn: {r:?}");
+        assert!(
+            MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
+            "{r:?} vs {reference:?}"
+        );
+    }
+
+    #[test]
+    fn a_capped_integration_stops_once_its_roots_project_past_the_cap() {
+        let scene = pair_behind_a_grid();
+        // A goal of u/64: the root cells (80, along the plates' kinks) are most of the work.
+        let shadows = Shadows::uncalibrated(&scene, Policy::Auto { tol: 1e-6, seed: 0 }).expect("blockers");
+        let (mut s, partial, u) = pair_01(&shadows);
+        let goal = u / 64.0;
+        let full = shadows.integrate(0, 1, u, &partial, goal, u64::MAX, &mut s.work);
+        assert!(!full.info.capped && full.info.roots > 8, "{:?}", full.info);
+        let cap = full.info.work / 2;
+        let capped = shadows.integrate(0, 1, u, &partial, goal, cap, &mut s.work);
+        assert!(capped.info.capped, "{:?}", capped.info);
+        // Without the projection the roots run on until the cap itself.
+        assert!(2 * capped.info.work < cap, "{} of a cap of {cap}", capped.info.work);
     }
 
     #[test]

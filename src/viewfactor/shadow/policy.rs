@@ -143,6 +143,11 @@ impl PowerLaw {
     }
 }
 
+/// Price of Monte Carlo with `n` samples of `tests` box and blocker tests each, ns.
+pub fn mc_ns_at(n: f64, tests: f64) -> f64 {
+    n * (MC_SAMPLE_NS + MC_TEST_NS * tests)
+}
+
 /// The prices of one scene's partly obstructed pairs (see the module notes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CostModel {
@@ -179,7 +184,7 @@ impl CostModel {
     }
     /// Price of Monte Carlo with `n` samples, ns.
     pub fn mc_ns(&self, n: f64, blockers: usize) -> f64 {
-        n * (MC_SAMPLE_NS + MC_TEST_NS * self.mc.at(blockers))
+        mc_ns_at(n, self.mc.at(blockers))
     }
     /// The decision for one partly obstructed pair with unobstructed exchange area `u`,
     /// absolute goal `goal` on the exchange area and `blockers` partial blockers.
