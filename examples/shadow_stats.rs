@@ -18,7 +18,7 @@
 //! integration's and a sample's alone (the cost of each estimator on that pair).
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
-use lambert::viewfactor::shadow::policy::{pilot, EXACT_REL_TOL, MC_MAX_SAMPLES};
+use lambert::viewfactor::shadow::policy::{probe_pilot, EXACT_REL_TOL, MC_MAX_SAMPLES};
 use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
 use std::io::Write;
 use std::time::Instant;
@@ -72,7 +72,7 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
                 let model = shadows.model();
                 let n_worst = lambert::viewfactor::shadow::policy::CostModel::samples(u, goal);
                 let first = if n_worst <= f64::from(MC_MAX_SAMPLES) {
-                    f64::from(pilot(n_worst as u32))
+                    f64::from(probe_pilot(n_worst as u32))
                 } else {
                     f64::NAN
                 };

@@ -23,7 +23,7 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
-    mc_ns_at, pair_goal, pilot, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT,
+    mc_ns_at, pair_goal, pilot, probe_pilot, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT,
     MC_MAX_SAMPLES, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
@@ -243,11 +243,11 @@ impl<'s> Shadows<'s> {
                             let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
                             return finish(r, None, 0, s);
                         }
-                        // The worst-case count prices the sample for a ratio of ½; the
-                        // sample's own first draw prices it for this pair's share in
-                        // shadow (a wall pair behind a part is mostly seen: a tenth of the
-                        // worst case or less). See [`probe_samples`].
-                        let first = pilot(n);
+                        // The worst-case count prices the sample for a ratio of ½; a
+                        // probe (the sample's first points, `probe_pilot`) prices it for
+                        // this pair's share in shadow (a wall pair behind a part is mostly
+                        // seen: a tenth of the worst case or less). See [`probe_samples`].
+                        let first = probe_pilot(n);
                         let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
                         let spent = u64::from(probe.samples);
                         let need = probe_samples(&probe, goal, first);
@@ -835,7 +835,7 @@ mod tests {
             1,
             u,
             &partial,
-            (pilot(n as u32), pilot(n as u32), goal),
+            (probe_pilot(n as u32), probe_pilot(n as u32), goal),
             5,
             &mut s.work,
         );
@@ -845,7 +845,7 @@ mod tests {
             "{tests} tests a point against the prior's {}",
             shadows.model().mc.at(b)
         );
-        let need = probe_samples(&probe, goal, pilot(n as u32)).expect("a sample count");
+        let need = probe_samples(&probe, goal, probe_pilot(n as u32)).expect("a sample count");
         let (measured, prior) = (mc_ns_at(f64::from(need), tests), shadows.model().mc_ns(f64::from(need), b));
         let c = (measured * prior).sqrt() / ((u / goal).sqrt() * SHADOW_UNIT_NS);
         shadows.set_model(CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc: shadows.model().mc });

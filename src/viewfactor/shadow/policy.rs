@@ -105,6 +105,17 @@ pub const MC_PILOT_SHARE: f64 = 1.0 / 16.0;
 pub fn pilot(n: u32) -> u32 {
     ((f64::from(n) * MC_PILOT_SHARE).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
 }
+/// Share of the worst-case sample a probe draws to price the sample for its pair's own
+/// shadow (`super::branch`): a quarter of [`MC_PILOT_SHARE`]. On pairs that end integrated
+/// the probe is pure cost (a finger triangle's wall pairs: 135 µs of a 460 µs integration at
+/// a sixteenth); a quarter of that still tells a pair a tenth in shadow from one half in
+/// shadow, and the sample, where drawn, starts from its own pilot (validation/cad.md).
+pub const MC_PROBE_SHARE: f64 = 1.0 / 64.0;
+/// The points a probe draws for a sample whose worst case is `n` points ([`MC_PROBE_SHARE`]
+/// of it, at least [`MC_MIN_SAMPLES`]).
+pub fn probe_pilot(n: u32) -> u32 {
+    ((f64::from(n) * MC_PROBE_SHARE).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
+}
 /// Most Monte Carlo samples per pair; above this the shadow integration is always cheaper.
 pub const MC_MAX_SAMPLES: u32 = 1 << 16;
 /// Cost of one Monte Carlo sample besides its segment tests (two Sobol points, the kernel, the
