@@ -379,18 +379,29 @@ impl Integrator {
                     return (0.0, 0);
                 }
             }
-            let (lo, mut hi, (seen, away), evals, work) = this.evaluate(geo, &item, s);
+            let (lo, mut hi, (seen, away), evals, work, cut) =
+                this.evaluate(geo, &item, max_work.saturating_sub(info.work), s);
             info.evals += evals;
             info.work += work;
+            if cut {
+                // The cap came within the cell's rules: the integration ends there, capped.
+                info.capped = true;
+                return (0.0, 0);
+            }
             let mut rules = (hi - lo).abs();
             if !item.full && item.depth < this.params.max_depth && touch.meets(&item, &s.pool) {
                 // A blocker touches the cell: its rules can agree on a wrong value, so the
                 // cell is held to its children's sum (see [`Touch`]).
                 let (mut sum, mut spread) = (0.0, 0.0);
                 for cell in item.cell.children() {
-                    let (lo, hi, _, evals, work) = this.evaluate(geo, &Item { cell, ..item }, s);
+                    let (lo, hi, _, evals, work, cut) =
+                        this.evaluate(geo, &Item { cell, ..item }, max_work.saturating_sub(info.work), s);
                     info.evals += evals;
                     info.work += work;
+                    if cut {
+                        info.capped = true;
+                        return (0.0, 0);
+                    }
                     sum += hi;
                     spread += (hi - lo).abs();
                 }
@@ -545,21 +556,29 @@ impl Integrator {
         (sum, evals)
     }
 
-    /// Both rules on one cell: (low, high, (seen, turned-away) masks, evaluations, work).
+    /// Both rules on one cell: (low, high, (seen, turned-away) masks, evaluations, work, cut);
+    /// cut when the work reached `budget` before the last rule point (the rest are not
+    /// evaluated, and the sums mean nothing).
     fn evaluate(
         &self,
         geo: &ShadowGeometry,
         item: &Item,
+        budget: u64,
         s: &mut AdaptScratch,
-    ) -> (f64, f64, (u64, u64), u64, u64) {
+    ) -> (f64, f64, (u64, u64), u64, u64, bool) {
         let active = &s.pool[item.start..item.start + item.len];
         let shadow = &mut s.shadow;
         let (mut seen, mut away) = (0u64, 0u64);
         let mut evals = 0u64;
         let mut work = 0u64;
+        let mut cut = false;
         let mut sums = [0.0; 2];
         for (k, rule) in [&self.low, &self.high].into_iter().enumerate() {
             rule.each(&item.cell, |p, w| {
+                if work >= budget {
+                    cut = true;
+                    return;
+                }
                 evals += 1;
                 let g = if item.full {
                     work += VIEWPOINT_WORK;
@@ -574,7 +593,7 @@ impl Integrator {
                 sums[k] += w * g;
             });
         }
-        (sums[0], sums[1], (seen, away), evals, work)
+        (sums[0], sums[1], (seen, away), evals, work, cut)
     }
 }
 

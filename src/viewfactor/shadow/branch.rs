@@ -23,8 +23,8 @@ use super::mc_pair::{estimate, Budget, McPair, PatchSampler};
 use super::misses::{Miss, MissLog};
 use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
-    mc_ns_at, pair_goal, pilot, probe_pilot, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS, EXACT_ADAPT,
-    MC_MAX_SAMPLES, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
+    mc_ns_at, pair_goal, pilot, probe_pilot, setup_units, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS,
+    EXACT_ADAPT, MC_MAX_SAMPLES, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -261,9 +261,19 @@ impl<'s> Shadows<'s> {
                         // The model's price of the integration can be far off (a wall pair
                         // behind a whole meshed part costs hundreds of times the price fitted
                         // on the part's own pairs): integrate within sampling's price, and
-                        // sample where that was not enough.
-                        let cap =
-                            if price.is_finite() { (price / SHADOW_UNIT_NS).ceil() as u64 } else { u64::MAX };
+                        // sample where that was not enough. The integration's set-up (the
+                        // kink cuts, before its first root cell and uncounted in its work)
+                        // comes out of that price first; where it takes all of it, the pair
+                        // is sampled.
+                        let cap = if price.is_finite() {
+                            let setup = setup_units(partial.len());
+                            match ((price / SHADOW_UNIT_NS).ceil() as u64).checked_sub(setup) {
+                                Some(cap) if cap > 0 => cap,
+                                _ => return sampled(n, spent, s),
+                            }
+                        } else {
+                            u64::MAX
+                        };
                         let r = self.integrate(i, j, u, partial, goal, cap, s);
                         // A finished result is kept even past the cap (the facet sum behind
                         // a convex solid runs to its end whatever the cap).
@@ -398,7 +408,7 @@ mod tests {
     use crate::viewfactor::exact::pair::polygon_polygon;
     use crate::viewfactor::shadow::adaptive::AdaptInfo;
     use crate::viewfactor::shadow::classify::Status;
-    use crate::viewfactor::shadow::policy::{PowerLaw, EXACT_REL_TOL};
+    use crate::viewfactor::shadow::policy::{PowerLaw, AUTO_RULES, EXACT_REL_TOL};
     use glam::DVec3;
 
     fn sq(z: f64, x0: f64, y0: f64, s: f64, up: bool) -> Polygon {
@@ -859,7 +869,32 @@ mod tests {
     }
 
     #[test]
-    fn a_capped_integration_stops_once_its_roots_project_past_the_cap() {
+    fn a_sample_priced_below_the_integration_s_set_up_is_drawn_without_integrating() {
+        // A goal of u/8: a sample of ~100 points, priced below the set-up of an integration
+        // past 100 blockers; the integration itself is priced lower still by the model.
+        let scene = pair_behind_a_grid();
+        let u = polygon_polygon(&scene.patches[0].polygon, &scene.patches[1].polygon);
+        // Unit squares: the pair's goal is the tolerance.
+        let goal = u / 8.0;
+        let mut shadows =
+            Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 2 }).expect("blockers");
+        let (mut s, partial, _) = pair_01(&shadows);
+        let n = CostModel::samples(u, goal);
+        let first = probe_pilot(n as u32);
+        let probe = shadows.sample_within(0, 1, u, &partial, (first, first, goal), 2, &mut s.work);
+        let need = probe_samples(&probe, goal, first).expect("a sample count");
+        let price = mc_ns_at(f64::from(need), probe.tests as f64 / f64::from(probe.samples));
+        assert!(price / SHADOW_UNIT_NS < setup_units(partial.len()) as f64, "{price} ns");
+        let mc = shadows.model().mc;
+        shadows.set_model(CostModel { shadow: PowerLaw { c: 1e-3, exp: 0.0 }, mc });
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let m = shadows.sample(0, 1, u, &partial, (n as u32, goal), 2, &mut s.work);
+        assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
+        assert_eq!(r.work, u64::from(probe.samples + m.samples), "the probe and the sample only: {r:?}");
+    }
+
+    #[test]
+    fn a_capped_integration_stops_at_its_cap_or_once_its_roots_project_past_it() {
         let scene = pair_behind_a_grid();
         // A goal of u/64: the root cells (80, along the plates' kinks) are most of the work.
         let shadows = Shadows::uncalibrated(&scene, Policy::Auto { tol: 1e-6, seed: 0 }).expect("blockers");
@@ -872,6 +907,18 @@ mod tests {
         assert!(capped.info.capped, "{:?}", capped.info);
         // Without the projection the roots run on until the cap itself.
         assert!(2 * capped.info.work < cap, "{} of a cap of {cap}", capped.info.work);
+        // Caps that fall inside a root cell's rules (2×2 and 3×3 points, 13 a cell): the
+        // integration stops at the viewpoint that reached the cap, not at the cell's end.
+        let per_cell = (AUTO_RULES.0 * AUTO_RULES.0 + AUTO_RULES.1 * AUTO_RULES.1) as u64;
+        let mid_cell = (0..40)
+            .map(|k| 150 + 50 * k)
+            .filter(|&cap| {
+                let r = shadows.integrate(0, 1, u, &partial, goal, cap, &mut s.work);
+                assert!(r.info.capped, "{:?} for a cap of {cap}", r.info);
+                !r.info.evals.is_multiple_of(per_cell)
+            })
+            .count();
+        assert!(mid_cell > 10, "the rules of a cell ran to their end for {} of 40 caps", 40 - mid_cell);
     }
 
     #[test]

@@ -132,6 +132,15 @@ pub const SHADOW_UNIT_NS: f64 = 60.0;
 /// Work units a shadow-integrated pair costs before its first viewpoint (the blockers clipped,
 /// the pair's frame and kink splits built): 6–24 µs measured on pairs that end there.
 pub const SHADOW_SETUP_UNITS: u64 = 128;
+/// Work units per partial blocker of an integration's set-up before its first root cell (the
+/// blockers clipped to the pair, the kink cuts): 1.7–2.3 µs a blocker on the wall pairs behind
+/// finger_n4's part (38–140 blockers, 75 roots), 4 µs in all on its pairs of under 10
+/// (`shadow_stats`, one thread).
+pub const SHADOW_SETUP_BLOCKER_UNITS: u64 = 32;
+/// Work units of an integration's set-up for `blockers` partial blockers.
+pub fn setup_units(blockers: usize) -> u64 {
+    SHADOW_SETUP_UNITS + SHADOW_SETUP_BLOCKER_UNITS * blockers as u64
+}
 /// Prior viewpoints per pair at u ≤ goal: four cells of 4 + 9 points (rules 2×2 vs 3×3).
 /// Lower orders lose twice: one cell of 1 + 4 points can agree on a wrong value when a shadow
 /// sweeps over the receiver's edge between the points, and at fine goals the 1 vs 2×2 pair
