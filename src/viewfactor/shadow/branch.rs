@@ -24,7 +24,7 @@ use super::misses::{Miss, MissLog};
 use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
     mc_ns_at, pair_goal, pilot, probe_pilot, setup_units, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS,
-    EXACT_ADAPT, MC_MAX_SAMPLES, MC_SIGMAS, SHADOW_UNIT_NS, SOLID_MIN_FACES,
+    EXACT_ADAPT, MC_MAX_SAMPLES, MC_SIGMAS, OVERRUN_RATIO, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -233,8 +233,23 @@ impl<'s> Shadows<'s> {
                     Choice::Shadowed => {
                         let n = CostModel::samples(u, goal);
                         if n > MC_MAX_SAMPLES as f64 {
+                            // No sample is priced for its worst case: integrated, but only
+                            // to `OVERRUN_RATIO` times the model's price before a probe of
+                            // the largest sample is drawn (a receiver beside a sliver
+                            // neighbour refines to the depth limit and finds no shadow).
+                            let over = OVERRUN_RATIO * self.model.shadow_ns(u, goal, partial.len());
+                            let r = self.integrate(i, j, u, partial, goal, (over / SHADOW_UNIT_NS) as u64, s);
+                            if !r.info.capped {
+                                return finish(r, None, 0, s);
+                            }
+                            let first = probe_pilot(MC_MAX_SAMPLES);
+                            let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
+                            let spent = r.info.evals + u64::from(probe.samples);
+                            if probe_samples(&probe, goal, first).is_some() {
+                                return sampled(MC_MAX_SAMPLES, spent, s);
+                            }
                             let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
-                            return finish(r, None, 0, s);
+                            return finish(r, None, spent, s);
                         }
                         let n = n as u32;
                         if self.falls_away(i, j, partial, s) {
@@ -891,6 +906,37 @@ mod tests {
         let m = shadows.sample(0, 1, u, &partial, (n as u32, goal), 2, &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert_eq!(r.work, u64::from(probe.samples + m.samples), "the probe and the sample only: {r:?}");
+    }
+
+    #[test]
+    fn an_unpriced_pair_s_integration_far_past_its_price_gives_way_to_a_probe() {
+        // A goal of u/512: the worst-case sample is 2^18 points, past the cap, so no sample is
+        // priced; the pair (about 1 % blocked) needs a few thousand.
+        let scene = mostly_visible_pair();
+        let exact = Shadows::new(&scene, Policy::Exact { rel_tol: EXACT_REL_TOL }).expect("a blocker");
+        let (reference, u) = integrate_01(&exact);
+        let goal = u / 512.0;
+        assert!(CostModel::samples(u, goal) > f64::from(MC_MAX_SAMPLES));
+        let mut shadows =
+            Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 4 }).expect("a blocker");
+        let (mut s, partial, _) = pair_01(&shadows);
+        let full = shadows.integrate(0, 1, u, &partial, goal, u64::MAX, &mut s.work);
+        let mc = shadows.model().mc;
+        let price = |c: f64| CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc };
+        // Priced at a thousandth of its work: cut at 64 times that, then probed and sampled.
+        let c = full.info.work as f64 / 1000.0 / (u / goal).sqrt();
+        shadows.set_model(price(c));
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
+        assert!(
+            MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
+            "{r:?} vs {reference:?}"
+        );
+        // Priced at its work: integrated as before.
+        shadows.set_model(price(2.0 * c * 1000.0));
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        assert_eq!(r.method, MethodSet::SHADOWED, "{r:?}");
+        assert!((r.s - reference.s).abs() <= goal, "{r:?} vs {reference:?}");
     }
 
     #[test]

@@ -141,6 +141,12 @@ pub const SHADOW_SETUP_BLOCKER_UNITS: u64 = 32;
 pub fn setup_units(blockers: usize) -> u64 {
     SHADOW_SETUP_UNITS + SHADOW_SETUP_BLOCKER_UNITS * blockers as u64
 }
+/// Multiple of the model's price at which the integration of a pair whose worst-case sample is
+/// past [`MC_MAX_SAMPLES`] stops to draw a probe (`super::branch`). On the two fingers and the
+/// heat sink every such pair that ended integrated did so within 64× its price (39 of them
+/// at 16–64×), and each of the 24 past it (64–1,024×, 5 ms each) was a triangle beside a
+/// sliver neighbour, refined to the depth limit with no shadow found: its sample took 60–230 µs.
+pub const OVERRUN_RATIO: f64 = 64.0;
 /// Prior viewpoints per pair at u ≤ goal: four cells of 4 + 9 points (rules 2×2 vs 3×3).
 /// Lower orders lose twice: one cell of 1 + 4 points can agree on a wrong value when a shadow
 /// sweeps over the receiver's edge between the points, and at fine goals the 1 vs 2×2 pair
