@@ -24,7 +24,7 @@ use super::misses::{Miss, MissLog};
 use super::pair::{falls_away, shadowed, PairScratch, Shadowed};
 use super::policy::{
     mc_ns_at, pair_goal, pilot, probe_pilot, setup_units, Choice, CostModel, Policy, AUTO_ADAPT, AUTO_CUTS,
-    EXACT_ADAPT, MC_MAX_SAMPLES, MC_SIGMAS, OVERRUN_RATIO, SHADOW_UNIT_NS, SOLID_MIN_FACES,
+    CAP_PRICE_SHARE, EXACT_ADAPT, MC_MAX_SAMPLES, MC_SIGMAS, OVERRUN_RATIO, SHADOW_UNIT_NS, SOLID_MIN_FACES,
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
@@ -276,13 +276,16 @@ impl<'s> Shadows<'s> {
                         // The model's price of the integration can be far off (a wall pair
                         // behind a whole meshed part costs hundreds of times the price fitted
                         // on the part's own pairs): integrate within sampling's price, and
-                        // sample where that was not enough. The integration's set-up (the
+                        // sample where that was not enough (within a share of it: a capped
+                        // integration is thrown away). The integration's set-up (the
                         // kink cuts, before its first root cell and uncounted in its work)
                         // comes out of that price first; where it takes all of it, the pair
                         // is sampled.
                         let cap = if price.is_finite() {
                             let setup = setup_units(partial.len());
-                            match ((price / SHADOW_UNIT_NS).ceil() as u64).checked_sub(setup) {
+                            match ((CAP_PRICE_SHARE * price / SHADOW_UNIT_NS).ceil() as u64)
+                                .checked_sub(setup)
+                            {
                                 Some(cap) if cap > 0 => cap,
                                 _ => return sampled(n, spent, s),
                             }
@@ -820,7 +823,21 @@ mod tests {
             MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
             "{r:?} vs {reference:?}"
         );
-        // Integration priced below the informed sample: integrated, within the goal.
+        // Integration priced below the informed sample but costing more than a quarter of it
+        // (`CAP_PRICE_SHARE`): cut there and sampled.
+        shadows.set_model(price(1.0));
+        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
+        assert!(
+            MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
+            "{r:?} vs {reference:?}"
+        );
+        // Integration priced below the informed sample, at a goal of u/256 (a sample of
+        // several thousand points, whose quarter pays for the integration): integrated,
+        // within the goal.
+        let goal = u / 256.0;
+        let mut shadows =
+            Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 3 }).expect("a blocker");
         shadows.set_model(price(1.0));
         let r = shadows.pair(0, 1, u, &partial, &mut s.work);
         assert_eq!(r.method, MethodSet::SHADOWED, "{r:?}");
