@@ -10,9 +10,12 @@
 //!   [`AUTO_ADAPT`], kink cuts [`AUTO_CUTS`]) and the Monte Carlo ratio estimator, to an absolute goal per F,
 //!   priced by the [`CostModel`] that [`super::calibrate`] fits on the scene's own pairs when
 //!   the branch is built (see [`super::policy`]); a pair priced for integration is first
-//!   probed by the sample's first draw, which prices sampling for the pair's own share in
-//!   shadow: sampled where that is cheaper, else integrated within that price and sampled
-//!   past it.
+//!   probed by the sample's first points ([`super::policy::probe_pilot`]), which price
+//!   sampling for the pair's own share in shadow at the tests per point the probe made:
+//!   sampled where that is cheaper, else integrated within [`CAP_PRICE_SHARE`] of that price
+//!   less the integration's set-up ([`super::policy::setup_units`]), and sampled past it. A
+//!   pair whose worst-case sample is past [`MC_MAX_SAMPLES`] is integrated to
+//!   [`OVERRUN_RATIO`] times the model's price before such a probe is drawn.
 //!
 //! Under both, a pair behind [`SOLID_MIN_FACES`] or more faces of one convex solid is
 //! integrated as the facet sum ([`super::solid`]) instead of the shadow.
