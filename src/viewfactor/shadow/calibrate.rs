@@ -142,13 +142,23 @@ pub fn measure(shadows: &Shadows<'_>, tol: f64, seed: u64) -> Vec<Measured> {
             Measured {
                 blockers: b,
                 ratio: p.u / p.goal,
-                shadow_work: sh.info.work + SHADOW_SETUP_UNITS + b as u64,
-                capped: sh.info.work >= cap,
+                shadow_work: capped_work(sh.info.work, sh.info.capped, cap) + SHADOW_SETUP_UNITS + b as u64,
+                capped: sh.info.capped,
                 samples: mc.samples,
                 tests: mc.tests,
             }
         })
         .collect()
+}
+
+/// Work a calibration integration is charged: a capped one costs at least its cap, wherever it
+/// stopped (at the cap, within a cell's rules, or once its roots projected past the cap).
+fn capped_work(work: u64, capped: bool, cap: u64) -> u64 {
+    if capped {
+        work.max(cap)
+    } else {
+        work
+    }
 }
 
 /// The cost model fitted to `measured`; `prior` where there is nothing to fit.
@@ -180,6 +190,16 @@ pub fn power_law(points: &[(usize, f64)], prior: PowerLaw) -> PowerLaw {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_capped_calibration_integration_is_charged_at_least_its_cap() {
+        // Stopped early by the roots' projection (an eighth of the cap spent): charged the cap.
+        assert_eq!(capped_work(125, true, 1000), 1000);
+        // Stopped past the cap (the last cell ran over): charged what it spent.
+        assert_eq!(capped_work(1100, true, 1000), 1100);
+        // Finished below the cap: charged what it spent.
+        assert_eq!(capped_work(400, false, 1000), 400);
+    }
 
     #[test]
     fn power_law_recovers_its_parameters() {
