@@ -245,10 +245,10 @@ impl<'s> Shadows<'s> {
                             if !r.info.capped {
                                 return finish(r, None, 0, s);
                             }
-                            let first = probe_pilot(MC_MAX_SAMPLES);
-                            let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
+                            let (probe, need, _) =
+                                self.probe(i, j, u, partial, (MC_MAX_SAMPLES, goal), seed, s);
                             let spent = r.info.evals + u64::from(probe.samples);
-                            if probe_samples(&probe, goal, first).is_some() {
+                            if need.is_some() {
                                 return sampled(MC_MAX_SAMPLES, spent, s);
                             }
                             let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
@@ -265,14 +265,8 @@ impl<'s> Shadows<'s> {
                         // probe (the sample's first points, `probe_pilot`) prices it for
                         // this pair's share in shadow (a wall pair behind a part is mostly
                         // seen: a tenth of the worst case or less). See [`probe_samples`].
-                        let first = probe_pilot(n);
-                        let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
+                        let (probe, _, price) = self.probe(i, j, u, partial, (n, goal), seed, s);
                         let spent = u64::from(probe.samples);
-                        let need = probe_samples(&probe, goal, first);
-                        // Priced at the probe's own tests per point (the fitted count can
-                        // be several times that for a pair behind a whole meshed part).
-                        let tests = probe.tests as f64 / f64::from(probe.samples.max(1));
-                        let price = need.map_or(f64::INFINITY, |m| mc_ns_at(f64::from(m), tests));
                         if price < self.model.shadow_ns(u, goal, partial.len()) {
                             return sampled(n, spent, s);
                         }
@@ -353,6 +347,29 @@ impl<'s> Shadows<'s> {
         s: &mut PairWork,
     ) -> McPair {
         self.sample_within(i, j, u, partial, (pilot(n), MC_MAX_SAMPLES, goal), seed, s)
+    }
+
+    /// The probe of pair (i, j) for a sample whose worst case is `n` points: its first
+    /// [`probe_pilot`] points, the count the doubling would reach ([`probe_samples`]), and that
+    /// sample's price at the probe's own tests per point (the fitted count can be several times
+    /// that for a pair behind a whole meshed part); infinite where no count is reached.
+    #[allow(clippy::too_many_arguments)]
+    fn probe(
+        &self,
+        i: usize,
+        j: usize,
+        u: f64,
+        partial: &[u32],
+        (n, goal): (u32, f64),
+        seed: u64,
+        s: &mut PairWork,
+    ) -> (McPair, Option<u32>, f64) {
+        let first = probe_pilot(n);
+        let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
+        let need = probe_samples(&probe, goal, first);
+        let tests = probe.tests as f64 / f64::from(probe.samples.max(1));
+        let price = need.map_or(f64::INFINITY, |m| mc_ns_at(f64::from(m), tests));
+        (probe, need, price)
     }
 
     /// [`Self::sample`] from `first` points, doubling up to `max`.
@@ -777,10 +794,15 @@ mod tests {
     /// Unit squares 1 apart (patches 0 and 1), a 0.1² plate midway: about 1 % of their exchange
     /// is blocked.
     fn mostly_visible_pair() -> Scene {
+        unit_squares_behind("plate", vec![sq(0.5, 0.45, 0.45, 0.1, true)])
+    }
+
+    /// Unit squares 1 apart facing each other (patches 0 and 1), with the obstruction `faces`.
+    fn unit_squares_behind(name: &str, faces: Vec<Polygon>) -> Scene {
         Scene::builder()
             .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
             .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
-            .obstruction("plate", vec![sq(0.5, 0.45, 0.45, 0.1, true)])
+            .obstruction(name, faces)
             .build()
     }
 
@@ -853,11 +875,7 @@ mod tests {
         let plates = (0..100)
             .map(|k| sq(0.5, 0.2 + 0.06 * f64::from(k % 10), 0.2 + 0.06 * f64::from(k / 10), 0.03, true))
             .collect();
-        Scene::builder()
-            .surface("bottom", vec![sq(0.0, 0.0, 0.0, 1.0, true)], 0.9, None)
-            .surface("top", vec![sq(1.0, 0.0, 0.0, 1.0, false)], 0.9, None)
-            .obstruction("grid", plates)
-            .build()
+        unit_squares_behind("grid", plates)
     }
 
     #[test]
@@ -875,23 +893,15 @@ mod tests {
             Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 5 }).expect("blockers");
         let b = partial.len();
         assert_eq!(b, 100);
-        let probe = shadows.sample_within(
-            0,
-            1,
-            u,
-            &partial,
-            (probe_pilot(n as u32), probe_pilot(n as u32), goal),
-            5,
-            &mut s.work,
-        );
+        let (probe, need, measured) = shadows.probe(0, 1, u, &partial, (n as u32, goal), 5, &mut s.work);
         let tests = probe.tests as f64 / f64::from(probe.samples);
         assert!(
             4.0 * tests < shadows.model().mc.at(b),
             "{tests} tests a point against the prior's {}",
             shadows.model().mc.at(b)
         );
-        let need = probe_samples(&probe, goal, probe_pilot(n as u32)).expect("a sample count");
-        let (measured, prior) = (mc_ns_at(f64::from(need), tests), shadows.model().mc_ns(f64::from(need), b));
+        let need = need.expect("a sample count");
+        let prior = shadows.model().mc_ns(f64::from(need), b);
         let c = (measured * prior).sqrt() / ((u / goal).sqrt() * SHADOW_UNIT_NS);
         shadows.set_model(CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc: shadows.model().mc });
         let r = shadows.pair(0, 1, u, &partial, &mut s.work);
@@ -915,10 +925,7 @@ mod tests {
             Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 2 }).expect("blockers");
         let (mut s, partial, _) = pair_01(&shadows);
         let n = CostModel::samples(u, goal);
-        let first = probe_pilot(n as u32);
-        let probe = shadows.sample_within(0, 1, u, &partial, (first, first, goal), 2, &mut s.work);
-        let need = probe_samples(&probe, goal, first).expect("a sample count");
-        let price = mc_ns_at(f64::from(need), probe.tests as f64 / f64::from(probe.samples));
+        let (probe, _, price) = shadows.probe(0, 1, u, &partial, (n as u32, goal), 2, &mut s.work);
         assert!(price / SHADOW_UNIT_NS < setup_units(partial.len()) as f64, "{price} ns");
         let mc = shadows.model().mc;
         shadows.set_model(CostModel { shadow: PowerLaw { c: 1e-3, exp: 0.0 }, mc });

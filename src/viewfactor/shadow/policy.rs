@@ -103,7 +103,11 @@ pub const MC_PILOT_SHARE: f64 = 1.0 / 16.0;
 /// The first draw of a sample whose worst case is `n` points ([`MC_PILOT_SHARE`] of it, at least
 /// [`MC_MIN_SAMPLES`]).
 pub fn pilot(n: u32) -> u32 {
-    ((f64::from(n) * MC_PILOT_SHARE).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
+    share_of(n, MC_PILOT_SHARE)
+}
+/// `share` of a worst case of `n` points, rounded up, at least [`MC_MIN_SAMPLES`] (at most `n`).
+fn share_of(n: u32, share: f64) -> u32 {
+    ((f64::from(n) * share).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
 }
 /// Share of the worst-case sample a probe draws to price the sample for its pair's own
 /// shadow (`super::branch`): a quarter of [`MC_PILOT_SHARE`]. On pairs that end integrated
@@ -114,7 +118,7 @@ pub const MC_PROBE_SHARE: f64 = 1.0 / 64.0;
 /// The points a probe draws for a sample whose worst case is `n` points ([`MC_PROBE_SHARE`]
 /// of it, at least [`MC_MIN_SAMPLES`]).
 pub fn probe_pilot(n: u32) -> u32 {
-    ((f64::from(n) * MC_PROBE_SHARE).ceil() as u32).clamp(MC_MIN_SAMPLES.min(n), n)
+    share_of(n, MC_PROBE_SHARE)
 }
 /// Most Monte Carlo samples per pair; above this the shadow integration is always cheaper.
 pub const MC_MAX_SAMPLES: u32 = 1 << 16;
