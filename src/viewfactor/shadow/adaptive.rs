@@ -298,12 +298,21 @@ pub struct Cuts {
     pub max_pieces: usize,
     /// Cut along the blockers' own planes after the edge and event planes instead of before.
     pub faces_last: bool,
+    /// Cut along the receiver-edge planes only (a shadow edge sliding along a receiver edge),
+    /// leaving the blockers' planes and the second-order events to the adaptivity.
+    pub edges_only: bool,
 }
 
 impl Cuts {
     /// Every kink plane first, up to `MAX_PIECES` pieces, the blockers' planes first
     /// (`analytic`: each root smooth).
-    pub const ALL: Self = Self { max_pieces: MAX_PIECES, faces_last: false };
+    pub const ALL: Self = Self::up_to(MAX_PIECES, false);
+
+    /// Every kind of kink plane, up to `max_pieces` pieces, the blockers' planes last when
+    /// `faces_last`.
+    pub const fn up_to(max_pieces: usize, faces_last: bool) -> Self {
+        Self { max_pieces, faces_last, edges_only: false }
+    }
 }
 
 impl Integrator {
@@ -850,9 +859,13 @@ pub fn split_cells(geo: &ShadowGeometry, cuts: Cuts) -> Vec<Cell> {
             }
         }
     }
-    event_planes(geo, &silhouette, &mut planes);
-    if cuts.faces_last {
-        planes.rotate_left(faces);
+    if cuts.edges_only {
+        planes.drain(..faces);
+    } else {
+        event_planes(geo, &silhouette, &mut planes);
+        if cuts.faces_last {
+            planes.rotate_left(faces);
+        }
     }
     let pieces = cut_along(geo.emitter(), &planes, snap, cuts.max_pieces);
     pieces.iter().flat_map(|piece| emitter_cells(piece, geo.emitter_normal())).collect()
@@ -1215,7 +1228,7 @@ mod tests {
         let largest = split_cells(&geo, Cuts::ALL).iter().map(Cell::area).fold(0.0, f64::max);
         assert!(cut.roots == 4 && (largest - 0.25).abs() < 1e-12, "{cut:?}, largest root {largest}");
         assert_eq!(cut.cells, cut.roots, "{cut:?}");
-        let one = it.with_cuts(Cuts { max_pieces: 1, faces_last: true }).shaded(&geo, 1.0, &mut s);
+        let one = it.with_cuts(Cuts::up_to(1, true)).shaded(&geo, 1.0, &mut s);
         assert_eq!((one.roots, one.cells), (1, 4), "{one:?}");
         // Both within the loose goal of the exact value (C-11 minus the centred plate).
         for info in [cut, one] {
@@ -1245,10 +1258,48 @@ mod tests {
                 lo >= -1e-9 || hi <= 1e-9
             })
         };
-        let first = split_cells(&geo, Cuts { max_pieces: 2, faces_last: false });
-        let last = split_cells(&geo, Cuts { max_pieces: 2, faces_last: true });
+        let first = split_cells(&geo, Cuts::up_to(2, false));
+        let last = split_cells(&geo, Cuts::up_to(2, true));
         assert!(on_plate_plane(&first), "{first:?}");
         assert!(!on_plate_plane(&last), "{last:?}");
+    }
+
+    #[test]
+    fn edges_only_cuts_along_the_receiver_edge_planes_and_no_other() {
+        // The tilted plate above: its own plane and its events cross the emitter, and its
+        // edges along x are parallel to the receiver's. Edges only: cut (more than one root),
+        // never along the plate's plane.
+        let tilted = [
+            DVec3::new(0.3, 0.3, 0.2),
+            DVec3::new(0.7, 0.3, 0.2),
+            DVec3::new(0.7, 0.7, 0.6),
+            DVec3::new(0.3, 0.7, 0.6),
+        ];
+        let geo = unit_pair(&tilted);
+        let plane = plane_of(&geo.blockers()[0]).unwrap();
+        let edges = Cuts { edges_only: true, ..Cuts::up_to(MAX_PIECES, true) };
+        let cells = split_cells(&geo, edges);
+        let mut ring = Vec::new();
+        let straddles = cells.iter().any(|c| {
+            c.ring(&mut ring);
+            let d: Vec<f64> = ring.iter().map(|&v| plane.distance(v)).collect();
+            d.iter().any(|&x| x < -1e-9) && d.iter().any(|&x| x > 1e-9)
+        });
+        assert!(split_cells(&geo, Cuts::ALL).len() > cells.len(), "every plane cuts more");
+        assert!(cells.len() > emitter_cells(geo.emitter(), DVec3::Z).len(), "{cells:?}");
+        assert!(straddles, "a cell along the plate's plane: {cells:?}");
+        // Turned 45° about z, no edge is parallel to the receiver's: one root, as uncut.
+        let c = DVec3::new(0.5, 0.5, 0.0);
+        let turned: Vec<DVec3> = tilted
+            .iter()
+            .map(|&v| {
+                let d = v - c;
+                c + DVec3::new((d.x - d.y) / 2f64.sqrt(), (d.x + d.y) / 2f64.sqrt(), d.z)
+            })
+            .collect();
+        let geo = unit_pair(&turned);
+        assert_eq!(split_cells(&geo, edges).len(), emitter_cells(geo.emitter(), DVec3::Z).len());
+        assert!(split_cells(&geo, Cuts::ALL).len() > 1);
     }
 
     #[test]
@@ -1336,7 +1387,7 @@ mod tests {
         // for a bound the tolerance does not need.
         for tol in [1e-3, 1.0] {
             let loose = Integrator::new(AdaptParams { low: 3, high: 4, min_depth: 0, max_depth: 10 })
-                .with_cuts(Cuts { max_pieces: 1, faces_last: true })
+                .with_cuts(Cuts::up_to(1, true))
                 .shaded(&geo, tol, &mut s);
             let off = (loose.shaded - reference).abs();
             assert!(off <= tol && loose.error <= tol, "tol {tol}: {loose:?} vs {reference}");

@@ -54,7 +54,7 @@ pub const AUTO_MIN_DEPTH: u32 = 1;
 /// for an error 30× below its goal. Measured against `analytic` on the real parts
 /// (validation/cad.md): at 64 pieces every entry stays within its goal with a 4× margin;
 /// at 16 a heat-sink entry ended at 1.08× its goal, at 4 a finger entry at 15×.
-pub const AUTO_CUTS: Cuts = Cuts { max_pieces: 64, faces_last: true };
+pub const AUTO_CUTS: Cuts = Cuts::up_to(64, true);
 /// Deepest split (4⁸ = 65 536 cells per pair at most), as View3D's maxO.
 pub const MAX_DEPTH: u32 = 8;
 

@@ -1228,7 +1228,7 @@ mod tests {
         // point while the underside still shades part of the receiver from part of the cell.
         // The side, turned away from those points, once counted as the board's shadow seen:
         // the cells were accepted with an error estimate of 0.00 goals, 1.57 goals off.
-        for cuts in [Cuts { max_pieces: 4, faces_last: true }, AUTO_CUTS] {
+        for cuts in [Cuts::up_to(4, true), AUTO_CUTS] {
             let info =
                 Integrator::new(AUTO_ADAPT).with_cuts(cuts).shaded(&geo, goal, &mut AdaptScratch::default());
             let off = (info.shaded - shaded).abs();
