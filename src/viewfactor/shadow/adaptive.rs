@@ -1236,61 +1236,51 @@ mod tests {
         }
     }
 
+    /// A plate tilted about x (its plane z = y − 0.1 crosses the emitter of [`unit_pair`]), its
+    /// edges along x parallel to the receiver's.
+    const TILTED_PLATE: [DVec3; 4] = [
+        DVec3::new(0.3, 0.3, 0.2),
+        DVec3::new(0.7, 0.3, 0.2),
+        DVec3::new(0.7, 0.7, 0.6),
+        DVec3::new(0.3, 0.7, 0.6),
+    ];
+
+    /// True when some cell lies on both sides of `plane`.
+    fn some_cell_crosses(cells: &[Cell], plane: &Plane) -> bool {
+        let mut ring = Vec::new();
+        cells.iter().any(|c| {
+            c.ring(&mut ring);
+            ring.iter().any(|&v| plane.distance(v) < -1e-9) && ring.iter().any(|&v| plane.distance(v) > 1e-9)
+        })
+    }
+
     #[test]
     fn faces_last_keeps_the_receiver_edge_planes_under_a_cap() {
-        // A plate tilted about x (its plane z = y − 0.1 crosses the emitter) with edges parallel
-        // to the receiver's: capped at two pieces, the blockers' planes first cut along the plate's
-        // plane; faces last cut along a plane through a receiver edge instead.
-        let geo = unit_pair(&[
-            DVec3::new(0.3, 0.3, 0.2),
-            DVec3::new(0.7, 0.3, 0.2),
-            DVec3::new(0.7, 0.7, 0.6),
-            DVec3::new(0.3, 0.7, 0.6),
-        ]);
+        // Capped at two pieces, the blockers' planes first cut along the plate's plane; faces
+        // last cut along a plane through a receiver edge instead.
+        let geo = unit_pair(&TILTED_PLATE);
         let plane = plane_of(&geo.blockers()[0]).unwrap();
-        let on_plate_plane = |cells: &[Cell]| {
-            let mut ring = Vec::new();
-            cells.iter().all(|c| {
-                c.ring(&mut ring);
-                let (lo, hi) = ring.iter().fold((f64::MAX, f64::MIN), |(l, h), &v| {
-                    (l.min(plane.distance(v)), h.max(plane.distance(v)))
-                });
-                lo >= -1e-9 || hi <= 1e-9
-            })
-        };
         let first = split_cells(&geo, Cuts::up_to(2, false));
         let last = split_cells(&geo, Cuts::up_to(2, true));
-        assert!(on_plate_plane(&first), "{first:?}");
-        assert!(!on_plate_plane(&last), "{last:?}");
+        assert!(!some_cell_crosses(&first, &plane), "{first:?}");
+        assert!(some_cell_crosses(&last, &plane), "{last:?}");
     }
 
     #[test]
     fn edges_only_cuts_along_the_receiver_edge_planes_and_no_other() {
-        // The tilted plate above: its own plane and its events cross the emitter, and its
-        // edges along x are parallel to the receiver's. Edges only: cut (more than one root),
-        // never along the plate's plane.
-        let tilted = [
-            DVec3::new(0.3, 0.3, 0.2),
-            DVec3::new(0.7, 0.3, 0.2),
-            DVec3::new(0.7, 0.7, 0.6),
-            DVec3::new(0.3, 0.7, 0.6),
-        ];
-        let geo = unit_pair(&tilted);
+        // The plate's own plane and its events cross the emitter, and its edges along x are
+        // parallel to the receiver's. Edges only: cut (more than one root), never along the
+        // plate's plane.
+        let geo = unit_pair(&TILTED_PLATE);
         let plane = plane_of(&geo.blockers()[0]).unwrap();
         let edges = Cuts { edges_only: true, ..Cuts::up_to(MAX_PIECES, true) };
         let cells = split_cells(&geo, edges);
-        let mut ring = Vec::new();
-        let straddles = cells.iter().any(|c| {
-            c.ring(&mut ring);
-            let d: Vec<f64> = ring.iter().map(|&v| plane.distance(v)).collect();
-            d.iter().any(|&x| x < -1e-9) && d.iter().any(|&x| x > 1e-9)
-        });
         assert!(split_cells(&geo, Cuts::ALL).len() > cells.len(), "every plane cuts more");
         assert!(cells.len() > emitter_cells(geo.emitter(), DVec3::Z).len(), "{cells:?}");
-        assert!(straddles, "a cell along the plate's plane: {cells:?}");
+        assert!(some_cell_crosses(&cells, &plane), "a cell along the plate's plane: {cells:?}");
         // Turned 45° about z, no edge is parallel to the receiver's: one root, as uncut.
         let c = DVec3::new(0.5, 0.5, 0.0);
-        let turned: Vec<DVec3> = tilted
+        let turned: Vec<DVec3> = TILTED_PLATE
             .iter()
             .map(|&v| {
                 let d = v - c;
