@@ -388,29 +388,20 @@ impl Integrator {
                     return (0.0, 0);
                 }
             }
-            let (lo, mut hi, (seen, away), evals, work, cut) =
-                this.evaluate(geo, &item, max_work.saturating_sub(info.work), s);
-            info.evals += evals;
-            info.work += work;
-            if cut {
-                // The cap came within the cell's rules: the integration ends there, capped.
-                info.capped = true;
+            // A cap that comes within a cell's rules ends the integration there, capped.
+            let Some((lo, mut hi, (seen, away))) = this.evaluate(geo, &item, max_work, info, s) else {
                 return (0.0, 0);
-            }
+            };
             let mut rules = (hi - lo).abs();
             if !item.full && item.depth < this.params.max_depth && touch.meets(&item, &s.pool) {
                 // A blocker touches the cell: its rules can agree on a wrong value, so the
                 // cell is held to its children's sum (see [`Touch`]).
                 let (mut sum, mut spread) = (0.0, 0.0);
                 for cell in item.cell.children() {
-                    let (lo, hi, _, evals, work, cut) =
-                        this.evaluate(geo, &Item { cell, ..item }, max_work.saturating_sub(info.work), s);
-                    info.evals += evals;
-                    info.work += work;
-                    if cut {
-                        info.capped = true;
+                    let Some((lo, hi, _)) = this.evaluate(geo, &Item { cell, ..item }, max_work, info, s)
+                    else {
                         return (0.0, 0);
-                    }
+                    };
                     sum += hi;
                     spread += (hi - lo).abs();
                 }
@@ -565,16 +556,18 @@ impl Integrator {
         (sum, evals)
     }
 
-    /// Both rules on one cell: (low, high, (seen, turned-away) masks, evaluations, work, cut);
-    /// cut when the work reached `budget` before the last rule point (the rest are not
-    /// evaluated, and the sums mean nothing).
+    /// Both rules on one cell: (low, high, (seen, turned-away) masks), their evaluations and
+    /// work added to `info`; `None`, with `info` marked capped, when its work reached
+    /// `max_work` before the last rule point (the rest are not evaluated).
     fn evaluate(
         &self,
         geo: &ShadowGeometry,
         item: &Item,
-        budget: u64,
+        max_work: u64,
+        info: &mut AdaptInfo,
         s: &mut AdaptScratch,
-    ) -> (f64, f64, (u64, u64), u64, u64, bool) {
+    ) -> Option<(f64, f64, (u64, u64))> {
+        let budget = max_work.saturating_sub(info.work);
         let active = &s.pool[item.start..item.start + item.len];
         let shadow = &mut s.shadow;
         let (mut seen, mut away) = (0u64, 0u64);
@@ -602,7 +595,10 @@ impl Integrator {
                 sums[k] += w * g;
             });
         }
-        (sums[0], sums[1], (seen, away), evals, work, cut)
+        info.evals += evals;
+        info.work += work;
+        info.capped |= cut;
+        (!cut).then_some((sums[0], sums[1], (seen, away)))
     }
 }
 
@@ -838,7 +834,12 @@ const MAX_PIECES: usize = 256;
 /// shadow edge sliding along a receiver edge kinks g along a whole line.
 pub fn split_cells(geo: &ShadowGeometry, cuts: Cuts) -> Vec<Cell> {
     let snap = geo.snap();
-    let mut planes: Vec<Plane> = geo.blockers().iter().filter_map(|b| plane_of(b)).collect();
+    // The blockers' own planes (none when cutting along the receiver edges only).
+    let mut planes: Vec<Plane> = if cuts.edges_only {
+        Vec::new()
+    } else {
+        geo.blockers().iter().filter_map(|b| plane_of(b)).collect()
+    };
     let faces = planes.len();
     let recv = geo.receiver_edges();
     let silhouette = silhouette_edges(geo);
@@ -859,9 +860,7 @@ pub fn split_cells(geo: &ShadowGeometry, cuts: Cuts) -> Vec<Cell> {
             }
         }
     }
-    if cuts.edges_only {
-        planes.drain(..faces);
-    } else {
+    if !cuts.edges_only {
         event_planes(geo, &silhouette, &mut planes);
         if cuts.faces_last {
             planes.rotate_left(faces);
