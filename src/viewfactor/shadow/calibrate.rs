@@ -23,8 +23,8 @@ use super::branch::{PairWork, Shadows};
 use super::classify::{RowShadows, Status};
 use super::policy::Policy;
 use super::policy::{
-    pair_goal, CostModel, PowerLaw, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_SAMPLE_NS, MC_TEST_NS,
-    SHADOW_SETUP_UNITS, SHADOW_UNIT_NS,
+    pair_goal, setup_units, CostModel, PowerLaw, MC_MAX_SAMPLES, MC_MIN_SAMPLES, MC_SAMPLE_NS, MC_TEST_NS,
+    SHADOW_UNIT_NS,
 };
 use crate::scene::Scene;
 use crate::viewfactor::exact::pair::polygon_polygon;
@@ -67,7 +67,7 @@ pub struct Measured {
     pub blockers: usize,
     /// u/goal.
     pub ratio: f64,
-    /// Shadow work units (setup [`SHADOW_SETUP_UNITS`] + b included).
+    /// Shadow work units (set-up [`setup_units`] included: the same charge the branch takes out of its cap).
     pub shadow_work: u64,
     /// The integration was cut short at its cap.
     pub capped: bool,
@@ -142,7 +142,7 @@ pub fn measure(shadows: &Shadows<'_>, tol: f64, seed: u64) -> Vec<Measured> {
             Measured {
                 blockers: b,
                 ratio: p.u / p.goal,
-                shadow_work: capped_work(sh.info.work, sh.info.capped, cap) + SHADOW_SETUP_UNITS + b as u64,
+                shadow_work: capped_work(sh.info.work, sh.info.capped, cap) + setup_units(b),
                 capped: sh.info.capped,
                 samples: mc.samples,
                 tests: mc.tests,
