@@ -19,7 +19,7 @@
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::{probe_pilot, EXACT_REL_TOL, MC_MAX_SAMPLES};
-use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
+use lambert::viewfactor::shadow::{PairAt, Policy, ShadowScratch, Shadows};
 use std::io::Write;
 use std::time::Instant;
 
@@ -64,10 +64,10 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
             if dump_kind == Some(kind) {
                 let goal = tol * scene.patches[i].polygon.area().min(scene.patches[j].polygon.area());
                 let t1 = Instant::now();
-                let full = shadows.integrate(i, j, u, &partial, goal, u64::MAX, &mut s.work);
+                let full = shadows.integrate(PairAt::new(i, j, u, &partial), goal, u64::MAX, &mut s.work);
                 let dt_int = t1.elapsed().as_secs_f64();
                 let t2 = Instant::now();
-                let m = shadows.sample(i, j, u, &partial, (64, goal), 1, &mut s.work);
+                let m = shadows.sample(PairAt::new(i, j, u, &partial), (64, goal), 1, &mut s.work);
                 let dt_mc = t2.elapsed().as_secs_f64();
                 let model = shadows.model();
                 let n_worst = lambert::viewfactor::shadow::policy::CostModel::samples(u, goal);
@@ -151,7 +151,7 @@ fn main() {
             blockers += partial.len() as u64;
             let u = polygon_polygon(&scene.patches[i].polygon, &scene.patches[j].polygon);
             let t = Instant::now();
-            let r = shadows.integrate(i, j, u, &partial, rel * u, u64::MAX, &mut s.work);
+            let r = shadows.integrate(PairAt::new(i, j, u, &partial), rel * u, u64::MAX, &mut s.work);
             seconds += t.elapsed().as_secs_f64();
             evals += r.info.evals;
             cells += u64::from(r.info.cells);

@@ -7,7 +7,7 @@
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::pair_goal;
-use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
+use lambert::viewfactor::shadow::{PairAt, Policy, ShadowScratch, Shadows};
 use std::time::Instant;
 
 fn main() {
@@ -42,7 +42,7 @@ fn main() {
         // The pair's value and what the mode reports besides it.
         let (value, tail) = if std::env::var_os("MC").is_some() {
             // `MC=1`: the Monte Carlo estimate alone (up to its sample cap).
-            let m = shadows.sample(i, j, u, &partial, (n, goal), 1, &mut s.work);
+            let m = shadows.sample(PairAt::new(i, j, u, &partial), (n, goal), 1, &mut s.work);
             let tail = format!("sd/goal {:.2} samples {}", m.var.sqrt() / goal, m.samples);
             (m.s, tail)
         } else if std::env::var_os("AUTO").is_some() {
@@ -50,7 +50,7 @@ fn main() {
             let r = shadows.pair(i, j, u, &partial, &mut s.work);
             (r.s, format!("sd/goal {:.2} method {:?} work {}", r.var.sqrt() / goal, r.method, r.work))
         } else {
-            let r = shadows.integrate(i, j, u, &partial, goal, u64::MAX, &mut s.work);
+            let r = shadows.integrate(PairAt::new(i, j, u, &partial), goal, u64::MAX, &mut s.work);
             let f = &r.info;
             let tail = format!(
                 "err/goal {:.2} evals {} work {} cells {} roots {} maxd {} stalled {} swapped {}",
@@ -79,7 +79,7 @@ fn main() {
             // `SEEDS=K` (with `MC=1`): the spread of K seeds' estimates against their reported
             // errors.
             let runs: Vec<_> = (0..seeds)
-                .map(|seed| shadows.sample(i, j, u, &partial, (n, goal), seed, &mut s.work))
+                .map(|seed| shadows.sample(PairAt::new(i, j, u, &partial), (n, goal), seed, &mut s.work))
                 .collect();
             let mean = runs.iter().map(|m| m.s).sum::<f64>() / seeds as f64;
             let sd = (runs.iter().map(|m| (m.s - mean).powi(2)).sum::<f64>() / (seeds - 1) as f64).sqrt();

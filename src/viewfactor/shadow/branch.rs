@@ -49,6 +49,28 @@ pub struct Obstructed {
     pub at_max_depth: u32,
 }
 
+/// One partly obstructed pair as the branch's estimators take it: rows `i`, `j`, the
+/// unobstructed exchange area `u` (m²) and the partial blockers `partial` from the row
+/// classification.
+#[derive(Debug, Clone, Copy)]
+pub struct PairAt<'p> {
+    /// Emitter patch.
+    pub i: usize,
+    /// Receiver patch.
+    pub j: usize,
+    /// Unobstructed A_i F_ij, m².
+    pub u: f64,
+    /// Partial blockers (ids into the scene's blockers).
+    pub partial: &'p [u32],
+}
+
+impl<'p> PairAt<'p> {
+    /// Pair (i, j) with unobstructed value `u` behind `partial`.
+    pub fn new(i: usize, j: usize, u: f64, partial: &'p [u32]) -> Self {
+        Self { i, j, u, partial }
+    }
+}
+
 /// Per-thread buffers of the obstructed branch.
 #[derive(Debug, Clone, Default)]
 pub struct ShadowScratch {
@@ -185,10 +207,11 @@ impl<'s> Shadows<'s> {
     /// above it by the capped sample where that reports the smaller error (`settle`). An
     /// entry whose error estimate still exceeds its goal is recorded in [`Self::misses`].
     pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
+        let p = PairAt::new(i, j, u, partial);
         match self.policy {
             Policy::Exact { rel_tol } => {
                 let goal = rel_tol * u;
-                let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                let r = self.integrate(p, goal, u64::MAX, s);
                 if r.error > goal {
                     self.misses.record(Miss { i, j, error: r.error, goal });
                 }
@@ -203,8 +226,7 @@ impl<'s> Shadows<'s> {
                 // against a capped sample drawn for it.
                 let finish = |r: Shadowed, m: Option<McPair>, spent: u64, s: &mut PairWork| {
                     let m = m.or_else(|| {
-                        (r.error > goal)
-                            .then(|| self.sample(i, j, u, partial, (MC_MAX_SAMPLES, goal), seed, s))
+                        (r.error > goal).then(|| self.sample(p, (MC_MAX_SAMPLES, goal), seed, s))
                     });
                     let entry = settle(&r, m.as_ref(), spent);
                     let error = if entry.method == MethodSet::MC_AREA {
@@ -218,10 +240,10 @@ impl<'s> Shadows<'s> {
                     entry
                 };
                 let sampled = |n: u32, spent: u64, s: &mut PairWork| {
-                    let m = self.sample(i, j, u, partial, (n, goal), seed, s);
+                    let m = self.sample(p, (n, goal), seed, s);
                     if MC_SIGMAS * m.var.sqrt() > goal {
                         // The sample cap was reached first: the entry is integrated.
-                        let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                        let r = self.integrate(p, goal, u64::MAX, s);
                         return finish(r, Some(m), spent, s);
                     }
                     Obstructed {
@@ -241,31 +263,30 @@ impl<'s> Shadows<'s> {
                             // the largest sample is drawn (a receiver beside a sliver
                             // neighbour refines to the depth limit and finds no shadow).
                             let over = OVERRUN_RATIO * self.model.shadow_ns(u, goal, partial.len());
-                            let r = self.integrate(i, j, u, partial, goal, (over / SHADOW_UNIT_NS) as u64, s);
+                            let r = self.integrate(p, goal, (over / SHADOW_UNIT_NS) as u64, s);
                             if !r.info.capped {
                                 return finish(r, None, 0, s);
                             }
-                            let (probe, need, _) =
-                                self.probe(i, j, u, partial, (MC_MAX_SAMPLES, goal), seed, s);
+                            let (probe, need, _) = self.probe(p, (MC_MAX_SAMPLES, goal), seed, s);
                             let spent = r.info.evals + u64::from(probe.samples);
                             if need.is_some() {
                                 return sampled(MC_MAX_SAMPLES, spent, s);
                             }
-                            let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                            let r = self.integrate(p, goal, u64::MAX, s);
                             return finish(r, None, spent, s);
                         }
                         let n = n as u32;
-                        if self.falls_away(i, j, partial, s) {
+                        if self.falls_away(p, s) {
                             // No blocker is left once clipped to the pair: integrated before
                             // its first viewpoint, no probe needed.
-                            let r = self.integrate(i, j, u, partial, goal, u64::MAX, s);
+                            let r = self.integrate(p, goal, u64::MAX, s);
                             return finish(r, None, 0, s);
                         }
                         // The worst-case count prices the sample for a ratio of ½; a
                         // probe (the sample's first points, `probe_pilot`) prices it for
                         // this pair's share in shadow (a wall pair behind a part is mostly
                         // seen: a tenth of the worst case or less). See [`probe_samples`].
-                        let (probe, _, price) = self.probe(i, j, u, partial, (n, goal), seed, s);
+                        let (probe, _, price) = self.probe(p, (n, goal), seed, s);
                         let spent = u64::from(probe.samples);
                         if price < self.model.shadow_ns(u, goal, partial.len()) {
                             return sampled(n, spent, s);
@@ -289,7 +310,7 @@ impl<'s> Shadows<'s> {
                         } else {
                             u64::MAX
                         };
-                        let r = self.integrate(i, j, u, partial, goal, cap, s);
+                        let r = self.integrate(p, goal, cap, s);
                         // A finished result is kept even past the cap (the facet sum behind
                         // a convex solid runs to its end whatever the cap).
                         if !r.info.capped {
@@ -310,62 +331,49 @@ impl<'s> Shadows<'s> {
 
     /// Shadow integration of pair (i, j) to the absolute goal `goal`, refining no further past
     /// `max_work` work units.
-    #[allow(clippy::too_many_arguments)]
-    pub fn integrate(
-        &self,
-        i: usize,
-        j: usize,
-        u: f64,
-        partial: &[u32],
-        goal: f64,
-        max_work: u64,
-        s: &mut PairWork,
-    ) -> Shadowed {
-        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
-        let on_solid = self.on_solid[i];
-        shadowed(pi, pj, u, &self.blockers, partial, &self.integrator, goal, max_work, on_solid, &mut s.pair)
+    pub fn integrate(&self, p: PairAt<'_>, goal: f64, max_work: u64, s: &mut PairWork) -> Shadowed {
+        let (pi, pj) = (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon);
+        let on_solid = self.on_solid[p.i];
+        shadowed(
+            pi,
+            pj,
+            p.u,
+            &self.blockers,
+            p.partial,
+            &self.integrator,
+            goal,
+            max_work,
+            on_solid,
+            &mut s.pair,
+        )
     }
 
     /// True when none of pair (i, j)'s partial blockers is left once clipped to the pair
     /// ([`falls_away`]): its integration ends before its first viewpoint.
-    fn falls_away(&self, i: usize, j: usize, partial: &[u32], s: &mut PairWork) -> bool {
-        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
-        falls_away(pi, pj, &self.blockers, partial, self.on_solid[i], &mut s.pair)
+    fn falls_away(&self, p: PairAt<'_>, s: &mut PairWork) -> bool {
+        let (pi, pj) = (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon);
+        falls_away(pi, pj, &self.blockers, p.partial, self.on_solid[p.i], &mut s.pair)
     }
 
     /// The Monte Carlo ratio estimate of pair (i, j) from `n` samples first, doubling until its
     /// standard error meets `goal`/[`MC_SIGMAS`] (`auto` only).
-    #[allow(clippy::too_many_arguments)]
-    pub fn sample(
-        &self,
-        i: usize,
-        j: usize,
-        u: f64,
-        partial: &[u32],
-        (n, goal): (u32, f64),
-        seed: u64,
-        s: &mut PairWork,
-    ) -> McPair {
-        self.sample_within(i, j, u, partial, (pilot(n), MC_MAX_SAMPLES, goal), seed, s)
+    pub fn sample(&self, p: PairAt<'_>, (n, goal): (u32, f64), seed: u64, s: &mut PairWork) -> McPair {
+        self.sample_within(p, (pilot(n), MC_MAX_SAMPLES, goal), seed, s)
     }
 
     /// The probe of pair (i, j) for a sample whose worst case is `n` points: its first
     /// [`probe_pilot`] points, the count the doubling would reach ([`probe_samples`]), and that
     /// sample's price at the probe's own tests per point (the fitted count can be several times
     /// that for a pair behind a whole meshed part); infinite where no count is reached.
-    #[allow(clippy::too_many_arguments)]
     fn probe(
         &self,
-        i: usize,
-        j: usize,
-        u: f64,
-        partial: &[u32],
+        p: PairAt<'_>,
         (n, goal): (u32, f64),
         seed: u64,
         s: &mut PairWork,
     ) -> (McPair, Option<u32>, f64) {
         let first = probe_pilot(n);
-        let probe = self.sample_within(i, j, u, partial, (first, first, goal), seed, s);
+        let probe = self.sample_within(p, (first, first, goal), seed, s);
         let need = probe_samples(&probe, goal, first);
         let tests = probe.tests as f64 / f64::from(probe.samples.max(1));
         let price = need.map_or(f64::INFINITY, |m| mc_ns_at(f64::from(m), tests));
@@ -373,28 +381,24 @@ impl<'s> Shadows<'s> {
     }
 
     /// [`Self::sample`] from `first` points, doubling up to `max`.
-    #[allow(clippy::too_many_arguments)]
     fn sample_within(
         &self,
-        i: usize,
-        j: usize,
-        u: f64,
-        partial: &[u32],
+        p: PairAt<'_>,
         (first, max, goal): (u32, u32, f64),
         seed: u64,
         s: &mut PairWork,
     ) -> McPair {
-        let (pi, pj) = (&self.scene.patches[i].polygon, &self.scene.patches[j].polygon);
+        let (pi, pj) = (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon);
         estimate(
-            &self.samplers[i],
+            &self.samplers[p.i],
             pi.normal(),
-            &self.samplers[j],
+            &self.samplers[p.j],
             pj.normal(),
-            u,
-            (&self.segments, partial),
+            p.u,
+            (&self.segments, p.partial),
             Budget { first, max, sigma: goal / MC_SIGMAS },
             seed,
-            (i, j),
+            (p.i, p.j),
             &mut s.tree,
         )
     }
@@ -465,7 +469,7 @@ mod tests {
     /// Pair 0–1 classified as a row does and integrated to `EXACT_REL_TOL`: (result, u).
     fn integrate_01(shadows: &Shadows) -> (Shadowed, f64) {
         let (mut s, partial, u) = pair_01(shadows);
-        (shadows.integrate(0, 1, u, &partial, EXACT_REL_TOL * u, u64::MAX, &mut s.work), u)
+        (shadows.integrate(PairAt::new(0, 1, u, &partial), EXACT_REL_TOL * u, u64::MAX, &mut s.work), u)
     }
 
     /// Row 0 classified as a row does: the buffers, pair 0–1's partial blockers and its
@@ -577,7 +581,7 @@ mod tests {
         let worst = worst.unwrap();
         assert!(worst.error > worst.goal && (worst.i, worst.j) == (0, 1), "{worst:?}");
         // The sample was drawn: its points count in the entry's work beyond the integration's.
-        let alone = shadows.integrate(0, 1, u, &partial, worst.goal, u64::MAX, &mut s.work);
+        let alone = shadows.integrate(PairAt::new(0, 1, u, &partial), worst.goal, u64::MAX, &mut s.work);
         assert!(
             r.work >= alone.info.evals + u64::from(MC_MAX_SAMPLES) / 16,
             "{} vs {}",
@@ -767,7 +771,7 @@ mod tests {
                 )
             })
             .collect();
-        let r = shadows.integrate(0, 1, u, &all, EXACT_REL_TOL * u, u64::MAX, &mut s.work);
+        let r = shadows.integrate(PairAt::new(0, 1, u, &all), EXACT_REL_TOL * u, u64::MAX, &mut s.work);
         assert!(!r.swapped, "the inside plate emits");
         assert!(r.s <= 1e-12 * u, "A·F = {} of {u} escapes the enclosure", r.s);
     }
@@ -885,7 +889,7 @@ mod tests {
         let scene = pair_behind_a_grid();
         let exact = Shadows::new(&scene, Policy::Exact { rel_tol: 1e-5 }).expect("blockers");
         let (mut s, partial, u) = pair_01(&exact);
-        let reference = exact.integrate(0, 1, u, &partial, 1e-5 * u, u64::MAX, &mut s.work);
+        let reference = exact.integrate(PairAt::new(0, 1, u, &partial), 1e-5 * u, u64::MAX, &mut s.work);
         assert!(reference.error <= 1e-5 * u, "{reference:?}");
         let goal = u / 64.0;
         let n = CostModel::samples(u, goal);
@@ -893,7 +897,8 @@ mod tests {
             Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 5 }).expect("blockers");
         let b = partial.len();
         assert_eq!(b, 100);
-        let (probe, need, measured) = shadows.probe(0, 1, u, &partial, (n as u32, goal), 5, &mut s.work);
+        let (probe, need, measured) =
+            shadows.probe(PairAt::new(0, 1, u, &partial), (n as u32, goal), 5, &mut s.work);
         let tests = probe.tests as f64 / f64::from(probe.samples);
         assert!(
             4.0 * tests < shadows.model().mc.at(b),
@@ -925,12 +930,13 @@ mod tests {
             Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 2 }).expect("blockers");
         let (mut s, partial, _) = pair_01(&shadows);
         let n = CostModel::samples(u, goal);
-        let (probe, _, price) = shadows.probe(0, 1, u, &partial, (n as u32, goal), 2, &mut s.work);
+        let (probe, _, price) =
+            shadows.probe(PairAt::new(0, 1, u, &partial), (n as u32, goal), 2, &mut s.work);
         assert!(price / SHADOW_UNIT_NS < setup_units(partial.len()) as f64, "{price} ns");
         let mc = shadows.model().mc;
         shadows.set_model(CostModel { shadow: PowerLaw { c: 1e-3, exp: 0.0 }, mc });
         let r = shadows.pair(0, 1, u, &partial, &mut s.work);
-        let m = shadows.sample(0, 1, u, &partial, (n as u32, goal), 2, &mut s.work);
+        let m = shadows.sample(PairAt::new(0, 1, u, &partial), (n as u32, goal), 2, &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert_eq!(r.work, u64::from(probe.samples + m.samples), "the probe and the sample only: {r:?}");
     }
@@ -947,7 +953,7 @@ mod tests {
         let mut shadows =
             Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 4 }).expect("a blocker");
         let (mut s, partial, _) = pair_01(&shadows);
-        let full = shadows.integrate(0, 1, u, &partial, goal, u64::MAX, &mut s.work);
+        let full = shadows.integrate(PairAt::new(0, 1, u, &partial), goal, u64::MAX, &mut s.work);
         let mc = shadows.model().mc;
         let price = |c: f64| CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc };
         // Priced at a thousandth of its work: cut at 64 times that, then probed and sampled.
@@ -973,10 +979,10 @@ mod tests {
         let shadows = Shadows::uncalibrated(&scene, Policy::Auto { tol: 1e-6, seed: 0 }).expect("blockers");
         let (mut s, partial, u) = pair_01(&shadows);
         let goal = u / 64.0;
-        let full = shadows.integrate(0, 1, u, &partial, goal, u64::MAX, &mut s.work);
+        let full = shadows.integrate(PairAt::new(0, 1, u, &partial), goal, u64::MAX, &mut s.work);
         assert!(!full.info.capped && full.info.roots > 8, "{:?}", full.info);
         let cap = full.info.work / 2;
-        let capped = shadows.integrate(0, 1, u, &partial, goal, cap, &mut s.work);
+        let capped = shadows.integrate(PairAt::new(0, 1, u, &partial), goal, cap, &mut s.work);
         assert!(capped.info.capped, "{:?}", capped.info);
         // Without the projection the roots run on until the cap itself.
         assert!(2 * capped.info.work < cap, "{} of a cap of {cap}", capped.info.work);
@@ -986,7 +992,7 @@ mod tests {
         let mid_cell = (0..40)
             .map(|k| 150 + 50 * k)
             .filter(|&cap| {
-                let r = shadows.integrate(0, 1, u, &partial, goal, cap, &mut s.work);
+                let r = shadows.integrate(PairAt::new(0, 1, u, &partial), goal, cap, &mut s.work);
                 assert!(r.info.capped, "{:?} for a cap of {cap}", r.info);
                 !r.info.evals.is_multiple_of(per_cell)
             })
@@ -1010,7 +1016,7 @@ mod tests {
         let (mut s, partial, _) = pair_01(&shadows);
         let (mut far, mut drawn) = (0, 0u64);
         for seed in 0..200 {
-            let m = shadows.sample(0, 1, u, &partial, (n, goal), seed, &mut s.work);
+            let m = shadows.sample(PairAt::new(0, 1, u, &partial), (n, goal), seed, &mut s.work);
             assert!(MC_SIGMAS * m.var.sqrt() <= goal, "seed {seed}: ± {} for a goal of {goal}", m.var.sqrt());
             far += usize::from((m.s - reference.s).abs() > 3.0 * m.var.sqrt());
             drawn += u64::from(m.samples);

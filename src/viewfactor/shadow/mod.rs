@@ -49,5 +49,5 @@ pub(crate) mod solid;
 pub mod viewpoint;
 pub(crate) mod volume;
 
-pub use branch::{Obstructed, PairWork, ShadowScratch, Shadows};
+pub use branch::{Obstructed, PairAt, PairWork, ShadowScratch, Shadows};
 pub use policy::Policy;
