@@ -374,8 +374,10 @@ fn tiled_corners<'a>(polys: impl Iterator<Item = &'a Polygon> + Clone, area: f64
     hull.iter().map(|q| corners.iter().find(|c| c.0 == *q).map(|c| c.1)).collect()
 }
 
-/// Fills every blocker's [`Blocker::across`]: edges with bit-identical end points (either
-/// direction) shared by exactly two blockers are linked.
+/// Fills every blocker's [`Blocker::across`]: edges with bit-identical end points shared by
+/// exactly two consistently oriented blockers (walking it in opposite directions) are linked.
+/// A pair wound against each other stays unlinked: its faces' shadows turn the same way along
+/// the edge, which an outline must keep.
 fn link_shared_edges(blockers: &mut [Blocker]) {
     let edges = edge_uses(blockers.iter().map(|b| b.ring.as_slice()));
     for bl in blockers.iter_mut() {
@@ -385,14 +387,15 @@ fn link_shared_edges(blockers: &mut [Blocker]) {
     for sharing in edges.values() {
         if let [(b0, k0), (b1, k1)] = sharing[..] {
             if b0 != b1 {
-                blockers[b0 as usize].across[k0 as usize] = Some(b1);
-                blockers[b1 as usize].across[k1 as usize] = Some(b0);
                 // Consistent orientation walks a shared edge in opposite directions.
                 let start = |b: u32, k: u32| vertex_key(blockers[b as usize].ring[k as usize]);
                 if start(b0, k0) == start(b1, k1) {
                     consistent[b0 as usize] = false;
                     consistent[b1 as usize] = false;
+                    continue;
                 }
+                blockers[b0 as usize].across[k0 as usize] = Some(b1);
+                blockers[b1 as usize].across[k1 as usize] = Some(b0);
             }
         }
     }
@@ -729,6 +732,19 @@ mod tests {
         let blockers = Blockers::new(&room_with(open));
         assert!((0..blockers.len()).all(|b| blockers.get(b).closed == 0 && blockers.get(b).body.is_none()));
         assert!((0..blockers.len()).any(|b| blockers.get(b).across.iter().any(Option::is_none)));
+        // One top triangle wound against its neighbours: linked to none of them (an outline
+        // must keep its edges), and the body is no longer closed.
+        let mut flipped = dented_block(DVec3::ONE, 0.2);
+        let last = flipped.pop().unwrap();
+        flipped.push(Polygon::new(last.vertices().iter().rev().copied().collect()).unwrap());
+        let blockers = Blockers::new(&room_with(flipped));
+        let m = DVec3::new(1.5, 1.5, 1.8);
+        let f = (0..blockers.len())
+            .find(|&b| blockers.get(b).normal.z < 0.0 && blockers.get(b).ring.contains(&m))
+            .expect("the flipped top triangle");
+        assert!(blockers.get(f).across.iter().all(Option::is_none), "{:?}", blockers.get(f));
+        assert!((0..blockers.len()).all(|b| !blockers.get(b).across.contains(&Some(f as u32))));
+        assert!((0..blockers.len()).all(|b| blockers.get(b).closed == 0));
     }
 
     #[test]

@@ -124,6 +124,11 @@ pub struct ShadowGeometry {
     /// Per kept blocker: a face of a solid with a neighbour across some edge, whose shadow
     /// enters the boolean by the outline it shares with its neighbours.
     outline: Vec<bool>,
+    /// Per kept blocker: a face of an open (or not consistently closed) mesh with a neighbour
+    /// across some edge; its shadow enters the boolean by the outline it shares with the
+    /// neighbours turned the same way from the viewpoint (front faces with front faces, back
+    /// faces with back faces).
+    open_outline: Vec<bool>,
     /// Corner numbers of the outline faces.
     corners: Vertices,
     /// Active blockers above which the shadows are united by one boolean.
@@ -158,6 +163,9 @@ pub struct Scratch {
     hull_pts: Vec<DVec2>,
     union: Union,
     outline: Outline,
+    /// The back faces of open meshes, turned counter-clockwise, outlined apart from the front
+    /// faces.
+    outline_back: Outline,
     silhouette: Silhouette,
     /// A silhouette loop in homogeneous coordinates while it is clipped.
     loop_hom: Vec<DVec3>,
@@ -177,12 +185,14 @@ struct Outline {
     included: Vec<bool>,
     loops: Loops,
     fallbacks: u64,
+    /// Viewpoints whose outline closed and entered the union.
+    outlined: u64,
 }
 
 impl Scratch {
     /// Viewpoints whose closed-body outline did not close, so that whole faces were united.
     pub fn outline_fallbacks(&self) -> u64 {
-        self.outline.fallbacks + self.silhouette.fallbacks
+        self.outline.fallbacks + self.outline_back.fallbacks + self.silhouette.fallbacks
     }
 }
 
@@ -275,6 +285,7 @@ impl ShadowGeometry {
             facing: Vec::new(),
             body: Vec::new(),
             outline: Vec::new(),
+            open_outline: Vec::new(),
             corners: Vertices::default(),
             union_min: UNION_MIN_ACTIVE,
             by_silhouette: true,
@@ -320,6 +331,13 @@ impl ShadowGeometry {
             .collect();
         self.outline = (0..self.blockers.len())
             .map(|k| self.facing[k].is_some() && self.neighbours[k].iter().any(Option::is_some))
+            .collect();
+        self.open_outline = (0..self.blockers.len())
+            .map(|k| {
+                self.facing[k].is_none()
+                    && self.body[k].is_none()
+                    && self.neighbours[k].iter().any(Option::is_some)
+            })
             .collect();
         self.corners = Vertices::new(&self.blockers, &self.outline);
     }
@@ -422,6 +440,7 @@ impl ShadowGeometry {
         s.union.clear();
         if unite && s.outline.included.len() < self.blockers.len() {
             s.outline.included.resize(self.blockers.len(), false);
+            s.outline_back.included.resize(self.blockers.len(), false);
         }
         let by_silhouette = unite && self.by_silhouette;
         if by_silhouette && s.silhouette.front.len() < self.blockers.len() {
@@ -464,6 +483,15 @@ impl ShadowGeometry {
             if bit < 64 {
                 cov.seen |= 1 << bit;
             }
+            if unite && self.open_outline.get(k as usize) == Some(&true) {
+                // An open mesh's face: its shadow joins the outline of the faces turned the
+                // same way (a shared edge is walked both ways by two consistently oriented
+                // neighbours, so dropping it keeps the count of faces over each point).
+                let o = if s.reversed { &mut s.outline_back } else { &mut s.outline };
+                o.push(k, &s.shadow, &s.labels);
+                cov.work += 1;
+                continue;
+            }
             if unite && !convex_body && self.outline.get(k as usize) == Some(&true) {
                 // A front face's shadow turns counter-clockwise; one turned round by round-off
                 // is seen edge-on (no area): left out, its neighbours keep their edges with it.
@@ -498,7 +526,10 @@ impl ShadowGeometry {
         }
         if unite {
             if !s.outline.faces.is_empty() {
-                self.unite_outline(s);
+                self.unite_outline(s, false);
+            }
+            if !s.outline_back.faces.is_empty() {
+                self.unite_outline(s, true);
             }
             if !s.silhouette.faces.is_empty() {
                 self.unite_silhouette(p, s);
@@ -527,11 +558,12 @@ impl ShadowGeometry {
         }
     }
 
-    /// Puts this viewpoint's closed-body faces into the union: their outline (the edges no
-    /// two included faces share, chained into loops), or the whole faces when it does not
-    /// close.
-    fn unite_outline(&self, s: &mut Scratch) {
-        let o = &mut s.outline;
+    /// Puts this viewpoint's outlined faces into the union (the closed bodies' and open meshes'
+    /// front faces, or the open meshes' back faces turned round: `back`): their outline (the
+    /// edges no two included faces share, chained into loops), or the whole faces when it does
+    /// not close.
+    fn unite_outline(&self, s: &mut Scratch, back: bool) {
+        let o = if back { &mut s.outline_back } else { &mut s.outline };
         o.loops.clear();
         for (k, range) in &o.faces {
             let ring = &o.points[range.clone()];
@@ -544,6 +576,7 @@ impl ShadowGeometry {
             }
         }
         if o.loops.chain(OUTLINE_JOIN * self.snap) {
+            o.outlined += 1;
             for ring in o.loops.rings() {
                 s.union.push(ring);
             }
@@ -584,7 +617,7 @@ impl ShadowGeometry {
                 }
             }
             if !s.outline.faces.is_empty() {
-                self.unite_outline(s);
+                self.unite_outline(s, false);
             }
         }
         s.silhouette.clear();
@@ -1302,5 +1335,37 @@ mod tests {
         // A body with a through hole: its outline has a loop turning clockwise.
         let (worst, most) = compare(bottom, top, frame());
         assert!(worst <= AGREE_REL && most > 0.2, "frame: worst {worst}, shaded up to {most}");
+    }
+
+    #[test]
+    fn an_open_mesh_enters_the_union_by_its_front_and_back_outlines() {
+        let d = DVec3::new;
+        let (bottom, top) = (
+            vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(-0.2, 1.4, 0.0)],
+            vec![d(1.2, 1.2, 1.5), d(1.2, -0.2, 1.5), d(-0.2, 1.2, 1.5)],
+        );
+        // One side of the base gone: through the opening the emitter sees faces from behind.
+        let mut open = fins();
+        open.remove(0);
+        let united = |body: Vec<Polygon>| {
+            let (geo, _) = body_geometry(bottom.clone(), top.clone(), body);
+            let outlined = geo.open_outline.iter().filter(|&&o| o).count();
+            let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
+            let mut s = Scratch::default();
+            let (worst, most) = union_against_subtraction(&geo, &active, &mut s, |_, _, _| {});
+            assert_eq!(s.outline_fallbacks(), 0, "every outline closed");
+            (worst, most, outlined, s.outline.outlined, s.outline_back.outlined)
+        };
+        let (worst, most, faces, front, back) = united(open.clone());
+        assert!(faces > 20, "the open mesh's faces are outlined: {faces}");
+        assert!(front > 0 && back > 0, "front and back outlines both used: {front}, {back}");
+        assert!(worst <= AGREE_REL && most > 0.3, "worst {worst}, shaded up to {most}");
+        // A face wound against its neighbours is linked to none of them: its shadow turns the
+        // same way as theirs along the shared edge, which the outline keeps.
+        let k = open.len() / 2;
+        open[k] = Polygon::new(open[k].vertices().iter().rev().copied().collect()).unwrap();
+        let (worst, most, _, front, back) = united(open);
+        assert!(front > 0 && back > 0, "front and back outlines both used: {front}, {back}");
+        assert!(worst <= AGREE_REL && most > 0.3, "wound against: worst {worst}, shaded up to {most}");
     }
 }
