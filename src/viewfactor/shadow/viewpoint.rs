@@ -913,6 +913,16 @@ mod tests {
         })
     }
 
+    /// An emitter triangle below the fins (z = 0) and a receiver triangle above them (z = 1.5),
+    /// facing each other across them.
+    fn below_and_above() -> (Vec<DVec3>, Vec<DVec3>) {
+        let d = DVec3::new;
+        (
+            vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(-0.2, 1.4, 0.0)],
+            vec![d(1.2, 1.2, 1.5), d(1.2, -0.2, 1.5), d(-0.2, 1.2, 1.5)],
+        )
+    }
+
     /// The shadow geometry of an emitter and a receiver around one meshed body (its faces'
     /// neighbours set, as a row sets them), and each face's (closed, body) labels.
     fn body_geometry(
@@ -1067,10 +1077,7 @@ mod tests {
     #[test]
     fn a_concave_body_s_silhouette_loops_give_its_front_faces_region() {
         let d = DVec3::new;
-        let (bottom, top) = (
-            vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(-0.2, 1.4, 0.0)],
-            vec![d(1.2, 1.2, 1.5), d(1.2, -0.2, 1.5), d(-0.2, 1.2, 1.5)],
-        );
+        let (bottom, top) = below_and_above();
         // The fins' side planes cross the emitter: faces turn front and back across it.
         let (worst, most, fronts) = by_silhouette(bottom.clone(), top.clone(), fins());
         assert!(
@@ -1310,13 +1317,10 @@ mod tests {
     #[test]
     fn the_union_of_a_concave_body_s_shadows_matches_the_subtraction() {
         let d = DVec3::new;
-        let (bottom, top) = (
-            vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(-0.2, 1.4, 0.0)],
-            vec![d(1.2, 1.2, 1.5), d(1.2, -0.2, 1.5), d(-0.2, 1.2, 1.5)],
-        );
+        let (bottom, top) = below_and_above();
         let (worst, most) = compare(bottom.clone(), top.clone(), fins());
         assert!(worst <= AGREE_REL && most > 0.3, "worst {worst}, shaded up to {most}");
-        // An open mesh: one side of the base gone, every facet casts its shadow.
+        // An open mesh: one side of the base gone (outlined front and back, as tested below).
         let mut open = fins();
         open.remove(0);
         let (worst, most) = compare(bottom.clone(), top.clone(), open);
@@ -1339,11 +1343,7 @@ mod tests {
 
     #[test]
     fn an_open_mesh_enters_the_union_by_its_front_and_back_outlines() {
-        let d = DVec3::new;
-        let (bottom, top) = (
-            vec![d(-0.2, -0.2, 0.0), d(1.4, -0.2, 0.0), d(-0.2, 1.4, 0.0)],
-            vec![d(1.2, 1.2, 1.5), d(1.2, -0.2, 1.5), d(-0.2, 1.2, 1.5)],
-        );
+        let (bottom, top) = below_and_above();
         // One side of the base gone: through the opening the emitter sees faces from behind.
         let mut open = fins();
         open.remove(0);
