@@ -1368,4 +1368,35 @@ mod tests {
         assert!(front > 0 && back > 0, "front and back outlines both used: {front}, {back}");
         assert!(worst <= AGREE_REL && most > 0.3, "wound against: worst {worst}, shaded up to {most}");
     }
+
+    #[test]
+    fn a_folded_open_sheet_s_outlines_give_the_union_of_its_facets() {
+        // A 6 × 6 height field of steep, uneven slopes (triangulated, normals up): from the
+        // emitter below, some facets face it and some turn away, and they fold over each other.
+        let (bottom, top) = below_and_above();
+        let n = 6;
+        let height = |i: usize, j: usize| 0.75 + 0.3 * (((i * 7 + j * 13) * 37 % 11) as f64 / 10.0 - 0.5);
+        let at = |i: usize, j: usize| {
+            DVec3::new(0.1 + 0.8 * i as f64 / n as f64, 0.1 + 0.8 * j as f64 / n as f64, height(i, j))
+        };
+        let mut sheet = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                sheet.push(Polygon::new(vec![a, b, c]).unwrap());
+                sheet.push(Polygon::new(vec![a, c, d]).unwrap());
+            }
+        }
+        let (geo, closed) = body_geometry(bottom, top, sheet);
+        assert!(closed.iter().all(|c| c.0 == 0), "an open sheet");
+        let outlined = geo.open_outline.iter().filter(|&&o| o).count();
+        assert_eq!(outlined, geo.blockers().len(), "every facet has a neighbour");
+        let active: Vec<u32> = (0..geo.blockers().len() as u32).collect();
+        let mut s = Scratch::default();
+        let (worst, most) = union_against_subtraction(&geo, &active, &mut s, |_, _, _| {});
+        assert_eq!(s.outline_fallbacks(), 0, "every outline closed");
+        let (front, back) = (s.outline.outlined, s.outline_back.outlined);
+        assert!(front > 0 && back > 0, "front and back outlines both used: {front}, {back}");
+        assert!(worst <= AGREE_REL && most > 0.3, "worst {worst}, shaded up to {most}");
+    }
 }
