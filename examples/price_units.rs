@@ -10,10 +10,8 @@
 //! and the least-squares split of the sampling time into per-sample and per-test costs.
 //! Without a cap factor each sample pair's integration runs uncapped: it can take seconds.
 use lambert::viewfactor::shadow::calibrate::{fit, measure, sample_pairs};
-use lambert::viewfactor::shadow::policy::{
-    CostModel, MC_SAMPLE_NS, MC_TEST_NS, SHADOW_SETUP_UNITS, SHADOW_UNIT_NS,
-};
-use lambert::viewfactor::shadow::{PairAt, PairWork, Policy, Shadows};
+use lambert::viewfactor::shadow::policy::{setup_units, CostModel, MC_SAMPLE_NS, MC_TEST_NS, SHADOW_UNIT_NS};
+use lambert::viewfactor::shadow::{PairWork, Policy, Shadows};
 use std::time::Instant;
 
 fn main() {
@@ -33,16 +31,16 @@ fn main() {
     for (p, m) in sample_pairs(&shadows, tol).iter().zip(&measured) {
         let n = CostModel::samples(p.u, p.goal) as u32;
         let t = Instant::now();
-        let mc = shadows.sample(PairAt::new(p.i, p.j, p.u, &p.partial), (n, p.goal), 0, &mut work);
+        let mc = shadows.sample(p.at(), (n, p.goal), 0, &mut work);
         let mc_t = t.elapsed().as_secs_f64() * 1e9;
         let max_work = cap.map_or(u64::MAX, |f| {
             let ns = mc.samples as f64 * MC_SAMPLE_NS + mc.tests as f64 * MC_TEST_NS;
             (f * ns / SHADOW_UNIT_NS) as u64
         });
         let t = Instant::now();
-        let sh = shadows.integrate(PairAt::new(p.i, p.j, p.u, &p.partial), p.goal, max_work, &mut work);
+        let sh = shadows.integrate(p.at(), p.goal, max_work, &mut work);
         let sh_t = t.elapsed().as_secs_f64() * 1e9;
-        let units = (sh.info.work + SHADOW_SETUP_UNITS + p.partial.len() as u64) as f64;
+        let units = (sh.info.work + setup_units(p.partial.len())) as f64;
         (sh_ns, sh_units) = (sh_ns + sh_t, sh_units + units);
         let (s, c) = (mc.samples as f64, mc.tests as f64);
         (ss, st, tt, ys, yt) = (ss + s * s, st + s * c, tt + c * c, ys + mc_t * s, yt + mc_t * c);

@@ -31,6 +31,7 @@ use super::policy::{
 };
 use super::segtree::SegmentBlocker;
 use super::segtree::SegmentTree;
+use crate::geometry::Polygon;
 use crate::scene::Scene;
 use crate::viewfactor::MethodSet;
 
@@ -332,7 +333,7 @@ impl<'s> Shadows<'s> {
     /// Shadow integration of pair (i, j) to the absolute goal `goal`, refining no further past
     /// `max_work` work units.
     pub fn integrate(&self, p: PairAt<'_>, goal: f64, max_work: u64, s: &mut PairWork) -> Shadowed {
-        let (pi, pj) = (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon);
+        let (pi, pj) = self.polygons(p);
         let on_solid = self.on_solid[p.i];
         shadowed(
             pi,
@@ -348,10 +349,15 @@ impl<'s> Shadows<'s> {
         )
     }
 
+    /// The emitter's and the receiver's polygons of pair `p`.
+    fn polygons(&self, p: PairAt<'_>) -> (&Polygon, &Polygon) {
+        (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon)
+    }
+
     /// True when none of pair (i, j)'s partial blockers is left once clipped to the pair
     /// ([`falls_away`]): its integration ends before its first viewpoint.
     fn falls_away(&self, p: PairAt<'_>, s: &mut PairWork) -> bool {
-        let (pi, pj) = (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon);
+        let (pi, pj) = self.polygons(p);
         falls_away(pi, pj, &self.blockers, p.partial, self.on_solid[p.i], &mut s.pair)
     }
 
@@ -388,7 +394,7 @@ impl<'s> Shadows<'s> {
         seed: u64,
         s: &mut PairWork,
     ) -> McPair {
-        let (pi, pj) = (&self.scene.patches[p.i].polygon, &self.scene.patches[p.j].polygon);
+        let (pi, pj) = self.polygons(p);
         estimate(
             &self.samplers[p.i],
             pi.normal(),

@@ -60,6 +60,13 @@ pub struct Sample {
     pub partial: Vec<u32>,
 }
 
+impl Sample {
+    /// The pair as the branch's estimators take it.
+    pub fn at(&self) -> PairAt<'_> {
+        PairAt::new(self.i, self.j, self.u, &self.partial)
+    }
+}
+
 /// What the two estimators cost on one sample pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Measured {
@@ -134,11 +141,11 @@ pub fn measure(shadows: &Shadows<'_>, tol: f64, seed: u64) -> Vec<Measured> {
         .map(|p| {
             let b = p.partial.len();
             let n = CostModel::samples(p.u, p.goal) as u32;
-            let mc = shadows.sample(PairAt::new(p.i, p.j, p.u, &p.partial), (n, p.goal), seed, &mut work);
+            let mc = shadows.sample(p.at(), (n, p.goal), seed, &mut work);
             // The cap in shadow units: CAL_CAP times the sampling just measured.
             let mc_ns = mc.samples as f64 * MC_SAMPLE_NS + mc.tests as f64 * MC_TEST_NS;
             let cap = ((CAL_CAP * mc_ns / SHADOW_UNIT_NS) as u64).max(CAL_MIN_WORK);
-            let sh = shadows.integrate(PairAt::new(p.i, p.j, p.u, &p.partial), p.goal, cap, &mut work);
+            let sh = shadows.integrate(p.at(), p.goal, cap, &mut work);
             Measured {
                 blockers: b,
                 ratio: p.u / p.goal,
