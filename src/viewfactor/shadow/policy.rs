@@ -28,7 +28,12 @@ pub const EXACT_REL_TOL: f64 = 1e-8;
 pub const EXACT_MIN_DEPTH: u32 = 0;
 /// Gauss orders per direction of `analytic`'s rule pair: on cells where g is smooth the 4×4 vs
 /// 5×5 difference meets 1e-8 without splits where 3×3 vs 4×4 needed about three per pair
-/// (box_500_block: 229 against 471 viewpoints per pair, same accuracy).
+/// (box_500_block: 229 against 471 viewpoints per pair, same accuracy). On triangles the
+/// higher one is the 16-point symmetric rule of the same degree (`adaptive::triangle_rule`):
+/// box_2k_block 125 → 112 viewpoints per pair, the same cells. A 20-point degree-9 rule in
+/// place of the 5×5 product on parallelograms and quadrilaterals (100 viewpoints) was not
+/// kept: its own error is not far enough below the 4×4 product's to stand behind their
+/// difference (the concentric boxes' F(outer → outer) 1.6e-8 off).
 pub const EXACT_RULES: (usize, usize) = (4, 5);
 /// Fewest faces of a convex solid behind which the shadow branch (`analytic`, and `auto` where
 /// it integrates) sums the blocked exchange over the solid's faces (`super::solid`) instead of
