@@ -12,7 +12,7 @@ use lambert::geometry::{DVec3, Polygon};
 use lambert::scene::Scene;
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
-use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
+use lambert::viewfactor::shadow::{PairAt, Policy, ShadowScratch, Shadows};
 use lambert::viewfactor::{self, Level, Method, MethodSet, Params};
 use std::time::Instant;
 
@@ -76,7 +76,7 @@ fn stats(scene: &Scene, tol: f64) {
                     let u = polygon_polygon(&scene.patches[i].polygon, &scene.patches[j as usize].polygon);
                     if u > 0.0 {
                         let t = Instant::now();
-                        let r = shadows.pair(i, j as usize, u, b, &mut s.work);
+                        let r = shadows.pair(PairAt::new(i, j as usize, u, b), &mut s.work);
                         let dt = t.elapsed().as_secs_f64();
                         partial_time += dt;
                         let k = usize::from(r.method == MethodSet::MC_AREA);

@@ -6,7 +6,7 @@
 use lambert::viewfactor::exact::pair::polygon_polygon;
 use lambert::viewfactor::shadow::classify::Status;
 use lambert::viewfactor::shadow::policy::pair_goal;
-use lambert::viewfactor::shadow::{Policy, ShadowScratch, Shadows};
+use lambert::viewfactor::shadow::{PairAt, Policy, ShadowScratch, Shadows};
 use lambert::viewfactor::MethodSet;
 use std::time::Instant;
 
@@ -46,7 +46,7 @@ fn main() {
             small += u64::from(u <= goal);
             nb += partial.len() as u64;
             let t = Instant::now();
-            let r = shadows.pair(i, j, u, &partial, &mut s.work);
+            let r = shadows.pair(PairAt::new(i, j, u, &partial), &mut s.work);
             let dt = t.elapsed().as_secs_f64();
             if r.method == MethodSet::MC_AREA {
                 n_mc += 1;

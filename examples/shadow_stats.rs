@@ -57,7 +57,7 @@ fn auto_stats(scene: &lambert::scene::Scene, stride: usize, tol: f64) {
             let partial = partial.to_vec();
             let u = polygon_polygon(&scene.patches[i].polygon, &scene.patches[j].polygon);
             let t = Instant::now();
-            let r = shadows.pair(i, j, u, &partial, &mut s.work);
+            let r = shadows.pair(PairAt::new(i, j, u, &partial), &mut s.work);
             let dt = t.elapsed().as_secs_f64();
             let kind = usize::from(mesh[i]) + usize::from(mesh[j]);
             let est = usize::from(r.method == lambert::viewfactor::MethodSet::MC_AREA);

@@ -47,7 +47,7 @@ fn main() {
             (m.s, tail)
         } else if std::env::var_os("AUTO").is_some() {
             // `AUTO=1`: the entry as `auto` makes it (its own choice of estimator).
-            let r = shadows.pair(i, j, u, &partial, &mut s.work);
+            let r = shadows.pair(PairAt::new(i, j, u, &partial), &mut s.work);
             (r.s, format!("sd/goal {:.2} method {:?} work {}", r.var.sqrt() / goal, r.method, r.work))
         } else {
             let r = shadows.integrate(PairAt::new(i, j, u, &partial), goal, u64::MAX, &mut s.work);

@@ -32,7 +32,7 @@ use crate::viewfactor::shadow::branch::PairWork;
 use crate::viewfactor::shadow::classify::{may_cut, Status};
 use crate::viewfactor::shadow::detect::Occlusion;
 use crate::viewfactor::shadow::policy::{pair_goal, CostModel, Policy, EXACT_REL_TOL, MC_MAX_SAMPLES};
-use crate::viewfactor::shadow::{ShadowScratch, Shadows};
+use crate::viewfactor::shadow::{PairAt, ShadowScratch, Shadows};
 use crate::viewfactor::{MethodSet, ViewFactors};
 use crate::Result;
 use glam::DVec3;
@@ -426,7 +426,7 @@ impl<'s> AnalyticKernel<'s> {
                 if !(u > 0.0) {
                     return None;
                 }
-                let r = shadows.pair(i, j, u, partial, work);
+                let r = shadows.pair(PairAt::new(i, j, u, partial), work);
                 RawEntry { j: j as u32, method: r.method, s: r.s, var: r.var }
             }
         };

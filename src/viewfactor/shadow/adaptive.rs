@@ -362,7 +362,8 @@ pub struct Integrator {
 pub struct Cuts {
     /// Most root pieces; the planes past the cap are left to the adaptivity.
     pub max_pieces: usize,
-    /// Cut along the blockers' own planes after the edge and event planes instead of before.
+    /// Cut along the blockers' own planes after the edge and event planes instead of before
+    /// (no effect with `edges_only`, which takes none of them).
     pub faces_last: bool,
     /// Cut along the receiver-edge planes only (a shadow edge sliding along a receiver edge),
     /// leaving the blockers' planes and the second-order events to the adaptivity.
@@ -378,6 +379,11 @@ impl Cuts {
     /// `faces_last`.
     pub const fn up_to(max_pieces: usize, faces_last: bool) -> Self {
         Self { max_pieces, faces_last, edges_only: false }
+    }
+
+    /// The receiver-edge planes only, up to `max_pieces` pieces.
+    pub const fn receiver_edges(max_pieces: usize) -> Self {
+        Self { max_pieces, faces_last: false, edges_only: true }
     }
 }
 
@@ -1385,7 +1391,7 @@ mod tests {
         // plate's plane.
         let geo = unit_pair(&TILTED_PLATE);
         let plane = plane_of(&geo.blockers()[0]).unwrap();
-        let edges = Cuts { edges_only: true, ..Cuts::up_to(MAX_PIECES, true) };
+        let edges = Cuts::receiver_edges(MAX_PIECES);
         let cells = split_cells(&geo, edges);
         assert!(split_cells(&geo, Cuts::ALL).len() > cells.len(), "every plane cuts more");
         assert!(cells.len() > emitter_cells(geo.emitter(), DVec3::Z).len(), "{cells:?}");

@@ -201,14 +201,14 @@ impl<'s> Shadows<'s> {
         super::classify::classify_row_in(self.scene, &self.blockers, i, 0, Some(receivers), row);
     }
 
-    /// Obstructed A_i F_ij for a partly obstructed pair with unobstructed value `u` and the
-    /// partial blockers `partial` (from the row classification). Under `auto` the goal is
+    /// Obstructed A_i F_ij for the partly obstructed pair `p` (its unobstructed value and partial
+    /// blockers from the row classification). Under `auto` the goal is
     /// [`pair_goal`] (both F_ij and F_ji); Monte Carlo that cannot reach it within
     /// [`MC_MAX_SAMPLES`] is replaced by the shadow integration, and an integration that ends
     /// above it by the capped sample where that reports the smaller error (`settle`). An
     /// entry whose error estimate still exceeds its goal is recorded in [`Self::misses`].
-    pub fn pair(&self, i: usize, j: usize, u: f64, partial: &[u32], s: &mut PairWork) -> Obstructed {
-        let p = PairAt::new(i, j, u, partial);
+    pub fn pair(&self, p: PairAt, s: &mut PairWork) -> Obstructed {
+        let (i, j, u, partial) = (p.i, p.j, p.u, p.partial);
         match self.policy {
             Policy::Exact { rel_tol } => {
                 let goal = rel_tol * u;
@@ -467,7 +467,7 @@ mod tests {
     fn exchange(scene: &Scene, policy: Policy) -> (f64, MethodSet) {
         let shadows = Shadows::new(scene, policy).expect("the blocker is found");
         let (mut s, partial, u) = pair_01(&shadows);
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert!(r.s <= u);
         (r.s, r.method)
     }
@@ -579,7 +579,7 @@ mod tests {
         let scene = box_pair_scene(block(lo, hi, false));
         let shadows = Shadows::new(&scene, Policy::Auto { tol: 1e-17, seed: 1 }).unwrap();
         let (mut s, partial, u) = pair_01(&shadows);
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         let (count, worst) = shadows.misses().summary();
         assert_eq!(r.method, MethodSet::SHADOWED);
         assert!((r.s - BOX_PAIR_REFERENCE).abs() < 1e-9 * u, "{} vs {BOX_PAIR_REFERENCE}", r.s);
@@ -851,7 +851,7 @@ mod tests {
         let between = 0.5 * shadows.model().mc_ns(n, b) / ((u / goal).sqrt() * SHADOW_UNIT_NS);
         shadows.set_model(price(between));
         assert_eq!(shadows.model().choose(u, goal, b), Choice::Shadowed, "the worst case integrates");
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert!(r.work <= 1280, "probe and sample drew {} points", r.work);
         assert!(
@@ -861,7 +861,7 @@ mod tests {
         // Integration priced below the informed sample but costing more than a quarter of it
         // (`CAP_PRICE_SHARE`): cut there and sampled.
         shadows.set_model(price(1.0));
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert!(
             MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
@@ -874,7 +874,7 @@ mod tests {
         let mut shadows =
             Shadows::uncalibrated(&scene, Policy::Auto { tol: goal, seed: 3 }).expect("a blocker");
         shadows.set_model(price(1.0));
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert_eq!(r.method, MethodSet::SHADOWED, "{r:?}");
         assert!((r.s - reference.s).abs() <= goal, "{r:?} vs {reference:?}");
     }
@@ -915,7 +915,7 @@ mod tests {
         let prior = shadows.model().mc_ns(f64::from(need), b);
         let c = (measured * prior).sqrt() / ((u / goal).sqrt() * SHADOW_UNIT_NS);
         shadows.set_model(CostModel { shadow: PowerLaw { c, exp: 0.0 }, mc: shadows.model().mc });
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert!(u64::from(need) + u64::from(probe.samples) >= r.work, "no integration drawn: {r:?}");
         assert!(
@@ -941,7 +941,7 @@ mod tests {
         assert!(price / SHADOW_UNIT_NS < setup_units(partial.len()) as f64, "{price} ns");
         let mc = shadows.model().mc;
         shadows.set_model(CostModel { shadow: PowerLaw { c: 1e-3, exp: 0.0 }, mc });
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         let m = shadows.sample(PairAt::new(0, 1, u, &partial), (n as u32, goal), 2, &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert_eq!(r.work, u64::from(probe.samples + m.samples), "the probe and the sample only: {r:?}");
@@ -965,7 +965,7 @@ mod tests {
         // Priced at a thousandth of its work: cut at 64 times that, then probed and sampled.
         let c = full.info.work as f64 / 1000.0 / (u / goal).sqrt();
         shadows.set_model(price(c));
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert_eq!(r.method, MethodSet::MC_AREA, "{r:?}");
         assert!(
             MC_SIGMAS * r.var.sqrt() <= goal && (r.s - reference.s).abs() <= goal,
@@ -973,7 +973,7 @@ mod tests {
         );
         // Priced at its work: integrated as before.
         shadows.set_model(price(2.0 * c * 1000.0));
-        let r = shadows.pair(0, 1, u, &partial, &mut s.work);
+        let r = shadows.pair(PairAt::new(0, 1, u, &partial), &mut s.work);
         assert_eq!(r.method, MethodSet::SHADOWED, "{r:?}");
         assert!((r.s - reference.s).abs() <= goal, "{r:?} vs {reference:?}");
     }

@@ -304,7 +304,7 @@ pub const OWN_FACES_RATIO: f64 = 8.0;
 /// triangle emitting to a wall past the fins beside it) ended 2.5× past its goal while its
 /// error estimate read 0.98 of it; cut, every entry of that heat sink in three rooms is
 /// within 0.41 of its goal, at the channel's and the fingers' former cost (validation/cad.md).
-pub const OWN_FACES_CUTS: Cuts = Cuts { max_pieces: 32, faces_last: true, edges_only: true };
+pub const OWN_FACES_CUTS: Cuts = Cuts::receiver_edges(32);
 
 /// Active blockers above which a small patch emitting with its own faces unites their
 /// shadows by one boolean: its face list is the solid's whole front within the shaft, so
