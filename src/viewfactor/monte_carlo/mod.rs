@@ -192,8 +192,12 @@ pub(crate) struct SobolBlock {
 impl SobolBlock {
     /// The hashes of `seed` for dimension set 0, as in sobol_burley 0.5's `sample_4d`.
     fn new(key: u64, block: u32) -> Self {
+        Self::from_seed(mix64(key ^ block as u64) as u32)
+    }
+
+    /// The sequence `sobol_burley::sample_4d(·, 0, seed)`.
+    pub(crate) fn from_seed(seed: u32) -> Self {
         use sobol_burley::parts::{hash, hash_int4, Int4};
-        let seed = mix64(key ^ block as u64) as u32;
         let s: Int4 = [seed.wrapping_mul(0x9c8f_2d3b); 4].into();
         let dims: Int4 = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8].into();
         Self {
@@ -206,7 +210,7 @@ impl SobolBlock {
 
     /// Point `k` (< 2¹⁶) of dimensions 0–3.
     #[inline]
-    fn sample_4d(&self, k: u32) -> [f32; 4] {
+    pub(crate) fn sample_4d(&self, k: u32) -> [f32; 4] {
         use sobol_burley::parts::{owen_scramble_int4_rev, owen_scramble_rev};
         let shuffled = owen_scramble_rev(k.reverse_bits(), self.index_scramble);
         owen_scramble_int4_rev(self.table.sobol_rev(shuffled), self.dim_scramble).reverse_bits().to_f32_norm()

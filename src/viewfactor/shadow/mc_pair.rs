@@ -34,7 +34,7 @@ use super::segtree::{SegmentBlocker, SegmentTree, LEAF};
 use crate::geometry::sampling::{sample_triangle, PolygonSampler};
 use crate::geometry::tolerance::PARALLELOGRAM_REL;
 use crate::geometry::Polygon;
-use crate::viewfactor::monte_carlo::{mix64, stream_key};
+use crate::viewfactor::monte_carlo::{mix64, stream_key, SobolBlock};
 use glam::{DVec2, DVec3};
 use std::f64::consts::FRAC_1_PI;
 
@@ -140,10 +140,10 @@ pub fn estimate(
         tree.build(all, ids);
     }
     let mut tests = 0u64;
-    // Point pair k of the scrambled sequence `scramble`: (kernel, visible), or None when the
+    // Point pair k of the scrambled sequence `sobol`: (kernel, visible), or None when the
     // two points do not face each other.
-    let mut draw = |k: u32, scramble: u32, tests: &mut u64| {
-        let [a, b, c, d] = sobol_burley::sample_4d(k, 0, scramble);
+    let mut draw = |k: u32, sobol: &SobolBlock, tests: &mut u64| {
+        let [a, b, c, d] = sobol.sample_4d(k);
         let x = si.sample(a as f64, b as f64);
         let y = sj.sample(c as f64, d as f64);
         let dv = y - x;
@@ -166,12 +166,12 @@ pub fn estimate(
     if budget.first >= REPLICATES * REPLICATE_MIN && max >= 2 * REPLICATES * REPLICATE_MIN {
         return replicated(s_unobs, budget, max, key, &mut draw, tests);
     }
-    let scramble = mix64(key) as u32;
+    let sobol = SobolBlock::from_seed(mix64(key) as u32);
     let mut sums = Sums::default();
     let (mut k, mut end) = (0, budget.first.clamp(1, max));
     loop {
         while k < end {
-            if let Some((kern, visible)) = draw(k, scramble, &mut tests) {
+            if let Some((kern, visible)) = draw(k, &sobol, &mut tests) {
                 sums.add(kern, visible);
             }
             k += 1;
@@ -246,18 +246,19 @@ fn replicated(
     budget: Budget,
     max: u32,
     key: u64,
-    draw: &mut impl FnMut(u32, u32, &mut u64) -> Option<(f64, bool)>,
+    draw: &mut impl FnMut(u32, &SobolBlock, &mut u64) -> Option<(f64, bool)>,
     mut tests: u64,
 ) -> McPair {
-    let scrambles: [u32; REPLICATES as usize] =
-        std::array::from_fn(|r| mix64(key ^ (r as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)) as u32);
+    let scrambles: [SobolBlock; REPLICATES as usize] = std::array::from_fn(|r| {
+        SobolBlock::from_seed(mix64(key ^ (r as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)) as u32)
+    });
     let mut sums = [Sums::default(); REPLICATES as usize];
     let per_max = max / REPLICATES;
     let (mut k, mut end) = (0, (budget.first / REPLICATES).next_power_of_two().clamp(REPLICATE_MIN, per_max));
     loop {
-        for (r, &scramble) in scrambles.iter().enumerate() {
+        for (r, sobol) in scrambles.iter().enumerate() {
             for m in k..end {
-                if let Some((kern, visible)) = draw(m, scramble, &mut tests) {
+                if let Some((kern, visible)) = draw(m, sobol, &mut tests) {
                     sums[r].add(kern, visible);
                 }
             }
