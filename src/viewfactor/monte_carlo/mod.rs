@@ -190,12 +190,13 @@ pub(crate) struct SobolBlock {
 }
 
 impl SobolBlock {
-    /// The hashes of `seed` for dimension set 0, as in sobol_burley 0.5's `sample_4d`.
+    /// Block `block` of the stream `key`: the sequence of the seed mixed from both.
     fn new(key: u64, block: u32) -> Self {
         Self::from_seed(mix64(key ^ block as u64) as u32)
     }
 
-    /// The sequence `sobol_burley::sample_4d(·, 0, seed)`.
+    /// The sequence `sobol_burley::sample_4d(·, 0, seed)`: the hashes of `seed` for dimension
+    /// set 0, as in sobol_burley 0.5's `sample_4d`.
     pub(crate) fn from_seed(seed: u32) -> Self {
         use sobol_burley::parts::{hash, hash_int4, Int4};
         let s: Int4 = [seed.wrapping_mul(0x9c8f_2d3b); 4].into();
